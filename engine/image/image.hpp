@@ -1,0 +1,63 @@
+#pragma once
+// Linear float images, their I/O through OpenImageIO, the display transform, and the one
+// image comparison of the project (golden tests, `candela compare`, reference agreement).
+#include <cstddef>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+namespace candela {
+
+struct ImageF {
+    int width = 0;
+    int height = 0;
+    int channels = 4;
+    std::vector<float> pixels;  // row-major, top row first
+
+    ImageF() = default;
+    ImageF(int w, int h, int c) : width(w), height(h), channels(c), pixels(static_cast<size_t>(w) * h * c, 0.0f) {}
+    float* at(int x, int y) { return pixels.data() + (static_cast<size_t>(y) * width + x) * channels; }
+    const float* at(int x, int y) const { return pixels.data() + (static_cast<size_t>(y) * width + x) * channels; }
+    bool empty() const { return pixels.empty(); }
+};
+
+// Reads any format OpenImageIO knows (PNG/JPEG as [0,1] display values, EXR/HDR as linear).
+// Throws candela::Error (bad_input) naming the file.
+ImageF read_image(const std::filesystem::path& path);
+
+// .exr: linear float radiance as is. .png/.jpg/.tga: display transform (exposure + ACES + sRGB)
+// to 8 bits. Throws candela::Error (bad_input) for an unknown extension or an unwritable path.
+void write_image(const std::filesystem::path& path, const ImageF& image, float exposure_ev = 0.0f);
+bool is_display_format(const std::filesystem::path& path);
+// Writes values already in display space ([0,1], e.g. a heat map) to an 8-bit PNG.
+void write_display_image(const std::filesystem::path& path, const ImageF& display);
+
+// Exposure (EV) + ACES filmic fit (Narkowicz 2015) + sRGB OETF; the twin of tonemap.glsl.
+glm::vec3 aces_fit(glm::vec3 x);
+float linear_to_srgb(float c);
+glm::vec3 display_transform(glm::vec3 radiance, float exposure_ev);
+ImageF to_display(const ImageF& linear, float exposure_ev);  // values in [0,1]
+
+// Every image a test writes is scanned with this.
+std::size_t count_nonfinite(const ImageF& image);
+
+struct CompareResult {
+    double rmse = 0;          // over all channels compared (RGB)
+    double relative_mse = 0;  // mean of (a-b)^2 / (b^2 + 1e-2)
+    double psnr = 0;          // dB, peak 1.0; infinity when identical
+    double max_abs = 0;
+    std::size_t failing_pixels = 0;  // pixels with any channel differing by more than tolerance
+    double failing_fraction = 0;
+    std::size_t nonfinite = 0;       // non-finite values in either image
+};
+
+// Compares RGB of two images of equal size (throws bad_input otherwise).
+CompareResult compare(const ImageF& actual, const ImageF& expected, double tolerance);
+
+// Per-pixel max channel difference as a heat map (black 0 -> blue -> green -> yellow -> red at
+// `scale`), display values.
+ImageF heatmap(const ImageF& actual, const ImageF& expected, double scale);
+
+}  // namespace candela

@@ -1,0 +1,69 @@
+#pragma once
+// OpenGL 4.5 core contexts: EGL (surfaceless or device), OSMesa and a GLFW window.
+// Creation never throws: an environment without usable GL is a result the caller reports
+// (exit code 3 in the CLI).
+#include <memory>
+#include <optional>
+#include <string>
+
+struct GLFWwindow;
+
+namespace candela {
+
+enum class Backend { auto_select, egl, osmesa, glfw };
+
+const char* to_string(Backend backend);
+std::optional<Backend> parse_backend(const std::string& name);
+
+struct ContextOptions {
+    int width = 16;   // window size for glfw; ignored by the headless backends (FBOs are used)
+    int height = 16;
+    bool debug = false;    // KHR_debug output, GL errors counted (on in tests)
+    bool visible = true;   // glfw only
+    bool vsync = true;     // glfw only
+    std::string title = "Candela";
+};
+
+class Context {
+public:
+    virtual ~Context() = default;
+    Context(const Context&) = delete;
+    Context& operator=(const Context&) = delete;
+
+    virtual Backend backend() const = 0;
+    // Makes the context current on this thread and points the GL loader at its entry points.
+    virtual bool make_current() = 0;
+    virtual void swap_buffers() {}
+    virtual GLFWwindow* window() { return nullptr; }
+
+    const std::string& renderer() const { return renderer_; }
+    const std::string& version() const { return version_; }
+    // "llvmpipe (LLVM 15.0.6, 256 bits) | 4.5 (Core Profile) Mesa 22.3.6"
+    std::string device_string() const { return renderer_ + " | " + version_; }
+
+protected:
+    Context() = default;
+    std::string renderer_;
+    std::string version_;
+};
+
+struct ContextResult {
+    std::unique_ptr<Context> context;
+    std::string error;  // set when context is null: names the backend, the version got, the renderer
+};
+
+// auto_select tries EGL, then OSMesa.
+ContextResult create_context(Backend backend, const ContextOptions& options = {});
+
+namespace detail {
+using GetProcAddress = void* (*)(const char*);
+// Loads GL through glad with the backend's getProcAddress and checks for 4.5 core.
+// Returns an empty string on success, else the reason.
+std::string load_gl_and_check(const char* backend, GetProcAddress get_proc, std::string& renderer,
+                              std::string& version, bool debug);
+std::unique_ptr<Context> create_egl(const ContextOptions& options, std::string& error);
+std::unique_ptr<Context> create_osmesa(const ContextOptions& options, std::string& error);
+std::unique_ptr<Context> create_glfw(const ContextOptions& options, std::string& error);
+}  // namespace detail
+
+}  // namespace candela

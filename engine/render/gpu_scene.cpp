@@ -1,0 +1,203 @@
+#include "render/gpu_scene.hpp"
+
+#include <cmath>
+
+#include <glm/gtc/matrix_inverse.hpp>
+
+#include "core/log.hpp"
+
+namespace candela {
+
+std::array<glm::vec3, 9> project_irradiance_sh(const ImageF& equirect) {
+    std::array<glm::vec3, 9> L{};
+    const int w = equirect.width, h = equirect.height;
+    const double pi = 3.14159265358979323846;
+    for (int y = 0; y < h; ++y) {
+        const double theta = (y + 0.5) / h * pi;  // from +Y
+        const double d_omega = (2.0 * pi / w) * (pi / h) * std::sin(theta);
+        for (int x = 0; x < w; ++x) {
+            // Inverse of direction_to_equirect in shaders/common/math.glsl.
+            const double phi = ((x + 0.5) / w - 0.5) * 2.0 * pi;
+            const double dx = std::sin(theta) * std::sin(phi), dy = std::cos(theta), dz = -std::sin(theta) * std::cos(phi);
+            const float* p = equirect.at(x, y);
+            glm::vec3 c(p[0], p[1], p[2]);
+            for (int k = 0; k < 3; ++k)
+                if (!std::isfinite(c[k]) || c[k] < 0.0f) c[k] = 0.0f;
+            const double basis[9] = {0.282095,
+                                     0.488603 * dy,
+                                     0.488603 * dz,
+                                     0.488603 * dx,
+                                     1.092548 * dx * dy,
+                                     1.092548 * dy * dz,
+                                     0.315392 * (3.0 * dz * dz - 1.0),
+                                     1.092548 * dx * dz,
+                                     0.546274 * (dx * dx - dy * dy)};
+            for (int i = 0; i < 9; ++i) L[static_cast<size_t>(i)] += c * static_cast<float>(basis[i] * d_omega);
+        }
+    }
+    return L;
+}
+
+MaterialData to_gpu(const Material& m) {
+    MaterialData d{};
+    d.base_color = m.base_color;
+    d.emission_metallic = glm::vec4(m.emission(), m.metallic);
+    d.params = glm::vec4(m.roughness, m.alpha_cutoff, static_cast<float>(m.alpha_mode), m.double_sided ? 1.0f : 0.0f);
+    d.specular = glm::vec4(m.specular_color, m.specular_factor);
+    d.params2 = glm::vec4(m.ior, m.transmission, m.normal_texture.scale, m.occlusion_texture.scale);
+    const TextureRef* slots[5] = {&m.base_color_texture, &m.metallic_roughness_texture, &m.normal_texture,
+                                  &m.occlusion_texture, &m.emissive_texture};
+    int tc[5];
+    for (int s = 0; s < 5; ++s) {
+        tc[s] = slots[s]->present() ? slots[s]->texcoord : -1;
+        const glm::mat3& t = slots[s]->transform;  // column-major: t[col][row]
+        d.uv_transform[s * 2] = glm::vec4(t[0][0], t[1][0], t[2][0], 0.0f);
+        d.uv_transform[s * 2 + 1] = glm::vec4(t[0][1], t[1][1], t[2][1], 0.0f);
+    }
+    d.texcoord = glm::ivec4(tc[0], tc[1], tc[2], tc[3]);
+    d.texcoord2 = glm::ivec4(tc[4], -1, -1, -1);
+    return d;
+}
+
+LightData to_gpu(const Scene::PlacedLight& pl) {
+    const Light& l = *pl.light;
+    LightData d{};
+    const float type = l.type == LightType::directional ? 0.0f : l.type == LightType::point ? 1.0f : 2.0f;
+    d.position_type = glm::vec4(pl.position, type);
+    d.direction_range = glm::vec4(pl.direction, l.range);
+    d.color = glm::vec4(l.color * l.intensity, 0.0f);
+    if (l.type == LightType::spot) {
+        const float scale = 1.0f / std::max(1e-4f, std::cos(l.inner_cone) - std::cos(l.outer_cone));
+        d.cone = glm::vec4(scale, -std::cos(l.outer_cone) * scale, 0.0f, 0.0f);
+    }
+    return d;
+}
+
+GpuScene::GpuScene(const Scene& scene) : scene_(scene) {
+    std::vector<Vertex> vertices;
+    std::vector<std::uint32_t> indices;
+    struct Range { std::size_t first_index; GLint base_vertex; };
+    std::vector<std::vector<Range>> ranges(scene.meshes.size());
+    for (size_t mi = 0; mi < scene.meshes.size(); ++mi)
+        for (const Primitive& p : scene.meshes[mi].primitives) {
+            ranges[mi].push_back({indices.size(), static_cast<GLint>(vertices.size())});
+            vertices.insert(vertices.end(), p.vertices.begin(), p.vertices.end());
+            indices.insert(indices.end(), p.indices.begin(), p.indices.end());
+        }
+    vertices_ = gl::Buffer(static_cast<GLsizeiptr>(vertices.size() * sizeof(Vertex)), vertices.data());
+    indices_ = gl::Buffer(static_cast<GLsizeiptr>(indices.size() * sizeof(std::uint32_t)), indices.data());
+    vao_ = gl::VertexArray::create();
+    glVertexArrayVertexBuffer(vao_.id(), 0, vertices_.id(), 0, sizeof(Vertex));
+    glVertexArrayElementBuffer(vao_.id(), indices_.id());
+    const struct { GLuint loc; GLint size; GLuint offset; } attribs[] = {
+        {0, 3, offsetof(Vertex, position)}, {1, 3, offsetof(Vertex, normal)}, {2, 4, offsetof(Vertex, tangent)},
+        {3, 2, offsetof(Vertex, uv0)},      {4, 2, offsetof(Vertex, uv1)},    {5, 4, offsetof(Vertex, color)}};
+    for (const auto& a : attribs) {
+        glEnableVertexArrayAttrib(vao_.id(), a.loc);
+        glVertexArrayAttribFormat(vao_.id(), a.loc, a.size, GL_FLOAT, GL_FALSE, a.offset);
+        glVertexArrayAttribBinding(vao_.id(), a.loc, 0);
+    }
+
+    std::vector<MaterialData> mats;
+    for (const Material& m : scene.materials) mats.push_back(to_gpu(m));
+    mats.push_back(to_gpu(Material{}));  // the default material
+    materials_ = gl::Buffer(static_cast<GLsizeiptr>(mats.size() * sizeof(MaterialData)), mats.data());
+
+    std::vector<LightData> lights;
+    for (const auto& pl : scene.placed_lights()) lights.push_back(to_gpu(pl));
+    light_count_ = static_cast<int>(lights.size());
+    if (lights.empty()) lights.push_back(LightData{});
+    lights_ = gl::Buffer(static_cast<GLsizeiptr>(lights.size() * sizeof(LightData)), lights.data());
+
+    // Draws: every node reachable from the roots that has a mesh.
+    std::vector<int> stack(scene.roots.begin(), scene.roots.end());
+    while (!stack.empty()) {
+        const int ni = stack.back();
+        stack.pop_back();
+        const Node& node = scene.nodes[static_cast<size_t>(ni)];
+        stack.insert(stack.end(), node.children.begin(), node.children.end());
+        if (node.mesh < 0) continue;
+        const Mesh& mesh = scene.meshes[static_cast<size_t>(node.mesh)];
+        for (size_t pi = 0; pi < mesh.primitives.size(); ++pi) {
+            const Primitive& p = mesh.primitives[pi];
+            if (p.indices.empty()) continue;
+            Draw d{};
+            d.node = ni;
+            d.primitive_material = p.material >= 0 ? p.material : static_cast<int>(scene.materials.size());
+            d.index_count = static_cast<GLsizei>(p.indices.size());
+            d.first_index = ranges[static_cast<size_t>(node.mesh)][pi].first_index;
+            d.base_vertex = ranges[static_cast<size_t>(node.mesh)][pi].base_vertex;
+            d.model = node.world;
+            d.normal_matrix = glm::inverseTranspose(glm::mat3(node.world));
+            d.mirrored = node.mirrored();
+            const Material& m = scene.material(p.material);
+            d.alpha_mode = m.alpha_mode;
+            d.double_sided = m.double_sided;
+            for (int corner = 0; corner < 8; ++corner)
+                d.world_bounds.extend(glm::vec3(node.world * glm::vec4(corner & 1 ? p.bounds.max.x : p.bounds.min.x,
+                                                                        corner & 2 ? p.bounds.max.y : p.bounds.min.y,
+                                                                        corner & 4 ? p.bounds.max.z : p.bounds.min.z, 1.0f)));
+            const TextureRef* slots[5] = {&m.base_color_texture, &m.metallic_roughness_texture, &m.normal_texture,
+                                          &m.occlusion_texture, &m.emissive_texture};
+            for (int s = 0; s < 5; ++s) {
+                d.textures[static_cast<size_t>(s)] = slots[s]->image;
+                d.srgb[static_cast<size_t>(s)] = s == 0 || s == 4;
+                d.samplers[static_cast<size_t>(s)] = slots[s]->sampler;
+            }
+            triangles_ += p.triangle_count();
+            draws_.push_back(d);
+        }
+    }
+
+    white_ = gl::Texture::create_2d(GL_RGBA8, 1, 1, 1);
+    const std::uint8_t white[4] = {255, 255, 255, 255};
+    glTextureSubImage2D(white_.id(), 0, 0, 0, 1, 1, GL_RGBA, GL_UNSIGNED_BYTE, white);
+
+    const Environment& env = scene.environment;
+    env_radiance_ = env.radiance * env.intensity;
+    if (!env.map.empty()) {
+        const ImageF map = read_image(env.map);
+        env_map_ = gl::Texture::create_2d(GL_RGBA32F, map.width, map.height, 0);
+        glTextureSubImage2D(env_map_.id(), 0, 0, 0, map.width, map.height, GL_RGBA, GL_FLOAT, map.pixels.data());
+        glGenerateTextureMipmap(env_map_.id());
+        glTextureParameteri(env_map_.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+        glTextureParameteri(env_map_.id(), GL_TEXTURE_WRAP_S, GL_REPEAT);
+        glTextureParameteri(env_map_.id(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+        env_mips_ = 1 + static_cast<int>(std::floor(std::log2(std::max(map.width, map.height))));
+        env_sh_ = project_irradiance_sh(map);
+        for (auto& c : env_sh_) c *= env.intensity;
+        env_radiance_ = glm::vec3(env.intensity);
+    }
+}
+
+const gl::Texture& GpuScene::texture(int image, bool srgb) {
+    if (image < 0 || image >= static_cast<int>(scene_.images.size())) return white_;
+    auto key = std::make_pair(image, srgb);
+    auto it = textures_.find(key);
+    if (it != textures_.end()) return it->second;
+    const Image& img = scene_.images[static_cast<size_t>(image)];
+    if (!img.valid) return white_;
+    gl::Texture tex = gl::Texture::create_2d(srgb ? GL_SRGB8_ALPHA8 : GL_RGBA8, img.width, img.height, 0);
+    glTextureSubImage2D(tex.id(), 0, 0, 0, img.width, img.height, GL_RGBA, GL_UNSIGNED_BYTE, img.rgba8.data());
+    glGenerateTextureMipmap(tex.id());
+    return textures_.emplace(key, std::move(tex)).first->second;
+}
+
+const gl::Sampler& GpuScene::sampler(const SamplerDesc& d) {
+    auto key = std::make_tuple(d.min_filter, d.mag_filter, d.wrap_s, d.wrap_t);
+    auto it = samplers_.find(key);
+    if (it != samplers_.end()) return it->second;
+    auto valid = [](int v, std::initializer_list<int> ok, int fallback) {
+        for (int o : ok)
+            if (o == v) return static_cast<GLenum>(v);
+        return static_cast<GLenum>(fallback);
+    };
+    const GLenum min = valid(d.min_filter, {GL_NEAREST, GL_LINEAR, GL_NEAREST_MIPMAP_NEAREST, GL_LINEAR_MIPMAP_NEAREST,
+                                            GL_NEAREST_MIPMAP_LINEAR, GL_LINEAR_MIPMAP_LINEAR}, GL_LINEAR_MIPMAP_LINEAR);
+    const GLenum mag = valid(d.mag_filter, {GL_NEAREST, GL_LINEAR}, GL_LINEAR);
+    const GLenum ws = valid(d.wrap_s, {GL_REPEAT, GL_CLAMP_TO_EDGE, GL_MIRRORED_REPEAT}, GL_REPEAT);
+    const GLenum wt = valid(d.wrap_t, {GL_REPEAT, GL_CLAMP_TO_EDGE, GL_MIRRORED_REPEAT}, GL_REPEAT);
+    return samplers_.emplace(key, gl::Sampler::create(min, mag, ws, wt)).first->second;
+}
+
+}  // namespace candela

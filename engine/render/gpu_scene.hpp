@@ -1,0 +1,106 @@
+#pragma once
+// The Scene on the GPU: one vertex/index buffer for all primitives, material and light SSBOs,
+// textures and samplers, and the environment. Layouts mirror shaders/common/scene_data.glsl.
+#include <array>
+#include <map>
+#include <tuple>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "gl/handles.hpp"
+#include "image/image.hpp"
+#include "scene/scene.hpp"
+
+namespace candela {
+
+struct FrameData {  // std140, binding 0
+    glm::mat4 view, proj, view_proj, inv_view_proj;
+    glm::vec4 camera_pos;
+    glm::vec4 env_radiance;
+    glm::vec4 env_sh[9];
+    glm::ivec4 counts;
+};
+
+struct MaterialData {  // std430, binding 1
+    glm::vec4 base_color;
+    glm::vec4 emission_metallic;
+    glm::vec4 params;
+    glm::vec4 specular;
+    glm::vec4 params2;
+    glm::ivec4 texcoord;
+    glm::ivec4 texcoord2;
+    glm::vec4 uv_transform[10];
+};
+static_assert(sizeof(MaterialData) == 17 * 16);
+
+struct LightData {  // std430, binding 2
+    glm::vec4 position_type;
+    glm::vec4 direction_range;
+    glm::vec4 color;
+    glm::vec4 cone;
+};
+
+// Irradiance SH (9 RGB coefficients) of an equirectangular radiance map, projected with solid-angle
+// weights; evaluated in shaders with Ramamoorthi & Hanrahan's formula.
+std::array<glm::vec3, 9> project_irradiance_sh(const ImageF& equirect);
+
+MaterialData to_gpu(const Material& material);
+LightData to_gpu(const Scene::PlacedLight& light);
+
+class GpuScene {
+public:
+    struct Draw {
+        int node;
+        int primitive_material;  // index into the material SSBO (default material appended last)
+        GLsizei index_count;
+        std::size_t first_index;
+        GLint base_vertex;
+        glm::mat4 model;
+        glm::mat3 normal_matrix;
+        bool mirrored;
+        AlphaMode alpha_mode;
+        bool double_sided;
+        Bounds world_bounds;
+        std::array<int, 5> textures;  // scene image per slot, -1 none
+        std::array<bool, 5> srgb;
+        std::array<SamplerDesc, 5> samplers;
+    };
+
+    // Throws candela::Error (bad_input) if the environment map cannot be read.
+    explicit GpuScene(const Scene& scene);
+
+    const std::vector<Draw>& draws() const { return draws_; }
+    const gl::VertexArray& vertex_array() const { return vao_; }
+    const gl::Buffer& materials() const { return materials_; }
+    const gl::Buffer& lights() const { return lights_; }
+    int light_count() const { return light_count_; }
+    // Texture for a scene image, created on first use (sRGB or linear view of the same pixels).
+    const gl::Texture& texture(int image, bool srgb);
+    const gl::Sampler& sampler(const SamplerDesc& desc);
+    const gl::Texture& white_texture() const { return white_; }
+
+    bool has_environment_map() const { return static_cast<bool>(env_map_); }
+    const gl::Texture& environment_map() const { return env_map_ ? env_map_ : white_; }
+    int environment_mips() const { return env_mips_; }
+    glm::vec3 environment_radiance() const { return env_radiance_; }
+    const std::array<glm::vec3, 9>& environment_sh() const { return env_sh_; }
+    std::size_t triangle_count() const { return triangles_; }
+
+private:
+    const Scene& scene_;
+    gl::Buffer vertices_, indices_, materials_, lights_;
+    gl::VertexArray vao_;
+    std::vector<Draw> draws_;
+    int light_count_ = 0;
+    std::map<std::pair<int, bool>, gl::Texture> textures_;
+    std::map<std::tuple<int, int, int, int>, gl::Sampler> samplers_;
+    gl::Texture white_;
+    gl::Texture env_map_;
+    int env_mips_ = 1;
+    glm::vec3 env_radiance_{0.0f};
+    std::array<glm::vec3, 9> env_sh_{};
+    std::size_t triangles_ = 0;
+};
+
+}  // namespace candela

@@ -1,0 +1,65 @@
+#include "scene/features.hpp"
+
+#include <set>
+
+namespace candela {
+
+SceneFeatures analyze_features(const Scene& scene, float reflection_roughness) {
+    SceneFeatures f;
+    f.shadows.name = "shadows";
+    f.transparency.name = "transparency";
+    f.reflections.name = "reflections";
+    f.transmission.name = "transmission";
+    f.emissive_area_lights.name = "emissive area lights";
+    f.environment.name = "environment";
+
+    // Materials actually drawn (reachable nodes with meshes).
+    std::set<int> used;
+    std::size_t drawn_primitives = 0;
+    std::vector<int> stack(scene.roots.begin(), scene.roots.end());
+    while (!stack.empty()) {
+        const Node& node = scene.nodes[static_cast<size_t>(stack.back())];
+        stack.pop_back();
+        stack.insert(stack.end(), node.children.begin(), node.children.end());
+        if (node.mesh < 0) continue;
+        for (const Primitive& p : scene.meshes[static_cast<size_t>(node.mesh)].primitives) {
+            used.insert(p.material);
+            ++drawn_primitives;
+        }
+    }
+    int blend = 0, mirrors = 0, transmissive = 0, emissive = 0;
+    for (int mi : used) {
+        const Material& m = scene.material(mi);
+        blend += m.alpha_mode == AlphaMode::blend;
+        mirrors += m.metallic > 0.5f && m.roughness < reflection_roughness;
+        transmissive += m.transmission > 0.0f;
+        emissive += m.is_emissive();
+    }
+    const auto lights = scene.placed_lights();
+    auto set = [](Feature& feat, bool on, std::string why) {
+        feat.needed = on;
+        feat.reason = std::move(why);
+    };
+    set(f.shadows, !lights.empty() && drawn_primitives >= 2,
+        lights.empty() ? "no punctual lights"
+        : drawn_primitives < 2 ? "fewer than two primitives: nothing can shadow anything"
+                               : std::to_string(lights.size()) + " punctual light(s) over " +
+                                     std::to_string(drawn_primitives) + " primitives");
+    set(f.transparency, blend > 0, blend ? std::to_string(blend) + " BLEND material(s)" : "no BLEND materials");
+    set(f.reflections, mirrors + transmissive > 0,
+        mirrors + transmissive ? std::to_string(mirrors) + " metallic material(s) with roughness < " +
+                                     std::to_string(reflection_roughness).substr(0, 4) + ", " +
+                                     std::to_string(transmissive) + " transmissive"
+                               : "no smooth metallic or transmissive materials");
+    set(f.transmission, transmissive > 0,
+        transmissive ? std::to_string(transmissive) + " material(s) with KHR_materials_transmission" : "no transmissive materials");
+    set(f.emissive_area_lights, emissive > 0,
+        emissive ? std::to_string(emissive) + " emissive material(s) (area lights for the ray tracer)" : "no emissive materials");
+    set(f.environment, scene.environment.present(),
+        !scene.environment.map.empty() ? "map " + scene.environment.map.filename().string()
+        : scene.environment.present()  ? "constant radiance"
+                                       : "no environment light");
+    return f;
+}
+
+}  // namespace candela

@@ -1,0 +1,27 @@
+#pragma once
+// What a scene calls for (shared/DESIGN.md section 2). The frame-graph issue plans passes from
+// this; for now `candela info` prints it.
+#include <string>
+#include <vector>
+
+#include "scene/scene.hpp"
+
+namespace candela {
+
+struct Feature {
+    std::string name;
+    bool needed = false;
+    std::string reason;  // why it is on or off, for humans
+};
+
+struct SceneFeatures {
+    Feature shadows, transparency, reflections, transmission, emissive_area_lights, environment;
+    std::vector<const Feature*> all() const {
+        return {&shadows, &transparency, &reflections, &transmission, &emissive_area_lights, &environment};
+    }
+};
+
+// `reflection_roughness`: metallic materials rougher than this do not call for reflections.
+SceneFeatures analyze_features(const Scene& scene, float reflection_roughness = 0.3f);
+
+}  // namespace candela

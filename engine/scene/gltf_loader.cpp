@@ -1,0 +1,716 @@
+#include "scene/gltf_loader.hpp"
+
+#include <tiny_gltf.h>
+
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include <glm/gtc/quaternion.hpp>
+#include <glm/gtc/type_ptr.hpp>
+#include <nlohmann/json.hpp>
+#include <stb/stb_image.h>
+
+#include "core/error.hpp"
+#include "core/log.hpp"
+#include "scene/mesh_utils.hpp"
+
+namespace candela {
+namespace {
+
+namespace fs = std::filesystem;
+using tinygltf::Value;
+
+constexpr int kMaxImageSide = 16384;
+
+std::string trim(std::string s) {
+    while (!s.empty() && (s.back() == '\n' || s.back() == ' ' || s.back() == '\r')) s.pop_back();
+    return s;
+}
+
+std::string idx(const char* array, size_t i) { return std::string(array) + "[" + std::to_string(i) + "]"; }
+
+double number(const Value& object, const char* key, double fallback) {
+    if (!object.IsObject() || !object.Has(key)) return fallback;
+    const Value& v = object.Get(key);
+    return v.IsNumber() ? v.GetNumberAsDouble() : fallback;
+}
+
+template <int N>
+glm::vec<N, float> vec(const Value& object, const char* key, glm::vec<N, float> fallback) {
+    if (!object.IsObject() || !object.Has(key)) return fallback;
+    const Value& v = object.Get(key);
+    if (!v.IsArray() || v.ArrayLen() != N) return fallback;
+    glm::vec<N, float> out;
+    for (int i = 0; i < N; ++i) {
+        if (!v.Get(i).IsNumber()) return fallback;
+        out[i] = static_cast<float>(v.Get(i).GetNumberAsDouble());
+    }
+    return out;
+}
+
+const Value* extension(const tinygltf::ExtensionMap& map, const char* name) {
+    auto it = map.find(name);
+    return it == map.end() || !it->second.IsObject() ? nullptr : &it->second;
+}
+
+// Decodes embedded or external images with stb_image; never fails the load: an undecodable image
+// stays empty and gets the fallback texture later.
+struct ImageDecodeLog {
+    std::map<int, std::string> problems;
+};
+
+bool decode_image(tinygltf::Image* image, const int image_index, std::string*, std::string*, int, int,
+                  const unsigned char* bytes, int size, void* user) {
+    auto* log = static_cast<ImageDecodeLog*>(user);
+    int w = 0, h = 0, comp = 0;
+    if (!stbi_info_from_memory(bytes, size, &w, &h, &comp)) {
+        log->problems[image_index] = std::string("cannot decode: ") + (stbi_failure_reason() ? stbi_failure_reason() : "unknown format");
+        return true;
+    }
+    if (w <= 0 || h <= 0 || w > kMaxImageSide || h > kMaxImageSide) {
+        log->problems[image_index] = "unsupported size " + std::to_string(w) + "x" + std::to_string(h);
+        return true;
+    }
+    unsigned char* pixels = stbi_load_from_memory(bytes, size, &w, &h, &comp, 4);
+    if (!pixels) {
+        log->problems[image_index] = std::string("cannot decode: ") + (stbi_failure_reason() ? stbi_failure_reason() : "?");
+        return true;
+    }
+    image->width = w;
+    image->height = h;
+    image->component = 4;
+    image->bits = 8;
+    image->pixel_type = TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE;
+    image->image.assign(pixels, pixels + static_cast<size_t>(w) * static_cast<size_t>(h) * 4);
+    stbi_image_free(pixels);
+    return true;
+}
+
+class Loader {
+public:
+    Loader(const fs::path& path, const tinygltf::Model& model, ImageDecodeLog& images)
+        : file_(path.string()), dir_(path.parent_path()), m_(model), image_log_(images) {}
+
+    Scene build();
+
+private:
+    [[noreturn]] void fail(const std::string& json_path, const std::string& what) const {
+        throw bad_input(file_ + ": " + json_path + ": " + what);
+    }
+    void warn(const std::string& json_path, const std::string& what) const {
+        log::warn(file_ + ": " + json_path + ": " + what);
+    }
+
+    // Reads an accessor as float vectors (normalized integers mapped to [0,1] / [-1,1]).
+    std::vector<glm::vec4> read_accessor(int accessor, const std::string& path, int want_components_max) const;
+    std::vector<uint32_t> read_indices(int accessor, const std::string& path, size_t vertex_count) const;
+    // Byte range check of a (bufferView, offset, element size, stride, count) read.
+    const unsigned char* view_data(int view, size_t offset, size_t elem, size_t stride, size_t count,
+                                   const std::string& path) const;
+
+    void build_images(Scene& scene);
+    Material build_material(size_t i);
+    TextureRef texture_ref(const tinygltf::TextureInfo& info, const std::string& path, double scale) const;
+    TextureRef texture_ref(int index, int texcoord, const tinygltf::ExtensionMap& ext, const std::string& path,
+                           double scale) const;
+    Mesh build_mesh(size_t i, Scene& scene);
+    void build_nodes(Scene& scene);
+    void build_environment(Scene& scene);
+
+    std::string file_;
+    fs::path dir_;
+    const tinygltf::Model& m_;
+    ImageDecodeLog& image_log_;
+};
+
+const unsigned char* Loader::view_data(int view, size_t offset, size_t elem, size_t stride, size_t count,
+                                       const std::string& path) const {
+    if (view < 0 || static_cast<size_t>(view) >= m_.bufferViews.size())
+        fail(path, "bufferView " + std::to_string(view) + " does not exist (the file has " +
+                       std::to_string(m_.bufferViews.size()) + ")");
+    const tinygltf::BufferView& bv = m_.bufferViews[static_cast<size_t>(view)];
+    const std::string bv_path = idx("bufferViews", static_cast<size_t>(view));
+    if (bv.buffer < 0 || static_cast<size_t>(bv.buffer) >= m_.buffers.size())
+        fail(bv_path, "buffer " + std::to_string(bv.buffer) + " does not exist");
+    const tinygltf::Buffer& buffer = m_.buffers[static_cast<size_t>(bv.buffer)];
+    if (bv.byteOffset > buffer.data.size() || bv.byteLength > buffer.data.size() - bv.byteOffset)
+        fail(bv_path, "byteOffset " + std::to_string(bv.byteOffset) + " + byteLength " +
+                          std::to_string(bv.byteLength) + " exceeds buffer " + std::to_string(bv.buffer) +
+                          " (" + std::to_string(buffer.data.size()) + " bytes)");
+    if (count == 0) return buffer.data.data() + bv.byteOffset;
+    // Overflow-safe: offset + (count-1)*stride + elem <= byteLength.
+    const unsigned __int128 need =
+        static_cast<unsigned __int128>(offset) + static_cast<unsigned __int128>(count - 1) * stride + elem;
+    if (need > bv.byteLength)
+        fail(path, "accessor reads past the end of bufferView " + std::to_string(view) + " (needs " +
+                       std::to_string(static_cast<unsigned long long>(std::min<unsigned __int128>(need, ~0ull))) +
+                       " bytes from offset " + std::to_string(offset) + ", view has " +
+                       std::to_string(bv.byteLength) + ")");
+    return buffer.data.data() + bv.byteOffset + offset;
+}
+
+float read_component(const unsigned char* p, int type, bool normalized) {
+    switch (type) {
+        case TINYGLTF_COMPONENT_TYPE_FLOAT: { float v; std::memcpy(&v, p, 4); return v; }
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return normalized ? *p / 255.0f : *p;
+        case TINYGLTF_COMPONENT_TYPE_BYTE: {
+            const auto v = static_cast<int8_t>(*p);
+            return normalized ? std::max(v / 127.0f, -1.0f) : v;
+        }
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: { uint16_t v; std::memcpy(&v, p, 2); return normalized ? v / 65535.0f : v; }
+        case TINYGLTF_COMPONENT_TYPE_SHORT: { int16_t v; std::memcpy(&v, p, 2); return normalized ? std::max(v / 32767.0f, -1.0f) : v; }
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: { uint32_t v; std::memcpy(&v, p, 4); return static_cast<float>(v); }
+        default: return 0.0f;
+    }
+}
+
+std::vector<glm::vec4> Loader::read_accessor(int accessor, const std::string& path, int want_components_max) const {
+    if (accessor < 0 || static_cast<size_t>(accessor) >= m_.accessors.size())
+        fail(path, "accessor " + std::to_string(accessor) + " does not exist (the file has " +
+                       std::to_string(m_.accessors.size()) + ")");
+    const tinygltf::Accessor& a = m_.accessors[static_cast<size_t>(accessor)];
+    const std::string apath = path + " (accessors[" + std::to_string(accessor) + "])";
+    const int csize = tinygltf::GetComponentSizeInBytes(static_cast<uint32_t>(a.componentType));
+    const int ncomp = tinygltf::GetNumComponentsInType(static_cast<uint32_t>(a.type));
+    if (csize <= 0 || ncomp <= 0) fail(apath, "invalid componentType or type");
+    if (ncomp > want_components_max) fail(apath, "has " + std::to_string(ncomp) + " components, at most " +
+                                                     std::to_string(want_components_max) + " expected");
+    constexpr size_t kMaxCount = size_t(1) << 28;
+    if (a.count > kMaxCount) fail(apath, "count " + std::to_string(a.count) + " is larger than supported");
+    const size_t elem = static_cast<size_t>(csize * ncomp);
+    std::vector<glm::vec4> out(a.count, glm::vec4(0.0f));
+    auto read_block = [&](const unsigned char* base, size_t stride, size_t count, auto&& store) {
+        for (size_t i = 0; i < count; ++i) {
+            glm::vec4 v(0.0f);
+            for (int c = 0; c < ncomp; ++c)
+                v[c] = read_component(base + i * stride + static_cast<size_t>(c * csize), a.componentType, a.normalized);
+            store(i, v);
+        }
+    };
+    if (a.bufferView >= 0) {
+        size_t stride = elem;
+        if (static_cast<size_t>(a.bufferView) < m_.bufferViews.size()) {
+            const size_t s = m_.bufferViews[static_cast<size_t>(a.bufferView)].byteStride;
+            if (s != 0) {
+                if (s < elem) fail(apath, "bufferView byteStride " + std::to_string(s) + " is smaller than the element (" + std::to_string(elem) + " bytes)");
+                stride = s;
+            }
+        }
+        const unsigned char* base = view_data(a.bufferView, a.byteOffset, elem, stride, a.count, apath);
+        read_block(base, stride, a.count, [&](size_t i, const glm::vec4& v) { out[i] = v; });
+    }
+    if (a.sparse.isSparse) {
+        const size_t n = static_cast<size_t>(std::max(a.sparse.count, 0));
+        if (n > a.count) fail(apath + ".sparse", "count " + std::to_string(n) + " exceeds the accessor count");
+        const int itype = a.sparse.indices.componentType;
+        const int isize = tinygltf::GetComponentSizeInBytes(static_cast<uint32_t>(itype));
+        if (isize <= 0 || itype == TINYGLTF_COMPONENT_TYPE_FLOAT) fail(apath + ".sparse.indices", "invalid componentType");
+        const unsigned char* ib = view_data(a.sparse.indices.bufferView, static_cast<size_t>(std::max(a.sparse.indices.byteOffset, 0)),
+                                            static_cast<size_t>(isize), static_cast<size_t>(isize), n, apath + ".sparse.indices");
+        const unsigned char* vb = view_data(a.sparse.values.bufferView, static_cast<size_t>(std::max(a.sparse.values.byteOffset, 0)),
+                                            elem, elem, n, apath + ".sparse.values");
+        read_block(vb, elem, n, [&](size_t i, const glm::vec4& v) {
+            const auto target = static_cast<size_t>(read_component(ib + i * static_cast<size_t>(isize), itype, false));
+            if (target >= out.size())
+                fail(apath + ".sparse.indices", "index " + std::to_string(target) + " out of range (accessor has " +
+                                                    std::to_string(out.size()) + " elements)");
+            out[target] = v;
+        });
+    }
+    return out;
+}
+
+std::vector<uint32_t> Loader::read_indices(int accessor, const std::string& path, size_t vertex_count) const {
+    if (accessor >= 0 && static_cast<size_t>(accessor) < m_.accessors.size()) {
+        const tinygltf::Accessor& a = m_.accessors[static_cast<size_t>(accessor)];
+        if (a.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE &&
+            a.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
+            a.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT)
+            fail(path, "indices must be unsigned byte, short or int");
+        if (a.type != TINYGLTF_TYPE_SCALAR) fail(path, "indices must be SCALAR");
+    }
+    // Read as raw integers: floats cannot hold every uint32 exactly.
+    const std::vector<glm::vec4> raw = read_accessor(accessor, path, 1);
+    const tinygltf::Accessor& a = m_.accessors[static_cast<size_t>(accessor)];
+    std::vector<uint32_t> out(raw.size());
+    if (a.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT && a.bufferView >= 0 && !a.sparse.isSparse) {
+        const size_t stride = std::max<size_t>(4, m_.bufferViews[static_cast<size_t>(a.bufferView)].byteStride);
+        const unsigned char* base = view_data(a.bufferView, a.byteOffset, 4, stride, a.count, path);
+        for (size_t i = 0; i < out.size(); ++i) std::memcpy(&out[i], base + i * stride, 4);
+    } else {
+        for (size_t i = 0; i < out.size(); ++i) out[i] = static_cast<uint32_t>(raw[i].x);
+    }
+    for (uint32_t index : out)
+        if (index >= vertex_count)
+            fail(path, "index " + std::to_string(index) + " out of range (accessor has " +
+                           std::to_string(vertex_count) + " vertices)");
+    return out;
+}
+
+TextureRef Loader::texture_ref(int index, int texcoord, const tinygltf::ExtensionMap& ext, const std::string& path,
+                               double scale) const {
+    TextureRef ref;
+    if (index < 0) return ref;
+    if (static_cast<size_t>(index) >= m_.textures.size())
+        fail(path + ".index", "texture " + std::to_string(index) + " does not exist (the file has " +
+                                  std::to_string(m_.textures.size()) + ")");
+    const tinygltf::Texture& tex = m_.textures[static_cast<size_t>(index)];
+    const std::string tpath = idx("textures", static_cast<size_t>(index));
+    if (tex.source < 0) {
+        warn(tpath, "has no image source this loader understands; using the fallback texture");
+        ref.image = -2;  // resolved to the fallback
+    } else if (static_cast<size_t>(tex.source) >= m_.images.size()) {
+        fail(tpath + ".source", "image " + std::to_string(tex.source) + " does not exist (the file has " +
+                                    std::to_string(m_.images.size()) + ")");
+    } else {
+        ref.image = tex.source;
+    }
+    if (tex.sampler >= 0) {
+        if (static_cast<size_t>(tex.sampler) >= m_.samplers.size())
+            fail(tpath + ".sampler", "sampler " + std::to_string(tex.sampler) + " does not exist");
+        const tinygltf::Sampler& s = m_.samplers[static_cast<size_t>(tex.sampler)];
+        if (s.magFilter > 0) ref.sampler.mag_filter = s.magFilter;
+        if (s.minFilter > 0) ref.sampler.min_filter = s.minFilter;
+        ref.sampler.wrap_s = s.wrapS;
+        ref.sampler.wrap_t = s.wrapT;
+    }
+    ref.texcoord = texcoord;
+    ref.scale = static_cast<float>(scale);
+    if (const Value* t = extension(ext, "KHR_texture_transform")) {
+        // uv' = T * R * S * uv, with R = [[cos, sin], [-sin, cos]] (the extension's definition).
+        const glm::vec2 offset = vec<2>(*t, "offset", glm::vec2(0.0f));
+        const float r = static_cast<float>(number(*t, "rotation", 0.0));
+        const glm::vec2 s = vec<2>(*t, "scale", glm::vec2(1.0f));
+        const glm::mat3 T(1, 0, 0, 0, 1, 0, offset.x, offset.y, 1);  // column-major
+        const glm::mat3 R(std::cos(r), -std::sin(r), 0, std::sin(r), std::cos(r), 0, 0, 0, 1);
+        const glm::mat3 S(s.x, 0, 0, 0, s.y, 0, 0, 0, 1);
+        ref.transform = T * R * S;
+        ref.texcoord = static_cast<int>(number(*t, "texCoord", texcoord));
+    }
+    if (ref.texcoord < 0 || ref.texcoord > 1) {
+        warn(path, "texCoord " + std::to_string(ref.texcoord) + " is not supported (0 or 1); using 0");
+        ref.texcoord = 0;
+    }
+    return ref;
+}
+
+TextureRef Loader::texture_ref(const tinygltf::TextureInfo& info, const std::string& path, double scale) const {
+    return texture_ref(info.index, info.texCoord, info.extensions, path, scale);
+}
+
+Material Loader::build_material(size_t i) {
+    const tinygltf::Material& src = m_.materials[i];
+    const std::string path = idx("materials", i);
+    Material mat;
+    mat.name = src.name.empty() ? path : src.name;
+    const auto& pbr = src.pbrMetallicRoughness;
+    if (pbr.baseColorFactor.size() == 4)
+        mat.base_color = glm::vec4(pbr.baseColorFactor[0], pbr.baseColorFactor[1], pbr.baseColorFactor[2], pbr.baseColorFactor[3]);
+    mat.metallic = std::clamp(static_cast<float>(pbr.metallicFactor), 0.0f, 1.0f);
+    mat.roughness = std::clamp(static_cast<float>(pbr.roughnessFactor), 0.0f, 1.0f);
+    if (src.emissiveFactor.size() == 3)
+        mat.emissive = glm::vec3(src.emissiveFactor[0], src.emissiveFactor[1], src.emissiveFactor[2]);
+    mat.base_color_texture = texture_ref(pbr.baseColorTexture, path + ".pbrMetallicRoughness.baseColorTexture", 1.0);
+    mat.metallic_roughness_texture =
+        texture_ref(pbr.metallicRoughnessTexture, path + ".pbrMetallicRoughness.metallicRoughnessTexture", 1.0);
+    mat.normal_texture = texture_ref(src.normalTexture.index, src.normalTexture.texCoord, src.normalTexture.extensions,
+                                     path + ".normalTexture", src.normalTexture.scale);
+    mat.occlusion_texture = texture_ref(src.occlusionTexture.index, src.occlusionTexture.texCoord,
+                                        src.occlusionTexture.extensions, path + ".occlusionTexture",
+                                        src.occlusionTexture.strength);
+    mat.emissive_texture = texture_ref(src.emissiveTexture, path + ".emissiveTexture", 1.0);
+    if (src.alphaMode == "MASK") mat.alpha_mode = AlphaMode::mask;
+    else if (src.alphaMode == "BLEND") mat.alpha_mode = AlphaMode::blend;
+    else if (src.alphaMode != "OPAQUE") warn(path + ".alphaMode", "unknown mode '" + src.alphaMode + "'; using OPAQUE");
+    mat.alpha_cutoff = static_cast<float>(src.alphaCutoff);
+    mat.double_sided = src.doubleSided;
+    if (const Value* e = extension(src.extensions, "KHR_materials_emissive_strength"))
+        mat.emissive_strength = std::max(0.0f, static_cast<float>(number(*e, "emissiveStrength", 1.0)));
+    if (const Value* e = extension(src.extensions, "KHR_materials_specular")) {
+        mat.specular_factor = std::clamp(static_cast<float>(number(*e, "specularFactor", 1.0)), 0.0f, 1.0f);
+        mat.specular_color = glm::max(vec<3>(*e, "specularColorFactor", glm::vec3(1.0f)), glm::vec3(0.0f));
+    }
+    if (const Value* e = extension(src.extensions, "KHR_materials_ior")) {
+        mat.ior = static_cast<float>(number(*e, "ior", 1.5));
+        if (mat.ior < 1.0f && mat.ior != 0.0f) {
+            warn(path + ".extensions.KHR_materials_ior.ior", "must be >= 1 (or 0); using 1.5");
+            mat.ior = 1.5f;
+        }
+    }
+    if (const Value* e = extension(src.extensions, "KHR_materials_transmission"))
+        mat.transmission = std::clamp(static_cast<float>(number(*e, "transmissionFactor", 0.0)), 0.0f, 1.0f);
+    if (const Value* e = extension(src.extensions, "KHR_materials_volume")) {
+        mat.thickness = std::max(0.0f, static_cast<float>(number(*e, "thicknessFactor", 0.0)));
+        mat.attenuation_color = vec<3>(*e, "attenuationColor", glm::vec3(1.0f));
+        mat.attenuation_distance = static_cast<float>(number(*e, "attenuationDistance", INFINITY));
+    }
+    return mat;
+}
+
+void Loader::build_images(Scene& scene) {
+    scene.images.resize(m_.images.size());
+    for (size_t i = 0; i < m_.images.size(); ++i) {
+        const tinygltf::Image& src = m_.images[i];
+        Image& img = scene.images[i];
+        img.name = src.name;
+        img.uri = src.uri.rfind("data:", 0) == 0 ? "(embedded)" : src.uri;
+        if (!src.image.empty() && src.width > 0 && src.height > 0 &&
+            src.image.size() == static_cast<size_t>(src.width) * static_cast<size_t>(src.height) * 4) {
+            img.width = src.width;
+            img.height = src.height;
+            img.rgba8 = src.image;
+            img.valid = true;
+            continue;
+        }
+        auto it = image_log_.problems.find(static_cast<int>(i));
+        std::string why = it != image_log_.problems.end() ? it->second
+                          : !src.uri.empty() && src.uri.rfind("data:", 0) != 0
+                              ? "cannot read '" + (dir_ / src.uri).string() + "'"
+                              : "no image data";
+        warn(idx("images", i) + (img.uri.empty() ? "" : " ('" + img.uri + "')"), why + "; using the fallback texture");
+        ++scene.sanitized.missing_textures;
+    }
+}
+
+Mesh Loader::build_mesh(size_t mi, Scene& scene) {
+    const tinygltf::Mesh& src = m_.meshes[mi];
+    Mesh mesh;
+    mesh.name = src.name.empty() ? idx("meshes", mi) : src.name;
+    for (size_t pi = 0; pi < src.primitives.size(); ++pi) {
+        const tinygltf::Primitive& p = src.primitives[pi];
+        const std::string path = idx("meshes", mi) + "." + idx("primitives", pi);
+        const int mode = p.mode < 0 ? TINYGLTF_MODE_TRIANGLES : p.mode;
+        if (mode != TINYGLTF_MODE_TRIANGLES) {
+            warn(path + ".mode", "mode " + std::to_string(mode) + " is not triangles; primitive skipped");
+            ++scene.sanitized.skipped_primitives;
+            continue;
+        }
+        auto attr = [&](const char* name) {
+            auto it = p.attributes.find(name);
+            return it == p.attributes.end() ? -1 : it->second;
+        };
+        if (attr("POSITION") < 0) fail(path + ".attributes", "has no POSITION");
+        const std::vector<glm::vec4> pos = read_accessor(attr("POSITION"), path + ".attributes.POSITION", 3);
+        Primitive prim;
+        prim.vertices.resize(pos.size());
+        for (size_t v = 0; v < pos.size(); ++v) {
+            glm::vec3 position(pos[v]);
+            if (!std::isfinite(position.x) || !std::isfinite(position.y) || !std::isfinite(position.z)) {
+                position = glm::vec3(0.0f);
+                ++scene.sanitized.nonfinite_positions;
+            }
+            prim.vertices[v].position = position;
+        }
+        auto read_attr = [&](const char* name, int max_components, auto&& store) {
+            const int a = attr(name);
+            if (a < 0) return false;
+            const auto values = read_accessor(a, path + ".attributes." + name, max_components);
+            if (values.size() != pos.size())
+                fail(path + ".attributes." + name, "has " + std::to_string(values.size()) + " elements, POSITION has " +
+                                                       std::to_string(pos.size()));
+            for (size_t v = 0; v < values.size(); ++v) store(prim.vertices[v], values[v]);
+            return true;
+        };
+        const bool has_normals = read_attr("NORMAL", 3, [](Vertex& v, const glm::vec4& x) { v.normal = glm::vec3(x); });
+        const bool has_tangents = read_attr("TANGENT", 4, [](Vertex& v, const glm::vec4& x) {
+            v.tangent = glm::vec4(glm::vec3(x), x.w < 0.0f ? -1.0f : 1.0f);
+        });
+        read_attr("TEXCOORD_0", 2, [](Vertex& v, const glm::vec4& x) { v.uv0 = glm::vec2(x); });
+        read_attr("TEXCOORD_1", 2, [](Vertex& v, const glm::vec4& x) { v.uv1 = glm::vec2(x); });
+        if (attr("COLOR_0") >= 0) {
+            const int ncomp = m_.accessors.size() > static_cast<size_t>(attr("COLOR_0"))
+                                  ? tinygltf::GetNumComponentsInType(static_cast<uint32_t>(m_.accessors[static_cast<size_t>(attr("COLOR_0"))].type))
+                                  : 4;
+            read_attr("COLOR_0", 4, [ncomp](Vertex& v, const glm::vec4& x) { v.color = glm::vec4(glm::vec3(x), ncomp == 4 ? x.w : 1.0f); });
+        }
+        if (p.indices >= 0) {
+            prim.indices = read_indices(p.indices, path + ".indices", pos.size());
+        } else {
+            prim.indices.resize(pos.size());
+            for (size_t v = 0; v < pos.size(); ++v) prim.indices[v] = static_cast<uint32_t>(v);
+        }
+        if (prim.indices.size() % 3 != 0) {
+            warn(path, std::to_string(prim.indices.size()) + " indices is not a multiple of 3; the last " +
+                           std::to_string(prim.indices.size() % 3) + " ignored");
+            prim.indices.resize(prim.indices.size() - prim.indices.size() % 3);
+        }
+        if (p.material >= 0 && static_cast<size_t>(p.material) >= m_.materials.size())
+            fail(path + ".material", "material " + std::to_string(p.material) + " does not exist (the file has " +
+                                         std::to_string(m_.materials.size()) + ")");
+        prim.material = p.material;
+        if (!has_normals) {
+            generate_flat_normals(prim);
+            ++scene.sanitized.generated_normals;
+        } else {
+            scene.sanitized.bad_normals += repair_normals(prim);
+        }
+        const Material& mat = scene.material(prim.material);
+        if (mat.normal_texture.present() && !has_tangents) {
+            generate_tangents(prim, mat.normal_texture.texcoord);
+            ++scene.sanitized.generated_tangents;
+        }
+        compute_bounds(prim);
+        mesh.primitives.push_back(std::move(prim));
+    }
+    return mesh;
+}
+
+void Loader::build_nodes(Scene& scene) {
+    const size_t n = m_.nodes.size();
+    scene.nodes.resize(n);
+    for (size_t i = 0; i < n; ++i) {
+        const tinygltf::Node& src = m_.nodes[i];
+        Node& node = scene.nodes[i];
+        const std::string path = idx("nodes", i);
+        node.name = src.name.empty() ? path : src.name;
+        if (src.matrix.size() == 16) {
+            for (int k = 0; k < 16; ++k) glm::value_ptr(node.local)[k] = static_cast<float>(src.matrix[static_cast<size_t>(k)]);
+        } else {
+            glm::vec3 t(0.0f), s(1.0f);
+            glm::quat r(1.0f, 0.0f, 0.0f, 0.0f);
+            if (src.translation.size() == 3) t = glm::vec3(src.translation[0], src.translation[1], src.translation[2]);
+            if (src.scale.size() == 3) s = glm::vec3(src.scale[0], src.scale[1], src.scale[2]);
+            if (src.rotation.size() == 4) {
+                r = glm::quat(static_cast<float>(src.rotation[3]), static_cast<float>(src.rotation[0]),
+                              static_cast<float>(src.rotation[1]), static_cast<float>(src.rotation[2]));
+                const float len = glm::length(r);
+                r = len > 0.0f && std::isfinite(len) ? r / len : glm::quat(1, 0, 0, 0);
+            }
+            node.local = glm::translate(glm::mat4(1.0f), t) * glm::mat4_cast(r) * glm::scale(glm::mat4(1.0f), s);
+        }
+        for (int k = 0; k < 16; ++k)
+            if (!std::isfinite(glm::value_ptr(node.local)[k])) fail(path, "transform has a non-finite value");
+        if (src.mesh >= 0) {
+            if (static_cast<size_t>(src.mesh) >= m_.meshes.size())
+                fail(path + ".mesh", "mesh " + std::to_string(src.mesh) + " does not exist (the file has " +
+                                         std::to_string(m_.meshes.size()) + ")");
+            node.mesh = src.mesh;
+        }
+        if (src.camera >= 0) {
+            if (static_cast<size_t>(src.camera) >= m_.cameras.size())
+                fail(path + ".camera", "camera " + std::to_string(src.camera) + " does not exist");
+            node.camera = src.camera;
+        }
+        if (const Value* e = extension(src.extensions, "KHR_lights_punctual")) {
+            const int light = static_cast<int>(number(*e, "light", -1));
+            if (light < 0 || static_cast<size_t>(light) >= m_.lights.size())
+                fail(path + ".extensions.KHR_lights_punctual.light", "light " + std::to_string(light) + " does not exist (the file has " +
+                                                                         std::to_string(m_.lights.size()) + ")");
+            node.light = light;
+        }
+        if (src.extras.IsObject() && src.extras.Has("sphere")) {
+            const double r = number(src.extras.Get("sphere"), "radius", -1.0);
+            if (!(r > 0.0) || !std::isfinite(r)) fail(path + ".extras.sphere.radius", "must be a positive number");
+            node.sphere_radius = static_cast<float>(r);
+        }
+        for (int c : src.children) {
+            if (c < 0 || static_cast<size_t>(c) >= n) fail(path + ".children", "node " + std::to_string(c) + " does not exist");
+            Node& child = scene.nodes[static_cast<size_t>(c)];
+            if (child.parent >= 0 || static_cast<size_t>(c) == i)
+                fail(path + ".children", "node " + std::to_string(c) + " has more than one parent (the hierarchy must be a tree)");
+            child.parent = static_cast<int>(i);
+            node.children.push_back(c);
+        }
+    }
+    // Roots: the default scene's nodes, else every parentless node.
+    if (!m_.scenes.empty()) {
+        const size_t si = m_.defaultScene >= 0 && static_cast<size_t>(m_.defaultScene) < m_.scenes.size()
+                              ? static_cast<size_t>(m_.defaultScene) : 0;
+        for (int r : m_.scenes[si].nodes) {
+            if (r < 0 || static_cast<size_t>(r) >= n) fail(idx("scenes", si) + ".nodes", "node " + std::to_string(r) + " does not exist");
+            if (scene.nodes[static_cast<size_t>(r)].parent >= 0)
+                fail(idx("scenes", si) + ".nodes", "node " + std::to_string(r) + " is a root and also a child");
+            scene.roots.push_back(r);
+        }
+    } else {
+        for (size_t i = 0; i < n; ++i)
+            if (scene.nodes[i].parent < 0) scene.roots.push_back(static_cast<int>(i));
+    }
+    // With one parent per node and parentless roots, no cycle is reachable from a root.
+    scene.update_world_transforms();
+}
+
+void Loader::build_environment(Scene& scene) {
+    if (m_.scenes.empty()) return;
+    const size_t si = m_.defaultScene >= 0 && static_cast<size_t>(m_.defaultScene) < m_.scenes.size()
+                          ? static_cast<size_t>(m_.defaultScene) : 0;
+    const Value& extras = m_.scenes[si].extras;
+    if (!extras.IsObject()) return;
+    const std::string path = idx("scenes", si) + ".extras";
+    scene.environment.radiance = glm::max(vec<3>(extras, "environment_radiance", glm::vec3(0.0f)), glm::vec3(0.0f));
+    scene.environment.intensity = std::max(0.0f, static_cast<float>(number(extras, "environment_intensity", 1.0)));
+    if (extras.Has("environment_map") && extras.Get("environment_map").IsString()) {
+        const fs::path map = dir_ / extras.Get("environment_map").Get<std::string>();
+        if (fs::exists(map)) scene.environment.map = map;
+        else warn(path + ".environment_map", "cannot find '" + map.string() + "'; using environment_radiance instead");
+    }
+}
+
+Scene Loader::build() {
+    Scene scene;
+    scene.source = file_;
+    build_images(scene);
+    scene.materials.reserve(m_.materials.size());
+    for (size_t i = 0; i < m_.materials.size(); ++i) scene.materials.push_back(build_material(i));
+    // The fallback image is appended so that texture refs with image -2 resolve to it.
+    int fallback = -1;
+    auto resolve = [&](TextureRef& ref) {
+        if (ref.image >= 0 && !scene.images[static_cast<size_t>(ref.image)].valid) ref.image = -2;
+        if (ref.image == -2) {
+            if (fallback < 0) {
+                Image img;
+                img.name = "fallback";
+                img.width = img.height = 8;
+                img.valid = true;
+                for (int y = 0; y < 8; ++y)
+                    for (int x = 0; x < 8; ++x) {
+                        const bool on = ((x / 2) + (y / 2)) % 2 == 0;  // magenta/black checker
+                        img.rgba8.insert(img.rgba8.end(), {static_cast<uint8_t>(on ? 255 : 0), 0, static_cast<uint8_t>(on ? 255 : 0), 255});
+                    }
+                scene.images.push_back(std::move(img));
+                fallback = static_cast<int>(scene.images.size()) - 1;
+            }
+            ref.image = fallback;
+        }
+    };
+    for (Material& m : scene.materials)
+        for (TextureRef* r : {&m.base_color_texture, &m.metallic_roughness_texture, &m.normal_texture,
+                              &m.occlusion_texture, &m.emissive_texture})
+            resolve(*r);
+    for (size_t i = 0; i < m_.lights.size(); ++i) {
+        const tinygltf::Light& src = m_.lights[i];
+        Light light;
+        light.name = src.name.empty() ? idx("lights", i) : src.name;
+        if (src.type == "directional") light.type = LightType::directional;
+        else if (src.type == "spot") light.type = LightType::spot;
+        else if (src.type == "point") light.type = LightType::point;
+        else fail("extensions.KHR_lights_punctual." + idx("lights", i) + ".type", "unknown light type '" + src.type + "'");
+        if (src.color.size() == 3) light.color = glm::max(glm::vec3(src.color[0], src.color[1], src.color[2]), glm::vec3(0.0f));
+        light.intensity = std::max(0.0f, static_cast<float>(src.intensity));
+        light.range = std::max(0.0f, static_cast<float>(src.range));
+        light.inner_cone = static_cast<float>(src.spot.innerConeAngle);
+        light.outer_cone = static_cast<float>(src.spot.outerConeAngle);
+        if (light.type == LightType::spot) {
+            light.outer_cone = std::clamp(light.outer_cone, 1e-4f, 1.5707963f);
+            light.inner_cone = std::clamp(light.inner_cone, 0.0f, light.outer_cone * 0.9999f);
+        }
+        scene.lights.push_back(light);
+    }
+    for (size_t i = 0; i < m_.meshes.size(); ++i) scene.meshes.push_back(build_mesh(i, scene));
+    build_nodes(scene);
+    for (size_t i = 0; i < scene.nodes.size(); ++i) {
+        const Node& node = scene.nodes[i];
+        if (node.camera < 0) continue;
+        const tinygltf::Camera& src = m_.cameras[static_cast<size_t>(node.camera)];
+        Camera cam;
+        cam.name = src.name.empty() ? node.name : src.name;
+        cam.node = static_cast<int>(i);
+        cam.world = node.world;
+        if (src.type == "orthographic") {
+            cam.orthographic = true;
+            cam.xmag = static_cast<float>(std::fabs(src.orthographic.xmag));
+            cam.ymag = static_cast<float>(std::fabs(src.orthographic.ymag));
+            cam.znear = static_cast<float>(src.orthographic.znear);
+            cam.zfar = static_cast<float>(src.orthographic.zfar);
+            if (!(cam.ymag > 0.0f)) fail(idx("cameras", static_cast<size_t>(node.camera)) + ".orthographic.ymag", "must be positive");
+        } else {
+            cam.yfov = static_cast<float>(src.perspective.yfov);
+            cam.aspect_ratio = static_cast<float>(src.perspective.aspectRatio);
+            cam.znear = static_cast<float>(src.perspective.znear);
+            cam.zfar = static_cast<float>(src.perspective.zfar);
+            if (!(cam.yfov > 0.0f && cam.yfov < 3.14f))
+                fail(idx("cameras", static_cast<size_t>(node.camera)) + ".perspective.yfov", "must be in (0, pi)");
+            if (!(cam.znear > 0.0f))
+                fail(idx("cameras", static_cast<size_t>(node.camera)) + ".perspective.znear", "must be positive");
+        }
+        scene.cameras.push_back(cam);
+    }
+    build_environment(scene);
+    const SanitizeReport& s = scene.sanitized;
+    if (s.nonfinite_positions) log::warn(file_ + ": " + std::to_string(s.nonfinite_positions) + " non-finite vertex positions replaced by 0");
+    if (s.bad_normals) log::warn(file_ + ": " + std::to_string(s.bad_normals) + " zero-length or non-finite normals replaced by face normals");
+    return scene;
+}
+
+std::string read_file(const fs::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw bad_input(path.string() + ": cannot open (" + std::strerror(errno) + ")");
+    std::ostringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+}
+
+// Checks what tinygltf reports only vaguely: JSON syntax (with line and column) and external
+// buffer files that are missing or shorter than their byteLength.
+void precheck_gltf_json(const fs::path& path, const std::string& text) {
+    nlohmann::json j;
+    try {
+        j = nlohmann::json::parse(text);
+    } catch (const nlohmann::json::parse_error& e) {
+        std::string what = e.what();
+        const auto pos = what.find("parse error");
+        throw bad_input(path.string() + ": invalid JSON: " + (pos == std::string::npos ? what : what.substr(pos)));
+    }
+    if (!j.is_object()) throw bad_input(path.string() + ": the top level is not a JSON object");
+    if (!j.contains("asset")) throw bad_input(path.string() + ": asset: missing (not a glTF 2.0 file?)");
+    if (!j.contains("buffers")) return;
+    if (!j["buffers"].is_array()) throw bad_input(path.string() + ": buffers: not an array");
+    const auto& buffers = j["buffers"];
+    for (size_t i = 0; i < buffers.size(); ++i) {
+        const auto& b = buffers[i];
+        const std::string bpath = path.string() + ": " + idx("buffers", i);
+        if (!b.is_object() || !b.contains("byteLength") || !b["byteLength"].is_number_unsigned())
+            throw bad_input(bpath + ".byteLength: missing or not a non-negative integer");
+        if (!b.contains("uri") || !b["uri"].is_string()) continue;
+        const std::string uri = b["uri"].get<std::string>();
+        if (uri.rfind("data:", 0) == 0) continue;
+        const fs::path file = path.parent_path() / uri;
+        std::error_code ec;
+        const auto size = fs::file_size(file, ec);
+        if (ec) throw bad_input(bpath + ".uri: cannot open '" + file.string() + "' (" + ec.message() + ")");
+        const auto need = b["byteLength"].get<std::uint64_t>();
+        if (size < need)
+            throw bad_input(bpath + ": '" + uri + "' has " + std::to_string(size) + " bytes but byteLength is " +
+                            std::to_string(need) + " (truncated buffer)");
+    }
+}
+
+}  // namespace
+
+Scene load_gltf(const fs::path& path) {
+    std::error_code ec;
+    if (!fs::exists(path, ec)) throw bad_input(path.string() + ": no such file");
+    if (fs::is_directory(path, ec)) throw bad_input(path.string() + ": is a directory, not a glTF file");
+    const std::string bytes = read_file(path);
+    const bool binary = bytes.size() >= 4 && bytes.compare(0, 4, "glTF") == 0;
+    if (!binary) precheck_gltf_json(path, bytes);
+
+    tinygltf::TinyGLTF gltf;
+    ImageDecodeLog image_log;
+    gltf.SetImageLoader(decode_image, &image_log);
+    tinygltf::Model model;
+    std::string err, warn;
+    const std::string base_dir = path.parent_path().string();
+    const bool ok = binary
+        ? gltf.LoadBinaryFromMemory(&model, &err, &warn, reinterpret_cast<const unsigned char*>(bytes.data()),
+                                    static_cast<unsigned>(bytes.size()), base_dir)
+        : gltf.LoadASCIIFromString(&model, &err, &warn, bytes.data(), static_cast<unsigned>(bytes.size()), base_dir);
+    if (!ok) throw bad_input(path.string() + ": " + (err.empty() ? "not a valid glTF 2.0 file" : trim(err)));
+    // tinygltf's image warnings are restated by the loader with the JSON path; pass on the rest.
+    std::istringstream lines(warn);
+    for (std::string line; std::getline(lines, line);)
+        if (!line.empty() && line.find("image") == std::string::npos) log::warn(path.string() + ": " + line);
+    for (const std::string& ext : model.extensionsRequired) {
+        static const char* known[] = {"KHR_lights_punctual", "KHR_materials_emissive_strength", "KHR_materials_specular",
+                                      "KHR_materials_ior", "KHR_materials_transmission", "KHR_materials_volume",
+                                      "KHR_texture_transform"};
+        if (std::find(std::begin(known), std::end(known), ext) == std::end(known))
+            throw bad_input(path.string() + ": extensionsRequired: '" + ext + "' is not supported");
+    }
+    return Loader(path, model, image_log).build();
+}
+
+}  // namespace candela

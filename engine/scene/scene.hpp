@@ -1,0 +1,212 @@
+#pragma once
+// The Scene: what a glTF file describes, in engine terms (shared/DESIGN.md section 3).
+// Plain data; the loader fills it, the renderer and the ray tracer read it.
+#include <array>
+#include <cstdint>
+#include <filesystem>
+#include <limits>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+namespace candela {
+
+struct Bounds {
+    glm::vec3 min{std::numeric_limits<float>::max()};
+    glm::vec3 max{-std::numeric_limits<float>::max()};
+    bool empty() const { return min.x > max.x; }
+    void extend(const glm::vec3& p) {
+        min = glm::min(min, p);
+        max = glm::max(max, p);
+    }
+    void extend(const Bounds& b) {
+        if (!b.empty()) extend(b.min), extend(b.max);
+    }
+    glm::vec3 center() const { return (min + max) * 0.5f; }
+    glm::vec3 extent() const { return max - min; }
+};
+
+// Filtering and wrapping in glTF's numbers (which are the GL enums).
+struct SamplerDesc {
+    int mag_filter = 9729;  // GL_LINEAR
+    int min_filter = 9987;  // GL_LINEAR_MIPMAP_LINEAR
+    int wrap_s = 10497;     // GL_REPEAT
+    int wrap_t = 10497;
+};
+
+// Decoded texture image, 8-bit RGBA. `valid == false`: missing or undecodable, drawn with the
+// fallback checker so the problem is visible.
+struct Image {
+    std::string name;
+    std::string uri;
+    int width = 0;
+    int height = 0;
+    std::vector<std::uint8_t> rgba8;
+    bool valid = false;
+};
+
+struct TextureRef {
+    int image = -1;  // index into Scene::images, -1: no texture
+    SamplerDesc sampler;
+    int texcoord = 0;  // 0 or 1
+    // KHR_texture_transform as a 3x3 UV matrix (identity when absent).
+    glm::mat3 transform{1.0f};
+    float scale = 1.0f;  // normalTexture.scale or occlusionTexture.strength
+    bool present() const { return image >= 0; }
+};
+
+enum class AlphaMode { opaque, mask, blend };
+
+struct Material {
+    std::string name = "default";
+    glm::vec4 base_color{1.0f};
+    float metallic = 1.0f;
+    float roughness = 1.0f;
+    glm::vec3 emissive{0.0f};
+    float emissive_strength = 1.0f;  // KHR_materials_emissive_strength
+    TextureRef base_color_texture, metallic_roughness_texture, normal_texture, occlusion_texture,
+        emissive_texture;
+    AlphaMode alpha_mode = AlphaMode::opaque;
+    float alpha_cutoff = 0.5f;
+    bool double_sided = false;
+    // KHR_materials_specular: specular_factor 0 => pure Lambert.
+    float specular_factor = 1.0f;
+    glm::vec3 specular_color{1.0f};
+    float ior = 1.5f;            // KHR_materials_ior
+    float transmission = 0.0f;   // KHR_materials_transmission
+    float thickness = 0.0f;      // KHR_materials_volume: > 0 solid refracting object, 0 thin-walled
+    glm::vec3 attenuation_color{1.0f};
+    float attenuation_distance = std::numeric_limits<float>::infinity();
+
+    glm::vec3 emission() const { return emissive * emissive_strength; }
+    bool is_emissive() const { return glm::any(glm::greaterThan(emission(), glm::vec3(0.0f))); }
+};
+
+struct Vertex {
+    glm::vec3 position{0.0f};
+    glm::vec3 normal{0.0f, 0.0f, 1.0f};
+    glm::vec4 tangent{1.0f, 0.0f, 0.0f, 1.0f};
+    glm::vec2 uv0{0.0f};
+    glm::vec2 uv1{0.0f};
+    glm::vec4 color{1.0f};
+};
+static_assert(sizeof(Vertex) == 18 * sizeof(float), "Vertex is uploaded as-is");
+
+struct Primitive {
+    std::vector<Vertex> vertices;
+    std::vector<std::uint32_t> indices;  // always indexed (non-indexed input gets 0..n-1)
+    int material = -1;                   // -1: the default material
+    Bounds bounds;                       // mesh space
+    std::size_t triangle_count() const { return indices.size() / 3; }
+};
+
+struct Mesh {
+    std::string name;
+    std::vector<Primitive> primitives;
+};
+
+enum class LightType { directional, point, spot };
+
+struct Light {
+    std::string name;
+    LightType type = LightType::point;
+    glm::vec3 color{1.0f};
+    float intensity = 1.0f;  // radiometric: point/spot W/sr, directional W/m^2
+    float range = 0.0f;      // 0: infinite
+    float inner_cone = 0.0f;
+    float outer_cone = 0.7853982f;
+};
+
+struct Camera {
+    std::string name;
+    bool orthographic = false;
+    float yfov = 0.8f;          // radians
+    float aspect_ratio = 0.0f;  // 0: use the image's
+    float znear = 0.05f;
+    float zfar = 0.0f;          // 0: infinite
+    float xmag = 1.0f, ymag = 1.0f;
+    int node = -1;  // the node that places it; -1 for the computed framing camera
+    glm::mat4 world{1.0f};  // camera-to-world
+};
+
+struct Node {
+    std::string name;
+    int parent = -1;
+    std::vector<int> children;
+    glm::mat4 local{1.0f};
+    glm::mat4 world{1.0f};
+    int mesh = -1;
+    int camera = -1;
+    int light = -1;
+    std::optional<float> sphere_radius;  // extras.sphere.radius: exact sphere for the ray tracer
+    bool mirrored() const { return glm::determinant(glm::mat3(world)) < 0.0f; }
+};
+
+struct Environment {
+    glm::vec3 radiance{0.0f};  // constant environment
+    std::filesystem::path map;  // equirectangular .hdr/.exr, empty if none
+    float intensity = 1.0f;
+    bool present() const {
+        return !map.empty() || glm::any(glm::greaterThan(radiance * intensity, glm::vec3(0.0f)));
+    }
+};
+
+// What the loader had to repair (counted; each kind is also one warning).
+struct SanitizeReport {
+    int skipped_primitives = 0;     // non-triangle modes
+    int generated_normals = 0;      // primitives
+    int generated_tangents = 0;     // primitives
+    int bad_normals = 0;            // zero-length or non-finite normals replaced
+    int nonfinite_positions = 0;    // positions replaced by 0
+    int missing_textures = 0;       // images that could not be loaded
+};
+
+// A world-space triangle, wound counter-clockwise seen from its front.
+struct WorldTriangle {
+    std::array<glm::vec3, 3> p;
+    std::array<glm::vec3, 3> n;
+    int material = -1;
+    int node = -1;
+};
+
+struct Scene {
+    std::filesystem::path source;
+    std::vector<Node> nodes;
+    std::vector<int> roots;
+    std::vector<Mesh> meshes;
+    std::vector<Material> materials;
+    std::vector<Image> images;
+    std::vector<Light> lights;
+    std::vector<Camera> cameras;
+    Environment environment;
+    SanitizeReport sanitized;
+
+    const Material& material(int index) const;
+    // Recomputes every node's world matrix from the hierarchy.
+    void update_world_transforms();
+    Bounds world_bounds() const;
+    std::size_t triangle_count() const;  // instanced: counted per node that draws the mesh
+    // All triangles in world space: positions by the node's world matrix, normals by its inverse
+    // transpose, winding flipped under a mirroring (negative determinant) transform.
+    std::vector<WorldTriangle> world_triangles() const;
+
+    // Lights placed in the world (position, direction = the node's -Z axis).
+    struct PlacedLight {
+        const Light* light;
+        glm::vec3 position;
+        glm::vec3 direction;
+    };
+    std::vector<PlacedLight> placed_lights() const;
+
+    // The camera to render from: glTF camera by index or name (throws bad_input if unknown);
+    // an empty selector picks the first camera, else a framing camera from the bounds.
+    Camera select_camera(const std::string& selector, float image_aspect) const;
+};
+
+// A camera that frames `bounds` from the front (+Z side), slightly above.
+Camera framing_camera(const Bounds& bounds);
+glm::mat4 projection_matrix(const Camera& camera, float image_aspect);  // reversed-Z, [0,1] depth
+
+}  // namespace candela

@@ -1,0 +1,186 @@
+#include "shader/shader_library.hpp"
+
+#include <cstdlib>
+#include <fstream>
+#include <regex>
+#include <set>
+#include <sstream>
+
+#include "core/error.hpp"
+
+#ifndef CANDELA_SHADER_DIR
+#define CANDELA_SHADER_DIR "shaders"
+#endif
+
+namespace candela {
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string read_text(const fs::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw Error(ExitCode::internal, path.string() + ": cannot open shader file");
+    std::ostringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+}
+
+GLenum gl_stage(ShaderStage stage) {
+    switch (stage) {
+        case ShaderStage::vertex: return GL_VERTEX_SHADER;
+        case ShaderStage::fragment: return GL_FRAGMENT_SHADER;
+        case ShaderStage::compute: return GL_COMPUTE_SHADER;
+    }
+    return GL_VERTEX_SHADER;
+}
+
+struct Expander {
+    const ShaderLibrary& lib;
+    std::function<fs::path(const fs::path&, const std::string&)> resolve;
+    PreprocessedSource out;
+    std::set<fs::path> included;
+    std::vector<fs::path> stack;
+
+    int file_id(const fs::path& p) {
+        for (size_t i = 0; i < out.files.size(); ++i)
+            if (out.files[i] == p) return static_cast<int>(i);
+        out.files.push_back(p);
+        return static_cast<int>(out.files.size()) - 1;
+    }
+
+    // Appends `file` (already past its #version line if `skip_version`).
+    void expand(const fs::path& file, bool is_main, const std::vector<std::string>& defines) {
+        const fs::path canonical = fs::weakly_canonical(file);
+        for (const fs::path& f : stack)
+            if (f == canonical) throw Error(ExitCode::internal, file.string() + ": #include cycle");
+        if (!is_main && included.count(canonical)) return;
+        included.insert(canonical);
+        stack.push_back(canonical);
+        const int id = file_id(file);
+        std::istringstream in(read_text(file));
+        std::string line;
+        int line_no = 0;
+        bool version_seen = !is_main;
+        static const std::regex include_re(R"(^\s*#\s*include\s*"([^"]+)\"\s*$)");
+        static const std::regex version_re(R"(^\s*#\s*version\b.*)");
+        if (!is_main) out.text += "#line 1 " + std::to_string(id) + "\n";
+        while (std::getline(in, line)) {
+            ++line_no;
+            std::smatch m;
+            if (!version_seen && std::regex_match(line, version_re)) {
+                out.text += line + "\n";
+                for (const std::string& d : defines) out.text += "#define " + d + "\n";
+                out.text += "#line " + std::to_string(line_no + 1) + " " + std::to_string(id) + "\n";
+                version_seen = true;
+            } else if (std::regex_match(line, m, include_re)) {
+                const fs::path inc = resolve(file.parent_path(), m[1].str());
+                if (inc.empty())
+                    throw Error(ExitCode::internal, file.string() + ":" + std::to_string(line_no) +
+                                                        ": cannot find include \"" + m[1].str() + "\"");
+                expand(inc, false, {});
+                out.text += "#line " + std::to_string(line_no + 1) + " " + std::to_string(id) + "\n";
+            } else {
+                out.text += line + "\n";
+            }
+        }
+        if (!version_seen) throw Error(ExitCode::internal, file.string() + ": no #version line");
+        stack.pop_back();
+    }
+};
+
+}  // namespace
+
+std::string PreprocessedSource::map_log(const std::string& log) const {
+    // Mesa: "0:12(3): error: ..."; glslang: "ERROR: 0:12: ..."; NVIDIA: "0(12) : error ...".
+    static const std::regex re(R"((\d+)[:(](\d+)(\(\d+\))?\)?\s*:)");
+    std::string result;
+    std::istringstream in(log);
+    for (std::string line; std::getline(in, line);) {
+        std::smatch m;
+        if (std::regex_search(line, m, re)) {
+            const size_t id = std::stoul(m[1].str());
+            if (id < files.size()) {
+                line = m.prefix().str() + files[id].string() + ":" + m[2].str() + ":" + m.suffix().str();
+            }
+        }
+        result += line + "\n";
+    }
+    return result;
+}
+
+ShaderLibrary::ShaderLibrary(fs::path root) : root_(std::move(root)) {}
+
+fs::path ShaderLibrary::default_root() {
+    if (const char* env = std::getenv("CANDELA_SHADER_DIR"); env && *env) return env;
+    return CANDELA_SHADER_DIR;
+}
+
+fs::path ShaderLibrary::resolve(const fs::path& including_dir, const std::string& name) const {
+    for (const fs::path& dir : {including_dir, root_}) {
+        const fs::path p = dir / name;
+        if (fs::is_regular_file(p)) return p;
+    }
+    return {};
+}
+
+PreprocessedSource ShaderLibrary::preprocess(const fs::path& file, const std::vector<std::string>& defines) const {
+    const fs::path path = file.is_absolute() ? file : root_ / file;
+    Expander ex{*this, [this](const fs::path& d, const std::string& n) { return resolve(d, n); }, {}, {}, {}};
+    ex.expand(path, true, defines);
+    return std::move(ex.out);
+}
+
+ShaderLibrary::BuildResult ShaderLibrary::build(const ProgramDesc& desc) const {
+    BuildResult result;
+    std::vector<gl::Shader> shaders;
+    bool ok = true;
+    for (const auto& [stage, file] : desc.stages) {
+        PreprocessedSource src;
+        try {
+            src = preprocess(file, desc.defines);
+        } catch (const Error& e) {
+            result.log += std::string(e.what()) + "\n";
+            ok = false;
+            continue;
+        }
+        result.files.insert(result.files.end(), src.files.begin(), src.files.end());
+        gl::Shader shader(glCreateShader(gl_stage(stage)));
+        const char* text = src.text.c_str();
+        glShaderSource(shader.id(), 1, &text, nullptr);
+        glCompileShader(shader.id());
+        GLint status = 0, length = 0;
+        glGetShaderiv(shader.id(), GL_COMPILE_STATUS, &status);
+        glGetShaderiv(shader.id(), GL_INFO_LOG_LENGTH, &length);
+        if (!status) {
+            std::string log(static_cast<size_t>(std::max(length, 1)), '\0');
+            glGetShaderInfoLog(shader.id(), length, nullptr, log.data());
+            result.log += src.map_log(log.c_str());
+            ok = false;
+        }
+        shaders.push_back(std::move(shader));
+    }
+    if (!ok) return result;
+    gl::Program program(glCreateProgram());
+    for (const gl::Shader& s : shaders) glAttachShader(program.id(), s.id());
+    glLinkProgram(program.id());
+    GLint status = 0, length = 0;
+    glGetProgramiv(program.id(), GL_LINK_STATUS, &status);
+    if (!status) {
+        glGetProgramiv(program.id(), GL_INFO_LOG_LENGTH, &length);
+        std::string log(static_cast<size_t>(std::max(length, 1)), '\0');
+        glGetProgramInfoLog(program.id(), length, nullptr, log.data());
+        result.log += desc.name + ": link failed: " + log.c_str();
+        return result;
+    }
+    for (const gl::Shader& s : shaders) glDetachShader(program.id(), s.id());
+    result.program = std::move(program);
+    return result;
+}
+
+gl::Program ShaderLibrary::build_or_throw(const ProgramDesc& desc) const {
+    BuildResult r = build(desc);
+    if (!r.ok()) throw Error(ExitCode::internal, "shader program '" + desc.name + "' failed to build:\n" + r.log);
+    return std::move(r.program);
+}
+
+}  // namespace candela

@@ -1,0 +1,61 @@
+#pragma once
+// GLSL sources from shaders/: #include "file.glsl" resolved (relative to the including file, then
+// to the shader root), each file included once, #line directives so that compiler messages map
+// back to file:line, and defines injected after #version. Programs remember their files so the
+// hot reloader (viewer issue) knows what to rebuild.
+#include <filesystem>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "gl/handles.hpp"
+
+namespace candela {
+
+enum class ShaderStage { vertex, fragment, compute };
+
+struct PreprocessedSource {
+    std::string text;
+    std::vector<std::filesystem::path> files;  // index = the source-string number used in #line
+    // Rewrites "0:12(3): error: ..." (Mesa) or "0(12) : error" (others) into "file.glsl:12: ...".
+    std::string map_log(const std::string& log) const;
+};
+
+struct ProgramDesc {
+    std::string name;  // for messages
+    std::vector<std::pair<ShaderStage, std::filesystem::path>> stages;  // relative to the root
+    std::vector<std::string> defines;  // "NAME" or "NAME VALUE"
+};
+
+class ShaderLibrary {
+public:
+    explicit ShaderLibrary(std::filesystem::path root);
+    // The directory from CANDELA_SHADER_DIR in the environment, else the source tree's shaders/.
+    static std::filesystem::path default_root();
+
+    const std::filesystem::path& root() const { return root_; }
+    // Throws candela::Error (internal) with "file:line: message" on a missing file or include cycle.
+    PreprocessedSource preprocess(const std::filesystem::path& file, const std::vector<std::string>& defines) const;
+
+    struct BuildResult {
+        gl::Program program;  // empty on failure
+        std::string log;      // mapped compiler/linker messages
+        std::vector<std::filesystem::path> files;
+        bool ok() const { return static_cast<bool>(program); }
+    };
+    // Compiles and links with the current GL context; never throws for GLSL errors.
+    BuildResult build(const ProgramDesc& desc) const;
+    // build() that throws candela::Error (internal) on failure: for the engine's own programs.
+    gl::Program build_or_throw(const ProgramDesc& desc) const;
+
+private:
+    std::filesystem::path resolve(const std::filesystem::path& including_dir, const std::string& name) const;
+    std::filesystem::path root_;
+};
+
+// Offline check with glslang (no GL context needed): empty string if the source compiles as
+// GLSL 4.50 core, else glslang's messages mapped through `source.map_log`.
+std::string validate_with_glslang(const PreprocessedSource& source, ShaderStage stage);
+
+}  // namespace candela
