@@ -33,6 +33,7 @@ public:
         eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
         eglDestroyContext(display_, context_);
         eglTerminate(display_);
+        eglReleaseThread();
     }
     Backend backend() const override { return Backend::egl; }
     bool make_current() override {

@@ -73,6 +73,40 @@ LightData to_gpu(const Scene::PlacedLight& pl) {
     return d;
 }
 
+std::vector<LightData> emissive_patches(const Scene& scene, int subdivisions, std::size_t max_patches) {
+    std::vector<WorldTriangle> emitters;
+    for (const WorldTriangle& t : scene.world_triangles())
+        if (scene.material(t.material).is_emissive()) emitters.push_back(t);
+    std::vector<LightData> out;
+    if (emitters.empty()) return out;
+    int k = std::max(subdivisions, 1);
+    while (k > 1 && emitters.size() * static_cast<size_t>(k * k) > max_patches) --k;
+    if (emitters.size() > max_patches) emitters.resize(max_patches);
+    for (const WorldTriangle& t : emitters) {
+        const Material& m = scene.material(t.material);
+        const glm::vec3 cross = glm::cross(t.p[1] - t.p[0], t.p[2] - t.p[0]);
+        const float area2 = glm::length(cross);
+        if (!(area2 > 0.0f) || !std::isfinite(area2)) continue;
+        const glm::vec3 normal = cross / area2;
+        const float sub_area = 0.5f * area2 / static_cast<float>(k * k);
+        // Barycentric grid: k^2 congruent sub-triangles (upright and inverted), their centroids.
+        for (int i = 0; i < k; ++i)
+            for (int j = 0; j < k - i; ++j)
+                for (int inverted = 0; inverted < (j < k - i - 1 ? 2 : 1); ++inverted) {
+                    const float a = (static_cast<float>(i) + (inverted ? 2.0f : 1.0f) / 3.0f) / static_cast<float>(k);
+                    const float b = (static_cast<float>(j) + (inverted ? 2.0f : 1.0f) / 3.0f) / static_cast<float>(k);
+                    const glm::vec3 p = t.p[0] + a * (t.p[1] - t.p[0]) + b * (t.p[2] - t.p[0]);
+                    LightData d{};
+                    d.position_type = glm::vec4(p, 3.0f);
+                    d.direction_range = glm::vec4(normal, m.double_sided ? 1.0f : 0.0f);
+                    d.color = glm::vec4(m.emission() * sub_area, 0.0f);
+                    d.cone = glm::vec4(sub_area, 0.0f, 0.0f, 0.0f);
+                    out.push_back(d);
+                }
+    }
+    return out;
+}
+
 GpuScene::GpuScene(const Scene& scene) : scene_(scene) {
     std::vector<Vertex> vertices;
     std::vector<std::uint32_t> indices;
@@ -105,6 +139,8 @@ GpuScene::GpuScene(const Scene& scene) : scene_(scene) {
 
     std::vector<LightData> lights;
     for (const auto& pl : scene.placed_lights()) lights.push_back(to_gpu(pl));
+    const std::vector<LightData> patches = emissive_patches(scene);
+    lights.insert(lights.end(), patches.begin(), patches.end());
     light_count_ = static_cast<int>(lights.size());
     if (lights.empty()) lights.push_back(LightData{});
     lights_ = gl::Buffer(static_cast<GLsizeiptr>(lights.size() * sizeof(LightData)), lights.data());

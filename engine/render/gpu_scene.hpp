@@ -46,6 +46,10 @@ struct LightData {  // std430, binding 2
 std::array<glm::vec3, 9> project_irradiance_sh(const ImageF& equirect);
 
 MaterialData to_gpu(const Material& material);
+// Emissive surfaces as Lambertian patches (the rasterizer's area-light approximation): each
+// emissive triangle split into `subdivisions`^2 pieces, lowered when the total would pass
+// `max_patches`.
+std::vector<LightData> emissive_patches(const Scene& scene, int subdivisions = 3, std::size_t max_patches = 256);
 LightData to_gpu(const Scene::PlacedLight& light);
 
 class GpuScene {

@@ -702,7 +702,8 @@ Scene load_gltf(const fs::path& path) {
     // tinygltf's image warnings are restated by the loader with the JSON path; pass on the rest.
     std::istringstream lines(warn);
     for (std::string line; std::getline(lines, line);)
-        if (!line.empty() && line.find("image") == std::string::npos) log::warn(path.string() + ": " + line);
+        if (!line.empty() && line.find("image") == std::string::npos && line.rfind("File not found", 0) != 0)
+            log::warn(path.string() + ": " + line);
     for (const std::string& ext : model.extensionsRequired) {
         static const char* known[] = {"KHR_lights_punctual", "KHR_materials_emissive_strength", "KHR_materials_specular",
                                       "KHR_materials_ior", "KHR_materials_transmission", "KHR_materials_volume",

@@ -54,7 +54,12 @@ void generate_smooth_normals(Primitive& primitive) {
 void generate_tangents(Primitive& primitive, int texcoord) {
     const size_t n = primitive.vertices.size();
     std::vector<glm::vec3> tan(n, glm::vec3(0.0f)), bitan(n, glm::vec3(0.0f));
-    auto uv = [&](uint32_t i) { return texcoord == 1 ? primitive.vertices[i].uv1 : primitive.vertices[i].uv0; };
+    // glTF normal maps have +Y towards the top of the image, which is decreasing v: the
+    // bitangent follows -v, so v is negated here.
+    auto uv = [&](uint32_t i) {
+        const glm::vec2 t = texcoord == 1 ? primitive.vertices[i].uv1 : primitive.vertices[i].uv0;
+        return glm::vec2(t.x, -t.y);
+    };
     for (size_t t = 0; t + 2 < primitive.indices.size(); t += 3) {
         const uint32_t i[3] = {primitive.indices[t], primitive.indices[t + 1], primitive.indices[t + 2]};
         const glm::vec3 e1 = primitive.vertices[i[1]].position - primitive.vertices[i[0]].position;

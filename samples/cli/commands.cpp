@@ -27,7 +27,8 @@ void print_usage() {
         "usage:\n"
         "  candela render SCENE -o OUT.(png|exr) [--size WxH] [--backend auto|egl|osmesa]\n"
         "                 [--camera N|NAME] [--exposure EV] [--environment FILE] [--debug-gl] [--timings]\n"
-        "  candela info SCENE\n"
+        "                 [--strict]\n"
+        "  candela info SCENE [--strict]\n"
         "  candela compare A B [--heatmap OUT.png] [--tolerance T] [--max-failing F] [--check]\n"
         "\n"
         "render   SCENE (.gltf/.glb) to OUT: .exr holds linear radiance; .png is exposure + ACES + sRGB.\n"
@@ -35,7 +36,8 @@ void print_usage() {
         "         --camera glTF camera index or name (default: the first, else a framing camera),\n"
         "         --exposure EV for .png (default 0), --environment FILE (.hdr/.exr, equirectangular)\n"
         "         replaces the scene's environment, --debug-gl logs GL debug output and fails on GL errors,\n"
-        "         --timings prints where the time went.\n"
+        "         --timings prints where the time went, --strict treats loader warnings (missing\n"
+        "         texture, skipped primitive, repaired data) as errors (exit 2).\n"
         "info     counts, bounds, cameras, lights and the features the scene calls for.\n"
         "compare  RMSE, relative MSE, PSNR, max difference and the pixels beyond --tolerance\n"
         "         (default 2/255) of A against B; --check exits 4 if more than --max-failing (default\n"
@@ -112,11 +114,20 @@ std::string fmt(const char* f, double v) {
     return buf;
 }
 
+Scene load_scene(const std::string& path, bool strict) {
+    const int before = log::warning_count();
+    Scene scene = load_gltf(path);
+    const int warnings = log::warning_count() - before;
+    if (strict && warnings > 0)
+        throw bad_input(path + ": " + std::to_string(warnings) + " loader warning(s) (see above) and --strict is set");
+    return scene;
+}
+
 }  // namespace
 
 int cmd_render(const Args& args) {
     const Parsed p = parse(args, {"-o", "--output", "--size", "--backend", "--camera", "--exposure", "--environment"},
-                           {"--debug-gl", "--timings", "--quiet"});
+                           {"--debug-gl", "--timings", "--quiet", "--strict"});
     if (p.positional.size() != 1) throw bad_input("render needs exactly one SCENE (got " + std::to_string(p.positional.size()) + ")");
     std::string out = p.options.count("-o") ? p.options.at("-o") : p.options.count("--output") ? p.options.at("--output") : "";
     if (out.empty()) throw bad_input("render needs -o OUT.png or -o OUT.exr");
@@ -139,7 +150,7 @@ int cmd_render(const Args& args) {
     }
 
     const auto t_start = std::chrono::steady_clock::now();
-    Scene scene = load_gltf(p.positional[0]);
+    Scene scene = load_scene(p.positional[0], p.flags.count("--strict") > 0);
     if (p.options.count("--environment")) {
         const fs::path env = p.options.at("--environment");
         if (!fs::is_regular_file(env)) throw bad_input(env.string() + ": --environment: no such file");
@@ -181,9 +192,9 @@ int cmd_render(const Args& args) {
 }
 
 int cmd_info(const Args& args) {
-    const Parsed p = parse(args, {}, {});
+    const Parsed p = parse(args, {}, {"--strict"});
     if (p.positional.size() != 1) throw bad_input("info needs exactly one SCENE");
-    const Scene scene = load_gltf(p.positional[0]);
+    const Scene scene = load_scene(p.positional[0], p.flags.count("--strict") > 0);
     int directional = 0, point = 0, spot = 0;
     for (const auto& pl : scene.placed_lights()) {
         directional += pl.light->type == LightType::directional;

@@ -1,0 +1,16 @@
+# Runs COMMAND (a ;-list) and checks its exit code and that its stderr+stdout match REGEX.
+#   cmake -DCOMMAND="a;b" -DEXPECT_EXIT=2 -DREGEX="..." [-DENV="K=V;..."] -P expect.cmake
+if(ENV)
+  foreach(kv IN LISTS ENV)
+    string(REGEX MATCH "^([^=]+)=(.*)$" _ "${kv}")
+    set(ENV{${CMAKE_MATCH_1}} "${CMAKE_MATCH_2}")
+  endforeach()
+endif()
+execute_process(COMMAND ${COMMAND} RESULT_VARIABLE code OUTPUT_VARIABLE out ERROR_VARIABLE err TIMEOUT 120)
+message("exit code: ${code}\nstdout:\n${out}\nstderr:\n${err}")
+if(NOT "${code}" STREQUAL "${EXPECT_EXIT}")
+  message(FATAL_ERROR "expected exit code ${EXPECT_EXIT}, got ${code}")
+endif()
+if(REGEX AND NOT "${out}${err}" MATCHES "${REGEX}")
+  message(FATAL_ERROR "output does not match: ${REGEX}")
+endif()

@@ -1,0 +1,100 @@
+// Golden-image check of one sample scene on one backend:
+//   candela_golden SCENE.gltf GOLDEN.png OUT_DIR --backend egl|osmesa [--size WxH] [--update]
+// Renders with GL debug output on; fails on any GL error, any non-finite pixel, or more than
+// 0.1 % of pixels differing by more than 2/255 from the golden (shared/DESIGN.md section 5).
+// On failure the actual image and a heat-map diff are written to OUT_DIR and their paths printed.
+// --update (used only by the `update-goldens` target) overwrites the golden instead.
+#include <cstdio>
+#include <filesystem>
+#include <string>
+
+#include "core/error.hpp"
+#include "gl/debug.hpp"
+#include "image/image.hpp"
+#include "platform/context.hpp"
+#include "render/still.hpp"
+#include "scene/gltf_loader.hpp"
+
+namespace fs = std::filesystem;
+using namespace candela;
+
+namespace {
+constexpr double kTolerance = 2.0 / 255.0;
+constexpr double kMaxFailingFraction = 0.001;
+}  // namespace
+
+int main(int argc, char** argv) {
+    if (argc < 4) {
+        std::fprintf(stderr, "usage: candela_golden SCENE GOLDEN.png OUT_DIR --backend B [--size WxH] [--update]\n");
+        return 2;
+    }
+    const fs::path scene_path = argv[1], golden = argv[2], out_dir = argv[3];
+    Backend backend = Backend::egl;
+    StillOptions options;
+    options.width = options.height = 256;
+    bool update = false;
+    for (int i = 4; i < argc; ++i) {
+        const std::string a = argv[i];
+        if (a == "--update") update = true;
+        else if (a == "--backend" && i + 1 < argc) backend = parse_backend(argv[++i]).value_or(Backend::egl);
+        else if (a == "--size" && i + 1 < argc) std::sscanf(argv[++i], "%dx%d", &options.width, &options.height);
+        else {
+            std::fprintf(stderr, "candela_golden: unknown argument '%s'\n", a.c_str());
+            return 2;
+        }
+    }
+    try {
+        const Scene scene = load_gltf(scene_path);
+        ContextOptions ctx_options;
+        ctx_options.debug = true;
+        ContextResult ctx = create_context(backend, ctx_options);
+        if (!ctx.context) {
+            std::fprintf(stderr, "FAIL: no usable OpenGL: %s\n", ctx.error.c_str());
+            return 3;
+        }
+        std::printf("device: %s (%s)\n", ctx.context->device_string().c_str(), to_string(backend));
+        const StillResult result = render_still(scene, ShaderLibrary(ShaderLibrary::default_root()), options);
+        int failures = 0;
+        if (gl::debug_error_count() > 0) {
+            std::fprintf(stderr, "FAIL: %d GL error(s) during the render\n", gl::debug_error_count());
+            ++failures;
+        }
+        if (const size_t bad = count_nonfinite(result.radiance)) {
+            std::fprintf(stderr, "FAIL: %zu non-finite values in the rendered radiance\n", bad);
+            ++failures;
+        }
+        fs::create_directories(out_dir);
+        const std::string stem = scene_path.stem().string() + "." + to_string(backend);
+        const fs::path actual_path = out_dir / (stem + ".actual.png");
+        write_image(actual_path, result.radiance);
+        if (update) {
+            if (failures) return 1;
+            fs::create_directories(golden.parent_path());
+            fs::copy_file(actual_path, golden, fs::copy_options::overwrite_existing);
+            std::printf("updated %s\n", golden.string().c_str());
+            return 0;
+        }
+        // Compare the PNG as written (8-bit quantised) with the golden.
+        const ImageF actual = read_image(actual_path);
+        const ImageF expected = read_image(golden);
+        if (actual.width != expected.width || actual.height != expected.height) {
+            std::fprintf(stderr, "FAIL: %s is %dx%d, the render is %dx%d\n", golden.string().c_str(), expected.width,
+                         expected.height, actual.width, actual.height);
+            return 1;
+        }
+        const CompareResult r = compare(actual, expected, kTolerance);
+        std::printf("%s vs %s: rmse %.6f, max %.4f, %zu pixels (%.4f %%) beyond %.4f\n", actual_path.filename().c_str(),
+                    golden.filename().c_str(), r.rmse, r.max_abs, r.failing_pixels, 100.0 * r.failing_fraction, kTolerance);
+        if (r.failing_fraction > kMaxFailingFraction || r.nonfinite) {
+            const fs::path diff_path = out_dir / (stem + ".diff.png");
+            write_display_image(diff_path, heatmap(actual, expected, 8.0 * kTolerance));
+            std::fprintf(stderr, "FAIL: beyond tolerance (max %.2f %% of pixels)\n  actual:  %s\n  heatmap: %s\n",
+                         100.0 * kMaxFailingFraction, fs::absolute(actual_path).c_str(), fs::absolute(diff_path).c_str());
+            ++failures;
+        }
+        return failures ? 1 : 0;
+    } catch (const Error& e) {
+        std::fprintf(stderr, "FAIL: %s\n", e.what());
+        return static_cast<int>(e.code());
+    }
+}

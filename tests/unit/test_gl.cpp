@@ -1,0 +1,154 @@
+// Tests that need a GL context: contexts on both headless backends, GL error detection, the
+// GLSL/C++ twins, and the forward path's physical units on analytic cases.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+
+#include "core/error.hpp"
+#include "gl/debug.hpp"
+#include "gltf_builder.hpp"
+#include "image/image.hpp"
+#include "platform/context.hpp"
+#include "render/still.hpp"
+#include "scene/gltf_loader.hpp"
+
+namespace candela {
+namespace {
+namespace fs = std::filesystem;
+
+ShaderLibrary shaders() { return ShaderLibrary(fs::path(CANDELA_SOURCE_DIR) / "shaders"); }
+
+class GlTest : public ::testing::TestWithParam<Backend> {
+protected:
+    void SetUp() override {
+        ContextOptions options;
+        options.debug = true;
+        ContextResult r = create_context(GetParam(), options);
+        ASSERT_TRUE(r.context) << r.error;
+        context_ = std::move(r.context);
+        gl::reset_debug_error_count();
+    }
+    void TearDown() override {
+        if (context_) EXPECT_EQ(gl::debug_error_count(), 0) << "GL errors during the test";
+    }
+    std::unique_ptr<Context> context_;
+};
+
+TEST_P(GlTest, ContextIsCore45WithComputeShaders) {
+    EXPECT_EQ(context_->backend(), GetParam());
+    EXPECT_FALSE(context_->renderer().empty());
+    GLint major = 0, minor = 0, invocations = 0;
+    glGetIntegerv(GL_MAJOR_VERSION, &major);
+    glGetIntegerv(GL_MINOR_VERSION, &minor);
+    glGetIntegerv(GL_MAX_COMPUTE_WORK_GROUP_INVOCATIONS, &invocations);
+    EXPECT_GE(major * 10 + minor, 45);
+    EXPECT_GE(invocations, 1024);
+}
+
+TEST_P(GlTest, DebugOutputCountsGlErrors) {
+    glEnable(0x1234);  // GL_INVALID_ENUM
+    EXPECT_EQ(gl::debug_error_count(), 1);
+    gl::reset_debug_error_count();
+}
+
+TEST_P(GlTest, GlslDisplayTransformMatchesCpp) {
+    const auto dir = test::test_dir("twin_tonemap");
+    std::ofstream(dir / "twin.comp") << R"(#version 450 core
+#include "common/tonemap.glsl"
+layout(local_size_x = 64) in;
+layout(std430, binding = 0) buffer Data { vec4 values[]; };
+void main() {
+    uint i = gl_GlobalInvocationID.x;
+    values[i] = vec4(display_transform(values[i].xyz, values[i].w), 0.0);
+}
+)";
+    fs::create_directories(dir / "common");
+    fs::copy_file(fs::path(CANDELA_SOURCE_DIR) / "shaders/common/tonemap.glsl", dir / "common/tonemap.glsl");
+    const ShaderLibrary lib(dir);
+    gl::Program program = lib.build_or_throw({"twin", {{ShaderStage::compute, "twin.comp"}}, {}});
+    std::vector<glm::vec4> values;
+    for (int i = 0; i < 256; ++i) {
+        const float x = std::pow(10.0f, -4.0f + 7.0f * static_cast<float>(i) / 255.0f);
+        values.emplace_back(x, x * 0.5f, x * 0.01f, static_cast<float>(i % 5) - 2.0f);
+    }
+    gl::Buffer buffer(static_cast<GLsizeiptr>(values.size() * 16), values.data(), GL_DYNAMIC_STORAGE_BIT);
+    glUseProgram(program.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, buffer.id());
+    glDispatchCompute(4, 1, 1);
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    std::vector<glm::vec4> out(values.size());
+    glGetNamedBufferSubData(buffer.id(), 0, static_cast<GLsizeiptr>(out.size() * 16), out.data());
+    for (size_t i = 0; i < values.size(); ++i) {
+        const glm::vec3 expected = display_transform(glm::vec3(values[i]), values[i].w);
+        for (int c = 0; c < 3; ++c) EXPECT_NEAR(out[i][c], expected[c], 2e-5f) << "value " << i;
+    }
+}
+
+TEST_P(GlTest, ShaderErrorsNameFileAndLine) {
+    const auto dir = test::test_dir("gl_shader_error");
+    std::ofstream(dir / "broken.comp") << "#version 450 core\nlayout(local_size_x = 1) in;\nvoid main() {\n  oops;\n}\n";
+    const ShaderLibrary lib(dir);
+    const auto result = lib.build({"broken", {{ShaderStage::compute, "broken.comp"}}, {}});
+    EXPECT_FALSE(result.ok());
+    EXPECT_NE(result.log.find("broken.comp:4:"), std::string::npos) << result.log;
+    gl::reset_debug_error_count();  // the compile failure is expected
+}
+
+// A Lambertian (specularFactor 0) square facing +Z, seen head-on by an orthographic camera.
+fs::path lambert_plane_scene(const std::string& name, const nlohmann::json& light, const nlohmann::json& env_radiance,
+                             bool mirrored = false) {
+    test::GltfBuilder b;
+    b.json()["materials"] = {{{"pbrMetallicRoughness", {{"baseColorFactor", {1, 1, 1, 1}}, {"metallicFactor", 0}}},
+                              {"extensions", {{"KHR_materials_specular", {{"specularFactor", 0}}}}}}};
+    b.json()["cameras"] = {{{"type", "orthographic"},
+                            {"orthographic", {{"xmag", 2}, {"ymag", 2}, {"znear", 0.1}, {"zfar", 20}}}}};
+    b.add_node({{"camera", 0}, {"translation", {0, 0, 5}}});
+    nlohmann::json plane = {{"mesh", b.add_quad_mesh(0)}};
+    if (mirrored) plane["scale"] = {-1, 1, 1};
+    b.add_node(plane);
+    if (!light.is_null()) {
+        b.json()["extensions"]["KHR_lights_punctual"]["lights"] = {light};
+        b.add_node({{"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}});  // points along -Z
+    }
+    if (!env_radiance.is_null()) b.json()["scenes"][0]["extras"]["environment_radiance"] = env_radiance;
+    return b.write(test::test_dir(name), name);
+}
+
+TEST_P(GlTest, LambertPlaneUnderDirectionalLightIsEOverPi) {
+    // Irradiance E = 2 W/m^2 at normal incidence: radiance = albedo / pi * E.
+    const Scene scene = load_gltf(lambert_plane_scene("lambert", {{"type", "directional"}, {"intensity", 2.0}}, nullptr));
+    StillOptions o;
+    o.width = o.height = 32;
+    const StillResult r = render_still(scene, shaders(), o);
+    EXPECT_EQ(count_nonfinite(r.radiance), 0u);
+    EXPECT_NEAR(r.radiance.at(16, 16)[0], 2.0f / 3.14159265f, 1e-4f);
+    EXPECT_NEAR(r.radiance.at(16, 16)[2], 2.0f / 3.14159265f, 1e-4f);
+    // The plane (half-size 1) covers the middle half of the 2x2-unit view; outside is black.
+    EXPECT_FLOAT_EQ(r.radiance.at(1, 1)[0], 0.0f);
+}
+
+TEST_P(GlTest, ConstantEnvironmentLightsLambertAndBackground) {
+    // Constant radiance L from every direction: a white Lambert surface reflects exactly L.
+    const Scene scene = load_gltf(lambert_plane_scene("ambient", nullptr, {0.5, 0.25, 0.125}));
+    StillOptions o;
+    o.width = o.height = 32;
+    const StillResult r = render_still(scene, shaders(), o);
+    EXPECT_NEAR(r.radiance.at(16, 16)[0], 0.5f, 1e-4f);
+    EXPECT_NEAR(r.radiance.at(16, 16)[1], 0.25f, 1e-4f);
+    EXPECT_NEAR(r.radiance.at(1, 1)[2], 0.125f, 1e-6f);  // background sees the environment
+}
+
+TEST_P(GlTest, MirroredNodeIsNotCulled) {
+    const Scene scene = load_gltf(lambert_plane_scene("mirrored", {{"type", "directional"}, {"intensity", 1.0}}, nullptr, true));
+    StillOptions o;
+    o.width = o.height = 16;
+    const StillResult r = render_still(scene, shaders(), o);
+    EXPECT_NEAR(r.radiance.at(8, 8)[0], 1.0f / 3.14159265f, 1e-4f);
+}
+
+INSTANTIATE_TEST_SUITE_P(Backends, GlTest, ::testing::Values(Backend::egl, Backend::osmesa),
+                         [](const auto& info) { return std::string(to_string(info.param)); });
+
+}  // namespace
+}  // namespace candela

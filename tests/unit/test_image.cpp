@@ -1,0 +1,102 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "core/error.hpp"
+#include "gltf_builder.hpp"
+#include "image/image.hpp"
+
+namespace candela {
+namespace {
+
+TEST(ToneMapping, SrgbCurveKnownValues) {
+    EXPECT_FLOAT_EQ(linear_to_srgb(0.0f), 0.0f);
+    EXPECT_NEAR(linear_to_srgb(1.0f), 1.0f, 1e-6f);
+    EXPECT_NEAR(linear_to_srgb(0.5f), 0.735357f, 1e-5f);
+    EXPECT_NEAR(linear_to_srgb(0.002f), 0.002f * 12.92f, 1e-7f);  // linear toe
+}
+
+TEST(ToneMapping, AcesIsMonotoneAndBounded) {
+    float previous = -1.0f;
+    for (float x = 0.0f; x < 100.0f; x = x * 1.3f + 0.001f) {
+        const float y = aces_fit(glm::vec3(x)).x;
+        EXPECT_GE(y, previous);
+        EXPECT_LE(y, 1.0f);
+        previous = y;
+    }
+    EXPECT_FLOAT_EQ(aces_fit(glm::vec3(0.0f)).x, 0.0f);
+    EXPECT_NEAR(aces_fit(glm::vec3(1e6f)).x, 1.0f, 1e-6f);
+}
+
+TEST(ToneMapping, ExposureIsOneStopPerEv) {
+    const glm::vec3 a = display_transform(glm::vec3(0.25f), 1.0f);
+    const glm::vec3 b = display_transform(glm::vec3(0.5f), 0.0f);
+    EXPECT_FLOAT_EQ(a.x, b.x);
+    EXPECT_FLOAT_EQ(display_transform(glm::vec3(-5.0f), 0.0f).x, 0.0f);  // negative radiance clamps
+}
+
+TEST(ImageCompare, MetricsAndFailingPixels) {
+    ImageF a(4, 4, 4), b(4, 4, 4);
+    EXPECT_EQ(compare(a, b, 0.0).failing_pixels, 0u);
+    EXPECT_TRUE(std::isinf(compare(a, b, 0.0).psnr));
+    b.at(1, 2)[1] = 0.1f;
+    const CompareResult r = compare(a, b, 0.05);
+    EXPECT_EQ(r.failing_pixels, 1u);
+    EXPECT_NEAR(r.max_abs, 0.1, 1e-7);
+    EXPECT_NEAR(r.rmse, std::sqrt(0.01 / 48.0), 1e-7);
+    EXPECT_NEAR(r.failing_fraction, 1.0 / 16.0, 1e-12);
+    EXPECT_EQ(compare(a, b, 0.2).failing_pixels, 0u);
+    ImageF small(2, 2, 4);
+    EXPECT_THROW(compare(a, small, 0.1), Error);
+}
+
+TEST(ImageCompare, NonFiniteIsCountedAndFails) {
+    ImageF a(2, 2, 4), b(2, 2, 4);
+    a.at(0, 0)[0] = NAN;
+    a.at(1, 1)[2] = INFINITY;
+    EXPECT_EQ(count_nonfinite(a), 2u);
+    const CompareResult r = compare(a, b, 1.0);
+    EXPECT_EQ(r.nonfinite, 2u);
+    EXPECT_EQ(r.failing_pixels, 2u);
+}
+
+TEST(ImageCompare, HeatmapIsBlackWhereEqualAndRedAtScale) {
+    ImageF a(2, 1, 4), b(2, 1, 4);
+    a.at(1, 0)[0] = 1.0f;
+    const ImageF h = heatmap(a, b, 1.0);
+    EXPECT_FLOAT_EQ(h.at(0, 0)[0] + h.at(0, 0)[1] + h.at(0, 0)[2], 0.0f);
+    EXPECT_FLOAT_EQ(h.at(1, 0)[0], 1.0f);
+    EXPECT_FLOAT_EQ(h.at(1, 0)[1], 0.0f);
+}
+
+TEST(ImageIO, ExrRoundTripKeepsLinearFloats) {
+    const auto dir = test::test_dir("imageio");
+    ImageF img(3, 2, 4);
+    img.at(2, 1)[0] = 123.456f;
+    img.at(0, 0)[1] = 1e-4f;
+    write_image(dir / "x.exr", img);
+    const ImageF back = read_image(dir / "x.exr");
+    ASSERT_EQ(back.width, 3);
+    EXPECT_FLOAT_EQ(back.at(2, 1)[0], 123.456f);
+    EXPECT_FLOAT_EQ(back.at(0, 0)[1], 1e-4f);
+}
+
+TEST(ImageIO, PngIsDisplayTransformed) {
+    const auto dir = test::test_dir("imageio_png");
+    ImageF img(1, 1, 4);
+    img.at(0, 0)[0] = img.at(0, 0)[1] = img.at(0, 0)[2] = 0.18f;
+    write_image(dir / "x.png", img, 0.0f);
+    const ImageF back = read_image(dir / "x.png");
+    const float expected = display_transform(glm::vec3(0.18f), 0.0f).x;
+    EXPECT_NEAR(back.at(0, 0)[0], expected, 0.5f / 255.0f + 1e-6f);
+}
+
+TEST(ImageIO, BadPathsAreBadInput) {
+    ImageF img(1, 1, 4);
+    EXPECT_THROW(write_image("/nonexistent-dir/x.png", img), Error);
+    EXPECT_THROW(write_image("x.unknown", img), Error);
+    EXPECT_THROW(read_image("/nonexistent.png"), Error);
+}
+
+}  // namespace
+}  // namespace candela
