@@ -152,3 +152,21 @@ INSTANTIATE_TEST_SUITE_P(Backends, GlTest, ::testing::Values(Backend::egl, Backe
 
 }  // namespace
 }  // namespace candela
+
+namespace candela {
+namespace {
+
+TEST(Contexts, WindowWithoutDisplayIsAClearErrorNotACrash) {
+    const char* saved = std::getenv("DISPLAY");
+    const std::string keep = saved ? saved : "";
+    unsetenv("DISPLAY");
+    unsetenv("WAYLAND_DISPLAY");
+    ContextResult r = create_context(Backend::glfw, {});
+    if (!keep.empty()) setenv("DISPLAY", keep.c_str(), 1);
+    ASSERT_FALSE(r.context);
+    EXPECT_NE(r.error.find("glfw"), std::string::npos) << r.error;
+    EXPECT_NE(r.error.find("xvfb-run"), std::string::npos) << r.error;
+}
+
+}  // namespace
+}  // namespace candela

@@ -353,3 +353,50 @@ TEST(Environment, SceneExtras) {
 
 }  // namespace
 }  // namespace candela
+
+namespace candela {
+namespace {
+
+// Packs a .gltf + .bin written by GltfBuilder into one GLB (glTF 2.0 binary container).
+std::filesystem::path to_glb(const std::filesystem::path& gltf_path) {
+    nlohmann::json j = nlohmann::json::parse(std::ifstream(gltf_path));
+    std::ifstream bin_in(gltf_path.parent_path() / j["buffers"][0]["uri"].get<std::string>(), std::ios::binary);
+    std::string bin((std::istreambuf_iterator<char>(bin_in)), std::istreambuf_iterator<char>());
+    j["buffers"][0].erase("uri");
+    std::string text = j.dump();
+    while (text.size() % 4) text += ' ';
+    while (bin.size() % 4) bin += '\0';
+    auto u32 = [](std::string& s, uint32_t v) { s.append(reinterpret_cast<const char*>(&v), 4); };
+    std::string glb = "glTF";
+    u32(glb, 2);
+    u32(glb, static_cast<uint32_t>(12 + 8 + text.size() + 8 + bin.size()));
+    u32(glb, static_cast<uint32_t>(text.size()));
+    u32(glb, 0x4E4F534A);  // JSON
+    glb += text;
+    u32(glb, static_cast<uint32_t>(bin.size()));
+    u32(glb, 0x004E4942);  // BIN
+    glb += bin;
+    auto out = gltf_path;
+    out.replace_extension(".glb");
+    std::ofstream(out, std::ios::binary) << glb;
+    return out;
+}
+
+TEST(Loader, BinaryGlbLoadsLikeGltf) {
+    test::GltfBuilder b;
+    b.add_node({{"mesh", b.add_quad_mesh()}});
+    const auto gltf = b.write(test::test_dir("glb"), "quad");
+    const Scene a = load_gltf(gltf);
+    const Scene g = load_gltf(to_glb(gltf));
+    EXPECT_EQ(g.triangle_count(), 2u);
+    EXPECT_EQ(g.meshes[0].primitives[0].vertices.size(), a.meshes[0].primitives[0].vertices.size());
+    // A GLB cut short is bad input, not a crash.
+    std::ifstream in(to_glb(gltf), std::ios::binary);
+    std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const auto cut = gltf.parent_path() / "cut.glb";
+    std::ofstream(cut, std::ios::binary) << bytes.substr(0, bytes.size() - 20);
+    EXPECT_THROW(load_gltf(cut), Error);
+}
+
+}  // namespace
+}  // namespace candela
