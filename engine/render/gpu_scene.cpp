@@ -137,13 +137,7 @@ GpuScene::GpuScene(const Scene& scene) : scene_(scene) {
     mats.push_back(to_gpu(Material{}));  // the default material
     materials_ = gl::Buffer(static_cast<GLsizeiptr>(mats.size() * sizeof(MaterialData)), mats.data());
 
-    std::vector<LightData> lights;
-    for (const auto& pl : scene.placed_lights()) lights.push_back(to_gpu(pl));
-    const std::vector<LightData> patches = emissive_patches(scene);
-    lights.insert(lights.end(), patches.begin(), patches.end());
-    light_count_ = static_cast<int>(lights.size());
-    if (lights.empty()) lights.push_back(LightData{});
-    lights_ = gl::Buffer(static_cast<GLsizeiptr>(lights.size() * sizeof(LightData)), lights.data());
+    update_lights(3, 256);
 
     // Draws: every node reachable from the roots that has a mesh.
     std::vector<int> stack(scene.roots.begin(), scene.roots.end());
@@ -204,6 +198,19 @@ GpuScene::GpuScene(const Scene& scene) : scene_(scene) {
         for (auto& c : env_sh_) c *= env.intensity;
         env_radiance_ = glm::vec3(env.intensity);
     }
+}
+
+void GpuScene::update_lights(int area_subdivisions, std::size_t max_patches) {
+    if (area_subdivisions == area_subdivisions_ && max_patches == max_patches_) return;
+    area_subdivisions_ = area_subdivisions;
+    max_patches_ = max_patches;
+    std::vector<LightData> lights;
+    for (const auto& pl : scene_.placed_lights()) lights.push_back(to_gpu(pl));
+    const std::vector<LightData> patches = emissive_patches(scene_, area_subdivisions, max_patches);
+    lights.insert(lights.end(), patches.begin(), patches.end());
+    light_count_ = static_cast<int>(lights.size());
+    if (lights.empty()) lights.push_back(LightData{});
+    lights_ = gl::Buffer(static_cast<GLsizeiptr>(lights.size() * sizeof(LightData)), lights.data());
 }
 
 const gl::Texture& GpuScene::texture(int image, bool srgb) {

@@ -78,6 +78,8 @@ public:
     const gl::VertexArray& vertex_array() const { return vao_; }
     const gl::Buffer& materials() const { return materials_; }
     const gl::Buffer& lights() const { return lights_; }
+    // Rebuilds the light buffer: punctual lights plus emissive patches (no-op if unchanged).
+    void update_lights(int area_subdivisions, std::size_t max_patches);
     int light_count() const { return light_count_; }
     // Texture for a scene image, created on first use (sRGB or linear view of the same pixels).
     const gl::Texture& texture(int image, bool srgb);
@@ -97,6 +99,8 @@ private:
     gl::VertexArray vao_;
     std::vector<Draw> draws_;
     int light_count_ = 0;
+    int area_subdivisions_ = -1;
+    std::size_t max_patches_ = 0;
     std::map<std::pair<int, bool>, gl::Texture> textures_;
     std::map<std::tuple<int, int, int, int>, gl::Sampler> samplers_;
     gl::Texture white_;

@@ -1,6 +1,8 @@
 #include "render/still.hpp"
 
+#include <algorithm>
 #include <chrono>
+#include <map>
 
 #include "core/error.hpp"
 
@@ -9,34 +11,67 @@ namespace {
 double ms_since(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
+double percentile(std::vector<double> v, double q) {
+    if (v.empty()) return 0.0;
+    std::sort(v.begin(), v.end());
+    const double pos = q * static_cast<double>(v.size() - 1);
+    const size_t i = static_cast<size_t>(pos);
+    const double f = pos - static_cast<double>(i);
+    return i + 1 < v.size() ? v[i] * (1.0 - f) + v[i + 1] * f : v[i];
+}
 }  // namespace
 
-StillResult render_still(const Scene& scene, const ShaderLibrary& shaders, const StillOptions& options) {
+double median(std::vector<double> values) { return percentile(std::move(values), 0.5); }
+std::pair<double, double> quartiles(std::vector<double> values) { return {percentile(values, 0.25), percentile(values, 0.75)}; }
+double StillResult::median_frame_ms() const { return median(frame_ms); }
+
+FrameLoop::FrameLoop(const Scene& scene, const ShaderLibrary& shaders, const StillOptions& options) : options_(options) {
     if (options.width < 1 || options.height < 1 || options.width > 16384 || options.height > 16384)
         throw bad_input("--size " + std::to_string(options.width) + "x" + std::to_string(options.height) +
                         " is out of range (1..16384 per side)");
-    StillResult result;
-    const float aspect = static_cast<float>(options.width) / static_cast<float>(options.height);
-    const Camera camera = scene.select_camera(options.camera, aspect);
-
+    if (options.frames < 1 || options.frames > 100000) throw bad_input("--frames must be in [1, 100000]");
+    if (options.warmup < 0 || options.warmup > 100000) throw bad_input("--warmup must be in [0, 100000]");
+    camera_ = scene.select_camera(options.camera, static_cast<float>(options.width) / static_cast<float>(options.height));
     auto t0 = std::chrono::steady_clock::now();
-    GpuScene gpu(scene);
-    result.upload_ms = ms_since(t0);
-
+    gpu_ = std::make_unique<GpuScene>(scene);
+    result_.upload_ms = ms_since(t0);
     t0 = std::chrono::steady_clock::now();
-    ForwardRenderer renderer(shaders, gpu);
-    result.shader_ms = ms_since(t0);
+    renderer_ = std::make_unique<Renderer>(shaders, scene, *gpu_, options.settings);
+    renderer_->set_verify_state(options.verify_state);
+    result_.shader_ms = ms_since(t0);
+    result_.features = renderer_->features();
+}
 
-    t0 = std::chrono::steady_clock::now();
-    renderer.render(camera, options.width, options.height);
+void FrameLoop::warmup(int frames) {
+    for (int i = 0; i < frames; ++i) renderer_->render(camera_, options_.width, options_.height);
     glFinish();
-    result.frame_ms = ms_since(t0);
+}
 
-    t0 = std::chrono::steady_clock::now();
-    result.radiance = renderer.read_radiance();
-    result.readback_ms = ms_since(t0);
-    result.stats = renderer.stats();
-    return result;
+double FrameLoop::measure_frame() {
+    const auto t0 = std::chrono::steady_clock::now();
+    renderer_->render(camera_, options_.width, options_.height);
+    glFinish();
+    const double ms = ms_since(t0);
+    result_.frame_ms.push_back(ms);
+    renderer_->resolve_gpu_times();
+    for (const auto& p : renderer_->last_frame().passes) gpu_ms_[p.name].push_back(p.gpu_ms);
+    return ms;
+}
+
+StillResult FrameLoop::finish() {
+    result_.report = renderer_->last_frame();
+    for (auto& p : result_.report.passes) p.gpu_ms = median(gpu_ms_[p.name]);
+    const auto t0 = std::chrono::steady_clock::now();
+    result_.radiance = renderer_->read_radiance();
+    result_.readback_ms = ms_since(t0);
+    return result_;
+}
+
+StillResult render_still(const Scene& scene, const ShaderLibrary& shaders, const StillOptions& options) {
+    FrameLoop loop(scene, shaders, options);
+    loop.warmup(options.warmup);
+    for (int i = 0; i < options.frames; ++i) loop.measure_frame();
+    return loop.finish();
 }
 
 }  // namespace candela

@@ -1,10 +1,13 @@
 #pragma once
-// One still image of a scene with the current GL context: what `candela render` and the golden
-// tests both do, so that they cannot drift apart.
+// Still images of a scene with the current GL context: what `candela render`, the golden tests
+// and `candela bench frame` all do, so that they cannot drift apart.
+#include <map>
+#include <memory>
 #include <string>
+#include <vector>
 
 #include "image/image.hpp"
-#include "render/forward_renderer.hpp"
+#include "render/renderer.hpp"
 #include "scene/scene.hpp"
 #include "shader/shader_library.hpp"
 
@@ -14,17 +17,44 @@ struct StillOptions {
     int width = 512;   // pixels, 1..16384
     int height = 512;
     std::string camera;  // glTF camera index or name; empty: first camera, else framing camera
+    RenderSettings settings;
+    int frames = 1;   // measured frames [1, 100000]; the image is the last one
+    int warmup = 0;   // frames rendered first and not measured [0, 100000]
+    bool verify_state = false;
 };
 
 struct StillResult {
     ImageF radiance;  // linear, RGBA32F, top row first
-    FrameStats stats;
-    // Wall-clock phases in milliseconds (CPU timings; the GPU work is finished by the readback).
-    double upload_ms = 0, shader_ms = 0, frame_ms = 0, readback_ms = 0;
+    FrameReport report;  // the last frame; pass gpu_ms = median over the measured frames
+    Features features;
+    std::vector<double> frame_ms;  // wall time of each measured frame (render + glFinish)
+    double upload_ms = 0, shader_ms = 0, readback_ms = 0;
+    double median_frame_ms() const;
 };
 
-// Throws candela::Error: bad_input for an unknown camera or unreadable environment map,
-// internal for shader/framebuffer failures.
+double median(std::vector<double> values);
+// {25th, 75th} percentiles (linear interpolation).
+std::pair<double, double> quartiles(std::vector<double> values);
+
+// One renderer kept across frames: warm-up, measured frames, and the result with per-pass medians.
+// Throws candela::Error: bad_input for an unknown camera or an option out of range, internal
+// for shader/framebuffer failures.
+class FrameLoop {
+public:
+    FrameLoop(const Scene& scene, const ShaderLibrary& shaders, const StillOptions& options);
+    void warmup(int frames);
+    double measure_frame();  // render + glFinish; returns the wall time in ms
+    StillResult finish();    // reads the image back; pass gpu_ms are medians over measured frames
+
+private:
+    StillOptions options_;
+    Camera camera_;
+    StillResult result_;
+    std::unique_ptr<GpuScene> gpu_;
+    std::unique_ptr<Renderer> renderer_;
+    std::map<std::string, std::vector<double>> gpu_ms_;
+};
+
 StillResult render_still(const Scene& scene, const ShaderLibrary& shaders, const StillOptions& options);
 
 }  // namespace candela

@@ -13,7 +13,10 @@
 #include "gl/debug.hpp"
 #include "image/image.hpp"
 #include "platform/context.hpp"
+#include "profile/stats.hpp"
 #include "render/still.hpp"
+#include <nlohmann/json.hpp>
+#include "render/features.hpp"
 #include "scene/features.hpp"
 #include "scene/gltf_loader.hpp"
 
@@ -26,22 +29,30 @@ void print_usage() {
         "\n"
         "usage:\n"
         "  candela render SCENE -o OUT.(png|exr) [--size WxH] [--backend auto|egl|osmesa]\n"
-        "                 [--camera N|NAME] [--exposure EV] [--environment FILE] [--debug-gl] [--timings]\n"
-        "                 [--strict]\n"
-        "  candela info SCENE [--strict]\n"
+        "                 [--effects all|none|LIST] [--set KNOB=VALUE ...] [--camera N|NAME]\n"
+        "                 [--exposure EV] [--environment FILE] [--stats FILE.json] [--frames N] [--warmup N]\n"
+        "                 [--debug-gl] [--verify-state] [--timings] [--strict] [--quiet]\n"
+        "  candela info SCENE [--effects ...] [--set ...] [--strict]\n"
         "  candela compare A B [--heatmap OUT.png] [--tolerance T] [--max-failing F] [--check]\n"
+        "  candela bench frame SCENE [--effects LIST ...] [--size WxH] [--frames N] [--warmup N] [--json FILE]\n"
         "\n"
         "render   SCENE (.gltf/.glb) to OUT: .exr holds linear radiance; .png is exposure + ACES + sRGB.\n"
         "         --size WxH (default 512x512), --backend (default auto: EGL, then OSMesa),\n"
+        "         --effects: all, none, or a comma list of shadows,ssao,rsm,transparency,reflections;\n"
+        "         --set effect.knob=value (repeatable; 'candela info --knobs' lists them),\n"
         "         --camera glTF camera index or name (default: the first, else a framing camera),\n"
         "         --exposure EV for .png (default 0), --environment FILE (.hdr/.exr, equirectangular)\n"
-        "         replaces the scene's environment, --debug-gl logs GL debug output and fails on GL errors,\n"
+        "         replaces the scene's environment, --stats writes executed passes with GPU/CPU ms and\n"
+        "         counters, --frames N measured frames (median) after --warmup N, --debug-gl logs GL\n"
+        "         debug output and fails on GL errors, --verify-state checks GL state between passes,\n"
         "         --timings prints where the time went, --strict treats loader warnings (missing\n"
         "         texture, skipped primitive, repaired data) as errors (exit 2).\n"
-        "info     counts, bounds, cameras, lights and the features the scene calls for.\n"
+        "info     counts, bounds, cameras, lights, the effects the scene calls for and the planned passes.\n"
         "compare  RMSE, relative MSE, PSNR, max difference and the pixels beyond --tolerance\n"
         "         (default 2/255) of A against B; --check exits 4 if more than --max-failing (default\n"
         "         0.001 = 0.1 %) of the pixels fail.\n"
+        "bench    frame: median frame time and per-pass GPU time of each --effects variant (default\n"
+        "         all and none), measured interleaved in one run (default 1280x720, 20 frames, 3 warm-up).\n"
         "\n"
         "exit codes: 0 ok, 1 internal error, 2 bad input (file, option), 3 no usable OpenGL 4.5,\n"
         "            4 compare --check: images differ beyond the tolerance.\n",
@@ -53,8 +64,13 @@ namespace {
 // Options of the form --name VALUE; positional arguments kept in order.
 struct Parsed {
     std::vector<std::string> positional;
-    std::map<std::string, std::string> options;
+    std::map<std::string, std::vector<std::string>> values;  // every occurrence, in order
     std::map<std::string, bool> flags;
+    bool has(const std::string& name) const { return values.count(name) > 0; }
+    const std::string& get(const std::string& name) const { return values.at(name).back(); }
+    std::vector<std::string> all(const std::string& name) const {
+        return has(name) ? values.at(name) : std::vector<std::string>{};
+    }
 };
 
 Parsed parse(const Args& args, const std::vector<std::string>& with_value, const std::vector<std::string>& flags) {
@@ -79,7 +95,7 @@ Parsed parse(const Args& args, const std::vector<std::string>& with_value, const
                 if (i + 1 >= args.size()) throw bad_input("option '" + name + "' needs a value");
                 value = args[++i];
             }
-            p.options[name] = value;
+            p.values[name].push_back(value);
         } else {
             p.positional.push_back(a);
         }
@@ -123,13 +139,86 @@ Scene load_scene(const std::string& path, bool strict) {
     return scene;
 }
 
+// Options shared by render and bench frame: scene, context, settings.
+struct SceneSetup {
+    Scene scene;
+    StillOptions options;
+    Backend backend = Backend::auto_select;
+    bool debug = false;
+    double load_ms = 0;
+};
+
+const std::vector<std::string> kSetupOptions = {"--size", "--backend", "--camera", "--environment", "--effects",
+                                                "--set", "--frames", "--warmup"};
+const std::vector<std::string> kSetupFlags = {"--debug-gl", "--strict", "--verify-state", "--quiet"};
+
+int parse_int(const std::string& option, const std::string& text, int lo, int hi) {
+    try {
+        size_t used = 0;
+        const long v = std::stol(text, &used);
+        if (used == text.size() && v >= lo && v <= hi) return static_cast<int>(v);
+    } catch (const std::exception&) {
+    }
+    throw bad_input(option + " '" + text + "' must be an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+}
+
+SceneSetup setup_scene(const Parsed& p, const std::string& scene_path, int default_w, int default_h) {
+    SceneSetup s;
+    if (p.flags.count("--quiet")) log::set_level(log::Level::warn);
+    s.options.width = default_w;
+    s.options.height = default_h;
+    if (p.has("--size")) parse_size(p.get("--size"), s.options.width, s.options.height);
+    if (p.has("--camera")) s.options.camera = p.get("--camera");
+    if (p.has("--frames")) s.options.frames = parse_int("--frames", p.get("--frames"), 1, 100000);
+    if (p.has("--warmup")) s.options.warmup = parse_int("--warmup", p.get("--warmup"), 0, 100000);
+    if (p.has("--effects")) apply_effects(s.options.settings, p.get("--effects"));
+    for (const std::string& knob : p.all("--set")) apply_knob(s.options.settings, knob);
+    s.options.verify_state = p.flags.count("--verify-state") > 0;
+    if (p.has("--backend")) {
+        const auto b = parse_backend(p.get("--backend"));
+        if (!b || *b == Backend::glfw) throw bad_input("--backend '" + p.get("--backend") + "' must be auto, egl or osmesa");
+        s.backend = *b;
+    }
+    s.debug = p.flags.count("--debug-gl") > 0;
+    const auto t0 = std::chrono::steady_clock::now();
+    s.scene = load_scene(scene_path, p.flags.count("--strict") > 0);
+    if (p.has("--environment")) {
+        const fs::path env = p.get("--environment");
+        if (!fs::is_regular_file(env)) throw bad_input(env.string() + ": --environment: no such file");
+        s.scene.environment.map = env;
+        s.scene.environment.intensity = 1.0f;
+    }
+    s.load_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    return s;
+}
+
+ContextResult open_context(const SceneSetup& s) {
+    ContextOptions ctx_options;
+    ctx_options.debug = s.debug;
+    ContextResult ctx = create_context(s.backend, ctx_options);
+    if (ctx.context) log::info(std::string("backend ") + to_string(ctx.context->backend()) + ": " + ctx.context->device_string());
+    else std::fprintf(stderr, "candela: error: no usable OpenGL: %s\n", ctx.error.c_str());
+    return ctx;
+}
+
+int check_gl_errors(const SceneSetup& s) {
+    if (s.debug && gl::debug_error_count() > 0) {
+        std::fprintf(stderr, "candela: error: %d GL error(s) (see above)\n", gl::debug_error_count());
+        return static_cast<int>(ExitCode::internal);
+    }
+    return 0;
+}
+
 }  // namespace
 
 int cmd_render(const Args& args) {
-    const Parsed p = parse(args, {"-o", "--output", "--size", "--backend", "--camera", "--exposure", "--environment"},
-                           {"--debug-gl", "--timings", "--quiet", "--strict"});
+    std::vector<std::string> with_value = kSetupOptions;
+    with_value.insert(with_value.end(), {"-o", "--output", "--exposure", "--stats"});
+    std::vector<std::string> flags = kSetupFlags;
+    flags.push_back("--timings");
+    const Parsed p = parse(args, with_value, flags);
     if (p.positional.size() != 1) throw bad_input("render needs exactly one SCENE (got " + std::to_string(p.positional.size()) + ")");
-    std::string out = p.options.count("-o") ? p.options.at("-o") : p.options.count("--output") ? p.options.at("--output") : "";
+    std::string out = p.has("-o") ? p.get("-o") : p.has("--output") ? p.get("--output") : "";
     if (out.empty()) throw bad_input("render needs -o OUT.png or -o OUT.exr");
     const fs::path out_path(out);
     {
@@ -137,63 +226,99 @@ int cmd_render(const Args& args) {
         for (auto& c : e) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
         if (e != ".png" && e != ".exr") throw bad_input(out + ": the output must be .png or .exr");
     }
-    if (p.flags.count("--quiet")) log::set_level(log::Level::warn);
-    StillOptions options;
-    if (p.options.count("--size")) parse_size(p.options.at("--size"), options.width, options.height);
-    if (p.options.count("--camera")) options.camera = p.options.at("--camera");
-    const float exposure = p.options.count("--exposure") ? parse_float("--exposure", p.options.at("--exposure"), -32, 32) : 0.0f;
-    Backend backend = Backend::auto_select;
-    if (p.options.count("--backend")) {
-        const auto b = parse_backend(p.options.at("--backend"));
-        if (!b || *b == Backend::glfw) throw bad_input("--backend '" + p.options.at("--backend") + "' must be auto, egl or osmesa");
-        backend = *b;
-    }
+    const float exposure = p.has("--exposure") ? parse_float("--exposure", p.get("--exposure"), -32, 32) : 0.0f;
+    const SceneSetup s = setup_scene(p, p.positional[0], 512, 512);
 
-    const auto t_start = std::chrono::steady_clock::now();
-    Scene scene = load_scene(p.positional[0], p.flags.count("--strict") > 0);
-    if (p.options.count("--environment")) {
-        const fs::path env = p.options.at("--environment");
-        if (!fs::is_regular_file(env)) throw bad_input(env.string() + ": --environment: no such file");
-        scene.environment.map = env;
-        scene.environment.intensity = 1.0f;
-    }
-    const double load_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t_start).count();
-
-    const bool debug = p.flags.count("--debug-gl") > 0;
     auto t0 = std::chrono::steady_clock::now();
-    ContextOptions ctx_options;
-    ctx_options.debug = debug;
-    ContextResult ctx = create_context(backend, ctx_options);
-    if (!ctx.context) {
-        std::fprintf(stderr, "candela: error: no usable OpenGL: %s\n", ctx.error.c_str());
-        return static_cast<int>(ExitCode::no_gl);
-    }
+    ContextResult ctx = open_context(s);
+    if (!ctx.context) return static_cast<int>(ExitCode::no_gl);
     const double context_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-    log::info(std::string("backend ") + to_string(ctx.context->backend()) + ": " + ctx.context->device_string());
 
     const ShaderLibrary shaders(ShaderLibrary::default_root());
-    const StillResult result = render_still(scene, shaders, options);
+    const StillResult result = render_still(s.scene, shaders, s.options);
     const std::size_t bad = count_nonfinite(result.radiance);
     if (bad) log::warn(out + ": " + std::to_string(bad) + " non-finite values in the rendered radiance (written as 0 in .png)");
     t0 = std::chrono::steady_clock::now();
     write_image(out_path, result.radiance, exposure);
     const double write_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    if (p.has("--stats")) {
+        nlohmann::json j = stats_json({ctx.context->device_string(), to_string(ctx.context->backend()), p.positional[0]},
+                                      s.options, result);
+        j["setup_ms"]["load"] = s.load_ms;
+        j["setup_ms"]["context"] = context_ms;
+        j["setup_ms"]["write"] = write_ms;
+        write_json(p.get("--stats"), j);
+    }
     if (p.flags.count("--timings"))
         std::fprintf(stderr,
-                     "candela: timings (ms): load %.1f, context %.1f, upload %.1f, shaders %.1f, frame %.1f, "
-                     "readback %.1f, write %.1f; %d draw calls, %zu triangles\n",
-                     load_ms, context_ms, result.upload_ms, result.shader_ms, result.frame_ms, result.readback_ms,
-                     write_ms, result.stats.draw_calls, result.stats.triangles);
-    if (debug && gl::debug_error_count() > 0) {
-        std::fprintf(stderr, "candela: error: %d GL error(s) during the render (see above)\n", gl::debug_error_count());
-        return static_cast<int>(ExitCode::internal);
+                     "candela: timings (ms): load %.1f, context %.1f, upload %.1f, shaders %.1f, frame %.1f (median of %d), "
+                     "readback %.1f, write %.1f; %zu passes\n",
+                     s.load_ms, context_ms, result.upload_ms, result.shader_ms, result.median_frame_ms(), s.options.frames,
+                     result.readback_ms, write_ms, result.report.passes.size());
+    return check_gl_errors(s);
+}
+
+int cmd_bench(const Args& args) {
+    if (args.empty() || args[0] != "frame")
+        throw bad_input("bench needs a benchmark name: 'candela bench frame SCENE' (others arrive with their issues)");
+    const Args rest(args.begin() + 1, args.end());
+    std::vector<std::string> with_value = kSetupOptions;
+    with_value.push_back("--json");
+    const Parsed p = parse(rest, with_value, kSetupFlags);
+    if (p.positional.size() != 1) throw bad_input("bench frame needs exactly one SCENE");
+    SceneSetup s = setup_scene(p, p.positional[0], 1280, 720);
+    if (!p.has("--frames")) s.options.frames = 20;
+    if (!p.has("--warmup")) s.options.warmup = 3;
+    // Each --effects value is one variant; the variants are measured interleaved, frame by frame,
+    // so that they see the same machine conditions.
+    std::vector<std::string> variants = p.all("--effects");
+    if (variants.empty()) variants = {"all", "none"};
+    ContextResult ctx = open_context(s);
+    if (!ctx.context) return static_cast<int>(ExitCode::no_gl);
+    const ShaderLibrary shaders(ShaderLibrary::default_root());
+    std::vector<StillOptions> options(variants.size(), s.options);
+    std::vector<std::unique_ptr<FrameLoop>> loops;
+    for (size_t v = 0; v < variants.size(); ++v) {
+        apply_effects(options[v].settings, variants[v]);
+        for (const std::string& knob : p.all("--set")) apply_knob(options[v].settings, knob);
+        loops.push_back(std::make_unique<FrameLoop>(s.scene, shaders, options[v]));
     }
-    return 0;
+    for (auto& loop : loops) loop->warmup(s.options.warmup);
+    for (int f = 0; f < s.options.frames; ++f)
+        for (auto& loop : loops) loop->measure_frame();
+    std::vector<StillResult> results;
+    for (auto& loop : loops) results.push_back(loop->finish());
+    std::printf("device: %s (%s)\nscene: %s at %dx%d, %d frames per variant after %d warm-up\n",
+                ctx.context->device_string().c_str(), to_string(ctx.context->backend()), p.positional[0].c_str(),
+                s.options.width, s.options.height, s.options.frames, s.options.warmup);
+    nlohmann::json all = nlohmann::json::array();
+    for (size_t v = 0; v < variants.size(); ++v) {
+        const auto [q1, q3] = quartiles(results[v].frame_ms);
+        std::printf("effects=%-12s frame median %8.2f ms  IQR [%.2f, %.2f]  graph %.3f ms  passes:", variants[v].c_str(),
+                    results[v].median_frame_ms(), q1, q3, results[v].report.graph_ms);
+        for (const auto& ps : results[v].report.passes) std::printf(" %s", ps.name.c_str());
+        std::printf("\n");
+        all.push_back(stats_json({ctx.context->device_string(), to_string(ctx.context->backend()), p.positional[0]},
+                                 options[v], results[v]));
+    }
+    if (variants.size() >= 2)
+        std::printf("ratio %s / %s = %.3f\n", variants[0].c_str(), variants[1].c_str(),
+                    results[0].median_frame_ms() / results[1].median_frame_ms());
+    if (p.has("--json")) write_json(p.get("--json"), all);
+    return check_gl_errors(s);
 }
 
 int cmd_info(const Args& args) {
-    const Parsed p = parse(args, {}, {"--strict"});
+    const Parsed p = parse(args, {"--effects", "--set"}, {"--strict", "--knobs"});
+    if (p.flags.count("--knobs")) {
+        for (const KnobInfo& k : knob_infos())
+            std::printf("%-28s %-6s %-22s %s\n", k.name.c_str(), k.type.c_str(), k.range.c_str(), k.help.c_str());
+        return 0;
+    }
     if (p.positional.size() != 1) throw bad_input("info needs exactly one SCENE");
+    RenderSettings settings;
+    if (p.has("--effects")) apply_effects(settings, p.get("--effects"));
+    for (const std::string& knob : p.all("--set")) apply_knob(settings, knob);
     const Scene scene = load_scene(p.positional[0], p.flags.count("--strict") > 0);
     int directional = 0, point = 0, spot = 0;
     for (const auto& pl : scene.placed_lights()) {
@@ -228,18 +353,24 @@ int cmd_info(const Args& args) {
                                             fmt("%.3g", scene.environment.radiance.g) + ", " +
                                             fmt("%.3g", scene.environment.radiance.b) + ")").c_str()
                                          : "none");
-    std::printf("features:\n");
-    const SceneFeatures f = analyze_features(scene);
-    for (const Feature* feat : f.all())
-        std::printf("  %-22s %-4s %s\n", (feat->name + ":").c_str(), feat->needed ? "on" : "off", feat->reason.c_str());
+    const Features features = analyze(scene, settings);
+    std::printf("scene features:\n");
+    for (const Feature* feat : features.scene.all())
+        std::printf("  %-22s %-4s %s\n", (feat->name + ":").c_str(), feat->needed ? "yes" : "no", feat->reason.c_str());
+    std::printf("effects:\n");
+    for (const EffectDecision* d : features.effects())
+        std::printf("  %-22s %s\n", (d->name + ":").c_str(), d->reason.c_str());
+    std::printf("planned passes:\n");
+    for (const PlannedPass& pass : plan_passes(features, settings))
+        std::printf("  %-22s %s\n", pass.name.c_str(), pass.why.c_str());
     return 0;
 }
 
 int cmd_compare(const Args& args) {
     const Parsed p = parse(args, {"--heatmap", "--tolerance", "--max-failing"}, {"--check"});
     if (p.positional.size() != 2) throw bad_input("compare needs two images A B");
-    const double tolerance = p.options.count("--tolerance") ? parse_float("--tolerance", p.options.at("--tolerance"), 0, 1e30f) : 2.0 / 255.0;
-    const double max_failing = p.options.count("--max-failing") ? parse_float("--max-failing", p.options.at("--max-failing"), 0, 1) : 0.001;
+    const double tolerance = p.has("--tolerance") ? parse_float("--tolerance", p.get("--tolerance"), 0, 1e30f) : 2.0 / 255.0;
+    const double max_failing = p.has("--max-failing") ? parse_float("--max-failing", p.get("--max-failing"), 0, 1) : 0.001;
     const ImageF a = read_image(p.positional[0]);
     const ImageF b = read_image(p.positional[1]);
     if (a.width != b.width || a.height != b.height)
@@ -249,7 +380,7 @@ int cmd_compare(const Args& args) {
     std::printf("rmse %.6g\nrelative_mse %.6g\npsnr %.3f dB\nmax_abs %.6g\nfailing_pixels %zu (%.4f %%, tolerance %.6g)\nnonfinite %zu\n",
                 r.rmse, r.relative_mse, r.psnr, r.max_abs, r.failing_pixels, 100.0 * r.failing_fraction, tolerance,
                 r.nonfinite);
-    if (p.options.count("--heatmap")) write_display_image(p.options.at("--heatmap"), heatmap(a, b, std::max(tolerance * 4, 1e-6)));
+    if (p.has("--heatmap")) write_display_image(p.get("--heatmap"), heatmap(a, b, std::max(tolerance * 4, 1e-6)));
     if (p.flags.count("--check") && (r.failing_fraction > max_failing || r.nonfinite > 0)) return 4;
     return 0;
 }

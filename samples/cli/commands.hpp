@@ -12,6 +12,7 @@ using Args = std::vector<std::string>;
 int cmd_render(const Args& args);
 int cmd_info(const Args& args);
 int cmd_compare(const Args& args);
+int cmd_bench(const Args& args);
 void print_usage();
 
 }  // namespace candela::cli

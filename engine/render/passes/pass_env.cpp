@@ -1,0 +1,58 @@
+#include "render/passes/pass_env.hpp"
+
+#include <glm/gtc/type_ptr.hpp>
+
+#include "core/error.hpp"
+
+namespace candela {
+
+GLuint FramebufferCache::get(const std::vector<const gl::Texture*>& colors, const gl::Texture* depth) {
+    std::vector<GLuint> key;
+    for (const auto* c : colors) key.push_back(c->id());
+    key.push_back(depth ? depth->id() : 0);
+    auto it = fbos_.find(key);
+    if (it != fbos_.end()) return it->second.id();
+    gl::Framebuffer fbo = gl::Framebuffer::create();
+    std::vector<GLenum> buffers;
+    for (size_t i = 0; i < colors.size(); ++i) {
+        fbo.attach(GL_COLOR_ATTACHMENT0 + static_cast<GLenum>(i), *colors[i]);
+        buffers.push_back(GL_COLOR_ATTACHMENT0 + static_cast<GLenum>(i));
+    }
+    glNamedFramebufferDrawBuffers(fbo.id(), static_cast<GLsizei>(buffers.size()), buffers.empty() ? nullptr : buffers.data());
+    if (buffers.empty()) glNamedFramebufferDrawBuffer(fbo.id(), GL_NONE);
+    if (depth) fbo.attach(GL_DEPTH_ATTACHMENT, *depth);
+    fbo.check_complete("frame graph pass");
+    const GLuint id = fbo.id();
+    fbos_.emplace(std::move(key), std::move(fbo));
+    return id;
+}
+
+void bind_scene_buffers(const PassEnv& env) {
+    glBindBufferBase(GL_UNIFORM_BUFFER, 0, env.frame_ubo.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, env.scene.materials().id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, env.scene.lights().id());
+    glBindTextureUnit(5, env.scene.environment_map().id());
+    glBindSampler(5, 0);
+}
+
+void draw_item(const PassEnv& env, FrameGraph::Context& ctx, const GpuScene::Draw& d, bool cull, GLenum cull_face) {
+    ctx.state.set_cull(cull, cull_face);
+    // A mirroring transform reverses the winding of its triangles.
+    ctx.state.set_front_face(d.mirrored ? GL_CW : GL_CCW);
+    const GLuint program = env.programs.forward.id();
+    glProgramUniformMatrix4fv(program, 0, 1, GL_FALSE, glm::value_ptr(d.model));
+    glProgramUniformMatrix3fv(program, 1, 1, GL_FALSE, glm::value_ptr(d.normal_matrix));
+    glProgramUniform1i(program, 2, d.primitive_material);
+    for (int s = 0; s < 5; ++s) {
+        const auto su = static_cast<size_t>(s);
+        const gl::Texture& t = d.textures[su] >= 0 ? env.scene.texture(d.textures[su], d.srgb[su]) : env.scene.white_texture();
+        glBindTextureUnit(static_cast<GLuint>(s), t.id());
+        glBindSampler(static_cast<GLuint>(s), env.scene.sampler(d.samplers[su]).id());
+    }
+    glDrawElementsBaseVertex(GL_TRIANGLES, d.index_count, GL_UNSIGNED_INT,
+                             reinterpret_cast<const void*>(d.first_index * sizeof(std::uint32_t)), d.base_vertex);
+    ++ctx.counters.draw_calls;
+    ctx.counters.triangles += static_cast<std::size_t>(d.index_count / 3);
+}
+
+}  // namespace candela

@@ -1,0 +1,73 @@
+#pragma once
+// The raster renderer: every frame, a frame graph of only the passes this scene and these
+// settings call for (features.hpp), compiled, executed with per-pass GPU/CPU timing and counters.
+#include <string>
+#include <vector>
+
+#include "gl/state.hpp"
+#include "image/image.hpp"
+#include "profile/gpu_timer.hpp"
+#include "render/features.hpp"
+#include "render/frame_graph.hpp"
+#include "render/gpu_scene.hpp"
+#include "render/passes/pass_env.hpp"
+#include "render/settings.hpp"
+#include "shader/shader_library.hpp"
+
+namespace candela {
+
+struct PassStats {
+    std::string name;
+    double gpu_ms = -1.0;  // -1: not measured (yet)
+    double cpu_ms = 0.0;
+    PassCounters counters;
+};
+
+struct FrameReport {
+    std::vector<PassStats> passes;                               // executed, in order
+    std::vector<std::pair<std::string, std::string>> culled;     // pass, reason
+    double graph_ms = 0.0;  // building + compiling the graph (CPU)
+    int pool_allocations = 0;  // textures the pool has created so far
+    int pool_slots = 0;
+    int state_calls = 0, state_calls_skipped = 0;
+};
+
+class Renderer {
+public:
+    // Throws candela::Error (internal) if a shader does not build.
+    Renderer(const ShaderLibrary& shaders, const Scene& scene, GpuScene& gpu, const RenderSettings& settings);
+
+    void set_settings(const RenderSettings& settings);
+    const RenderSettings& settings() const { return settings_; }
+    const Features& features() const { return features_; }
+
+    // Renders one frame into the output texture (resized as needed).
+    void render(const Camera& camera, int width, int height);
+    // Waits for this frame's GPU timer queries and fills last_frame().passes[].gpu_ms.
+    void resolve_gpu_times();
+    const FrameReport& last_frame() const { return report_; }
+    ImageF read_radiance() const;
+    const gl::Texture& output() const { return output_; }
+    const TexturePool& pool() const { return pool_; }
+    // Debug: after each pass compare GL's state with the state cache's (stalls).
+    void set_verify_state(bool on) { verify_state_ = on; }
+
+private:
+    const Scene& scene_;
+    GpuScene& gpu_;
+    RenderSettings settings_;
+    Features features_;
+    Programs programs_;
+    gl::Buffer frame_ubo_;
+    gl::VertexArray empty_vao_;
+    gl::Texture output_;
+    int width_ = 0, height_ = 0;
+    TexturePool pool_;
+    FramebufferCache fbos_;
+    gl::StateCache state_;
+    GpuTimer timer_;
+    FrameReport report_;
+    bool verify_state_ = false;
+};
+
+}  // namespace candela

@@ -1,0 +1,172 @@
+#include "render/settings.hpp"
+
+#include <cmath>
+#include <functional>
+#include <map>
+
+#include <nlohmann/json.hpp>
+
+#include "core/error.hpp"
+
+namespace candela {
+namespace {
+
+struct Knob {
+    KnobInfo info;
+    std::function<void(RenderSettings&, const std::string&)> set;
+    std::function<nlohmann::json(const RenderSettings&)> get;
+};
+
+[[noreturn]] void out_of_range(const KnobInfo& k, const std::string& value) {
+    throw bad_input("--set " + k.name + "=" + value + ": expected " + k.type + " in " + k.range);
+}
+
+
+template <typename Get>
+Knob make_int(const char* name, int lo, int hi, Get ref, const char* help) {
+    KnobInfo info{name, "int", "[" + std::to_string(lo) + ", " + std::to_string(hi) + "]", help};
+    return {info,
+            [=](RenderSettings& s, const std::string& v) {
+                try {
+                    size_t used = 0;
+                    const long x = std::stol(v, &used);
+                    if (used == v.size() && x >= lo && x <= hi) {
+                        ref(s) = static_cast<int>(x);
+                        return;
+                    }
+                } catch (const std::exception&) {
+                }
+                out_of_range(info, v);
+            },
+            [=](const RenderSettings& s) { return nlohmann::json(ref(const_cast<RenderSettings&>(s))); }};
+}
+
+template <typename Get>
+Knob make_float(const char* name, float lo, float hi, Get ref, const char* help) {
+    char range[64];
+    std::snprintf(range, sizeof range, "[%g, %g]", lo, hi);
+    KnobInfo info{name, "float", range, help};
+    return {info,
+            [=](RenderSettings& s, const std::string& v) {
+                try {
+                    size_t used = 0;
+                    const float x = std::stof(v, &used);
+                    if (used == v.size() && std::isfinite(x) && x >= lo && x <= hi) {
+                        ref(s) = x;
+                        return;
+                    }
+                } catch (const std::exception&) {
+                }
+                out_of_range(info, v);
+            },
+            [=](const RenderSettings& s) { return nlohmann::json(ref(const_cast<RenderSettings&>(s))); }};
+}
+
+template <typename Get>
+Knob make_bool(const char* name, Get ref, const char* help) {
+    KnobInfo info{name, "bool", "0|1|true|false|on|off", help};
+    return {info,
+            [=](RenderSettings& s, const std::string& v) {
+                if (v == "1" || v == "true" || v == "on") ref(s) = true;
+                else if (v == "0" || v == "false" || v == "off") ref(s) = false;
+                else out_of_range(info, v);
+            },
+            [=](const RenderSettings& s) { return nlohmann::json(ref(const_cast<RenderSettings&>(s))); }};
+}
+
+template <typename Get>
+Knob make_choice(const char* name, std::vector<std::string> choices, Get ref, const char* help) {
+    std::string range;
+    for (const auto& c : choices) range += (range.empty() ? "" : "|") + c;
+    KnobInfo info{name, "choice", range, help};
+    return {info,
+            [=](RenderSettings& s, const std::string& v) {
+                for (const auto& c : choices)
+                    if (c == v) {
+                        ref(s) = v;
+                        return;
+                    }
+                out_of_range(info, v);
+            },
+            [=](const RenderSettings& s) { return nlohmann::json(ref(const_cast<RenderSettings&>(s))); }};
+}
+
+const std::vector<Knob>& knobs() {
+    static const std::vector<Knob> all = {
+        make_bool("forward.depth_prepass", [](RenderSettings& s) -> bool& { return s.forward.depth_prepass; },
+                  "draw depth first, then shade each pixel once"),
+        make_choice("transparency.sort", {"object"}, [](RenderSettings& s) -> std::string& { return s.transparency_knobs.sort; },
+                    "back-to-front order of blended draws"),
+        make_int("area.subdivisions", 1, 16, [](RenderSettings& s) -> int& { return s.area.subdivisions; },
+                 "each emissive triangle becomes n^2 Lambertian patches (raster area-light approximation)"),
+        make_int("area.max_patches", 1, 4096, [](RenderSettings& s) -> int& { return s.area.max_patches; },
+                 "upper bound on emissive patches over the scene"),
+        make_float("reflections.max_roughness", 0.0f, 1.0f, [](RenderSettings& s) -> float& { return s.reflections_knobs.max_roughness; },
+                   "metallic materials rougher than this call for no reflections"),
+    };
+    return all;
+}
+
+}  // namespace
+
+const std::vector<std::string>& effect_names() {
+    static const std::vector<std::string> names = {"shadows", "ssao", "rsm", "transparency", "reflections"};
+    return names;
+}
+
+void apply_effects(RenderSettings& s, const std::string& list) {
+    bool* flags[] = {&s.shadows, &s.ssao, &s.rsm, &s.transparency, &s.reflections};
+    if (list == "all" || list == "none") {
+        for (bool* f : flags) *f = list == "all";
+        return;
+    }
+    for (bool* f : flags) *f = false;
+    size_t start = 0;
+    while (start <= list.size()) {
+        const size_t comma = list.find(',', start);
+        const std::string name = list.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+        bool found = false;
+        for (size_t i = 0; i < effect_names().size(); ++i)
+            if (effect_names()[i] == name) *flags[i] = found = true;
+        if (!found) {
+            std::string known;
+            for (const auto& n : effect_names()) known += (known.empty() ? "" : ", ") + n;
+            throw bad_input("--effects: unknown effect '" + name + "' (all, none, or a comma list of: " + known + ")");
+        }
+        if (comma == std::string::npos) break;
+        start = comma + 1;
+    }
+}
+
+void apply_knob(RenderSettings& s, const std::string& assignment) {
+    const size_t eq = assignment.find('=');
+    if (eq == std::string::npos) throw bad_input("--set '" + assignment + "': expected KNOB=VALUE");
+    const std::string name = assignment.substr(0, eq), value = assignment.substr(eq + 1);
+    for (const Knob& k : knobs())
+        if (k.info.name == name) {
+            k.set(s, value);
+            return;
+        }
+    std::string known;
+    for (const Knob& k : knobs()) known += "\n  " + k.info.name + " (" + k.info.type + " " + k.info.range + ")";
+    throw bad_input("--set: unknown knob '" + name + "'; knobs are:" + known);
+}
+
+const std::vector<KnobInfo>& knob_infos() {
+    static const std::vector<KnobInfo> infos = [] {
+        std::vector<KnobInfo> v;
+        for (const Knob& k : knobs()) v.push_back(k.info);
+        return v;
+    }();
+    return infos;
+}
+
+nlohmann::json to_json(const RenderSettings& s) {
+    nlohmann::json j;
+    j["effects"] = {{"shadows", s.shadows}, {"ssao", s.ssao}, {"rsm", s.rsm}, {"transparency", s.transparency},
+                    {"reflections", s.reflections}};
+    for (const Knob& k : knobs()) j["knobs"][k.info.name] = k.get(s);
+    return j;
+}
+
+}  // namespace candela

@@ -1,0 +1,28 @@
+# Runs `candela render ... --stats JSON` and checks the executed pass names, in order.
+#   cmake -DCANDELA=... -DSCENE=... -DEFFECTS=all -DJSON=out.json -DEXPECTED="a;b" -P check_stats.cmake
+execute_process(COMMAND ${CANDELA} render ${SCENE} -o ${JSON}.png --size 32x32 --effects ${EFFECTS}
+                        --stats ${JSON} --debug-gl --verify-state
+                RESULT_VARIABLE code ERROR_VARIABLE err TIMEOUT 120)
+if(NOT code EQUAL 0)
+  message(FATAL_ERROR "candela render failed (${code}):\n${err}")
+endif()
+file(READ ${JSON} json)
+string(JSON count LENGTH "${json}" passes)
+set(names)
+if(count GREATER 0)
+  math(EXPR last "${count} - 1")
+  foreach(i RANGE ${last})
+    string(JSON name GET "${json}" passes ${i} name)
+    string(JSON gpu GET "${json}" passes ${i} gpu_ms)
+    if(gpu LESS 0)
+      message(FATAL_ERROR "pass ${name} has no GPU time")
+    endif()
+    list(APPEND names ${name})
+  endforeach()
+endif()
+string(JSON device GET "${json}" device)
+string(JSON median GET "${json}" frames median_ms)
+message("device: ${device}; passes: ${names}; frame ${median} ms")
+if(NOT "${names}" STREQUAL "${EXPECTED}")
+  message(FATAL_ERROR "executed passes '${names}', expected '${EXPECTED}'")
+endif()
