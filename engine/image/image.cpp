@@ -76,20 +76,32 @@ ImageF to_display(const ImageF& linear, float exposure_ev) {
     return out;
 }
 
-void write_display_image(const fs::path& path, const ImageF& d) {
+void write_display_rgba8(const fs::path& path, const std::vector<unsigned char>& rgba, int width, int height) {
     if (!is_display_format(path)) throw bad_input(path.string() + ": display images are written as .png");
+    if (rgba.size() != static_cast<size_t>(width) * static_cast<size_t>(height) * 4)
+        throw Error(ExitCode::internal, path.string() + ": display buffer size does not match " + std::to_string(width) +
+                                            "x" + std::to_string(height));
     auto out = OIIO::ImageOutput::create(path.string());
     if (!out) throw bad_input(path.string() + ": cannot write this format (" + OIIO::geterror() + ")");
-    std::vector<unsigned char> bytes(static_cast<size_t>(d.width) * d.height * 3);
+    OIIO::ImageSpec spec(width, height, 3, OIIO::TypeDesc::UINT8);
+    // zlib level 6 (the default) costs ~100 ms at 1280x720 on this CPU; level 1 writes files
+    // ~20 % larger in a fraction of the time.
+    spec.attribute("png:compressionLevel", 1);
+    // RGBA in memory, RGB in the file: a 4-byte pixel stride over the first 3 channels.
+    if (!out->open(path.string(), spec) ||
+        !out->write_image(OIIO::TypeDesc::UINT8, rgba.data(), 4, static_cast<OIIO::stride_t>(width) * 4) || !out->close())
+        throw bad_input(path.string() + ": cannot write (" + out->geterror() + ")");
+}
+
+void write_display_image(const fs::path& path, const ImageF& d) {
+    std::vector<unsigned char> bytes(static_cast<size_t>(d.width) * d.height * 4, 255);
     for (size_t i = 0; i < static_cast<size_t>(d.width) * d.height; ++i)
         for (int c = 0; c < 3; ++c) {
             const float v = d.pixels[i * static_cast<size_t>(d.channels) + static_cast<size_t>(std::min(c, d.channels - 1))];
-            bytes[i * 3 + static_cast<size_t>(c)] =
+            bytes[i * 4 + static_cast<size_t>(c)] =
                 static_cast<unsigned char>(std::lround(std::clamp(std::isfinite(v) ? v : 0.0f, 0.0f, 1.0f) * 255.0f));
         }
-    OIIO::ImageSpec spec(d.width, d.height, 3, OIIO::TypeDesc::UINT8);
-    if (!out->open(path.string(), spec) || !out->write_image(OIIO::TypeDesc::UINT8, bytes.data()) || !out->close())
-        throw bad_input(path.string() + ": cannot write (" + out->geterror() + ")");
+    write_display_rgba8(path, bytes, d.width, d.height);
 }
 
 void write_image(const fs::path& path, const ImageF& image, float exposure_ev) {

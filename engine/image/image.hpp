@@ -33,6 +33,8 @@ void write_image(const std::filesystem::path& path, const ImageF& image, float e
 bool is_display_format(const std::filesystem::path& path);
 // Writes values already in display space ([0,1], e.g. a heat map) to an 8-bit PNG.
 void write_display_image(const std::filesystem::path& path, const ImageF& display);
+// Writes 8-bit RGBA display values (e.g. from the GPU tonemap pass) as an RGB .png.
+void write_display_rgba8(const std::filesystem::path& path, const std::vector<unsigned char>& rgba, int width, int height);
 
 // Exposure (EV) + ACES filmic fit (Narkowicz 2015) + sRGB OETF; the twin of tonemap.glsl.
 glm::vec3 aces_fit(glm::vec3 x);

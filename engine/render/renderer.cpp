@@ -12,6 +12,8 @@ Renderer::Renderer(const ShaderLibrary& shaders, const Scene& scene, GpuScene& g
                                                             {ShaderStage::fragment, "forward/forward.frag"}}, {}});
     programs_.sky = shaders.build_or_throw({"sky", {{ShaderStage::vertex, "forward/sky.vert"},
                                                     {ShaderStage::fragment, "forward/sky.frag"}}, {}});
+    programs_.tonemap = shaders.build_or_throw({"tonemap", {{ShaderStage::vertex, "post/fullscreen.vert"},
+                                                            {ShaderStage::fragment, "post/tonemap.frag"}}, {}});
     frame_ubo_ = gl::Buffer(sizeof(FrameData), nullptr, GL_DYNAMIC_STORAGE_BIT);
     empty_vao_ = gl::VertexArray::create();
     set_settings(settings);
@@ -24,11 +26,12 @@ void Renderer::set_settings(const RenderSettings& settings) {
     features_.emissive_patches = gpu_.light_count() - features_.punctual_lights;
 }
 
-void Renderer::render(const Camera& camera, int width, int height) {
+void Renderer::render(const Camera& camera, int width, int height, FrameOutput output, float exposure_ev) {
     if (width != width_ || height != height_) {
         width_ = width;
         height_ = height;
         output_ = gl::Texture::create_2d(GL_RGBA32F, width, height, 1);
+        display_ = gl::Texture::create_2d(GL_RGBA8, width, height, 1);
         fbos_.clear();
         pool_.clear();
     }
@@ -56,7 +59,10 @@ void Renderer::render(const Camera& camera, int width, int height) {
         else if (pass.name == "transparent") add_transparent_pass(graph, env, targets);
         else throw Error(ExitCode::internal, "renderer: no pass named '" + pass.name + "'");
     }
-    graph.mark_output(targets.hdr);
+    // The tonemap pass is always declared; for an HDR-only frame nobody consumes its output and
+    // the graph culls it.
+    add_tonemap_pass(graph, env, targets, display_, exposure_ev);
+    graph.mark_output(output == FrameOutput::display ? targets.display : targets.hdr);
     graph.compile(pool_);
     const double graph_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 
@@ -95,6 +101,17 @@ void Renderer::render(const Camera& camera, int width, int height) {
 void Renderer::resolve_gpu_times() {
     const auto& results = timer_.resolve_current();
     for (size_t i = 0; i < report_.passes.size() && i < results.size(); ++i) report_.passes[i].gpu_ms = results[i].second;
+}
+
+std::vector<std::uint8_t> Renderer::read_display() const {
+    std::vector<std::uint8_t> bytes(static_cast<size_t>(width_) * static_cast<size_t>(height_) * 4);
+    glGetTextureImage(display_.id(), 0, GL_RGBA, GL_UNSIGNED_BYTE, static_cast<GLsizei>(bytes.size()), bytes.data());
+    const size_t row = static_cast<size_t>(width_) * 4;
+    for (int y = 0; y < height_ / 2; ++y)
+        std::swap_ranges(bytes.begin() + static_cast<std::ptrdiff_t>(static_cast<size_t>(y) * row),
+                         bytes.begin() + static_cast<std::ptrdiff_t>(static_cast<size_t>(y + 1) * row),
+                         bytes.begin() + static_cast<std::ptrdiff_t>(static_cast<size_t>(height_ - 1 - y) * row));
+    return bytes;
 }
 
 ImageF Renderer::read_radiance() const {

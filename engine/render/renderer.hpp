@@ -32,6 +32,10 @@ struct FrameReport {
     int state_calls = 0, state_calls_skipped = 0;
 };
 
+// What a frame produces: linear radiance only (.exr, comparisons), or also display values
+// (.png, a window) through the tonemap pass.
+enum class FrameOutput { hdr, display };
+
 class Renderer {
 public:
     // Throws candela::Error (internal) if a shader does not build.
@@ -42,12 +46,16 @@ public:
     const Features& features() const { return features_; }
 
     // Renders one frame into the output texture (resized as needed).
-    void render(const Camera& camera, int width, int height);
+    void render(const Camera& camera, int width, int height, FrameOutput output = FrameOutput::hdr,
+                float exposure_ev = 0.0f);
     // Waits for this frame's GPU timer queries and fills last_frame().passes[].gpu_ms.
     void resolve_gpu_times();
     const FrameReport& last_frame() const { return report_; }
     ImageF read_radiance() const;
+    // Display values of the last FrameOutput::display frame, 8-bit RGBA, top row first.
+    std::vector<std::uint8_t> read_display() const;
     const gl::Texture& output() const { return output_; }
+    const gl::Texture& display() const { return display_; }
     const TexturePool& pool() const { return pool_; }
     // Debug: after each pass compare GL's state with the state cache's (stalls).
     void set_verify_state(bool on) { verify_state_ = on; }
@@ -61,6 +69,7 @@ private:
     gl::Buffer frame_ubo_;
     gl::VertexArray empty_vao_;
     gl::Texture output_;
+    gl::Texture display_;
     int width_ = 0, height_ = 0;
     TexturePool pool_;
     FramebufferCache fbos_;

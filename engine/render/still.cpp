@@ -43,13 +43,13 @@ FrameLoop::FrameLoop(const Scene& scene, const ShaderLibrary& shaders, const Sti
 }
 
 void FrameLoop::warmup(int frames) {
-    for (int i = 0; i < frames; ++i) renderer_->render(camera_, options_.width, options_.height);
+    for (int i = 0; i < frames; ++i) renderer_->render(camera_, options_.width, options_.height, options_.output, options_.exposure_ev);
     glFinish();
 }
 
 double FrameLoop::measure_frame() {
     const auto t0 = std::chrono::steady_clock::now();
-    renderer_->render(camera_, options_.width, options_.height);
+    renderer_->render(camera_, options_.width, options_.height, options_.output, options_.exposure_ev);
     glFinish();
     const double ms = ms_since(t0);
     result_.frame_ms.push_back(ms);
@@ -63,6 +63,7 @@ StillResult FrameLoop::finish() {
     for (auto& p : result_.report.passes) p.gpu_ms = median(gpu_ms_[p.name]);
     const auto t0 = std::chrono::steady_clock::now();
     result_.radiance = renderer_->read_radiance();
+    if (options_.output == FrameOutput::display) result_.display = renderer_->read_display();
     result_.readback_ms = ms_since(t0);
     return result_;
 }

@@ -21,10 +21,13 @@ struct StillOptions {
     int frames = 1;   // measured frames [1, 100000]; the image is the last one
     int warmup = 0;   // frames rendered first and not measured [0, 100000]
     bool verify_state = false;
+    FrameOutput output = FrameOutput::hdr;  // display: also run the GPU tonemap pass
+    float exposure_ev = 0.0f;
 };
 
 struct StillResult {
     ImageF radiance;  // linear, RGBA32F, top row first
+    std::vector<std::uint8_t> display;  // RGBA8 display values when FrameOutput::display
     FrameReport report;  // the last frame; pass gpu_ms = median over the measured frames
     Features features;
     std::vector<double> frame_ms;  // wall time of each measured frame (render + glFinish)

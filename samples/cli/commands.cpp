@@ -227,7 +227,11 @@ int cmd_render(const Args& args) {
         if (e != ".png" && e != ".exr") throw bad_input(out + ": the output must be .png or .exr");
     }
     const float exposure = p.has("--exposure") ? parse_float("--exposure", p.get("--exposure"), -32, 32) : 0.0f;
-    const SceneSetup s = setup_scene(p, p.positional[0], 512, 512);
+    SceneSetup s = setup_scene(p, p.positional[0], 512, 512);
+    // A .png gets its display transform on the GPU (the tonemap pass); an .exr is the HDR target.
+    const bool display = is_display_format(out_path);
+    s.options.output = display ? FrameOutput::display : FrameOutput::hdr;
+    s.options.exposure_ev = exposure;
 
     auto t0 = std::chrono::steady_clock::now();
     ContextResult ctx = open_context(s);
@@ -239,7 +243,8 @@ int cmd_render(const Args& args) {
     const std::size_t bad = count_nonfinite(result.radiance);
     if (bad) log::warn(out + ": " + std::to_string(bad) + " non-finite values in the rendered radiance (written as 0 in .png)");
     t0 = std::chrono::steady_clock::now();
-    write_image(out_path, result.radiance, exposure);
+    if (display) write_display_rgba8(out_path, result.display, result.radiance.width, result.radiance.height);
+    else write_image(out_path, result.radiance, exposure);
     const double write_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     if (p.has("--stats")) {
         nlohmann::json j = stats_json({ctx.context->device_string(), to_string(ctx.context->backend()), p.positional[0]},
@@ -269,6 +274,7 @@ int cmd_bench(const Args& args) {
     SceneSetup s = setup_scene(p, p.positional[0], 1280, 720);
     if (!p.has("--frames")) s.options.frames = 20;
     if (!p.has("--warmup")) s.options.warmup = 3;
+    s.options.output = FrameOutput::display;  // what a viewer's frame includes
     // Each --effects value is one variant; the variants are measured interleaved, frame by frame,
     // so that they see the same machine conditions.
     std::vector<std::string> variants = p.all("--effects");

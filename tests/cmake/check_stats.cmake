@@ -1,6 +1,9 @@
 # Runs `candela render ... --stats JSON` and checks the executed pass names, in order.
-#   cmake -DCANDELA=... -DSCENE=... -DEFFECTS=all -DJSON=out.json -DEXPECTED="a;b" -P check_stats.cmake
-execute_process(COMMAND ${CANDELA} render ${SCENE} -o ${JSON}.png --size 32x32 --effects ${EFFECTS}
+#   cmake -DCANDELA=... -DSCENE=... -DEFFECTS=all -DJSON=out.json -DEXPECTED="a;b" [-DEXT=exr] -P check_stats.cmake
+if(NOT EXT)
+  set(EXT png)
+endif()
+execute_process(COMMAND ${CANDELA} render ${SCENE} -o ${JSON}.${EXT} --size 32x32 --effects ${EFFECTS}
                         --stats ${JSON} --debug-gl --verify-state
                 RESULT_VARIABLE code ERROR_VARIABLE err TIMEOUT 120)
 if(NOT code EQUAL 0)

@@ -53,6 +53,8 @@ int main(int argc, char** argv) {
             return 3;
         }
         std::printf("device: %s (%s)\n", ctx.context->device_string().c_str(), to_string(backend));
+        options.output = FrameOutput::display;  // the GPU tonemap pass, as `candela render x.png`
+        options.verify_state = true;
         const StillResult result = render_still(scene, ShaderLibrary(ShaderLibrary::default_root()), options);
         int failures = 0;
         if (gl::debug_error_count() > 0) {
@@ -66,7 +68,7 @@ int main(int argc, char** argv) {
         fs::create_directories(out_dir);
         const std::string stem = scene_path.stem().string() + "." + to_string(backend);
         const fs::path actual_path = out_dir / (stem + ".actual.png");
-        write_image(actual_path, result.radiance);
+        write_display_rgba8(actual_path, result.display, options.width, options.height);
         if (update) {
             if (failures) return 1;
             fs::create_directories(golden.parent_path());

@@ -25,6 +25,7 @@ private:
 struct Programs {
     gl::Program forward;
     gl::Program sky;
+    gl::Program tonemap;
 };
 
 struct PassEnv {
@@ -43,6 +44,7 @@ struct PassEnv {
 struct ForwardTargets {
     FrameGraph::ResourceId hdr = -1;
     FrameGraph::ResourceId depth = -1;
+    FrameGraph::ResourceId display = -1;  // RGBA8 display values (tonemap pass)
 };
 
 // Binds the frame UBO, material and light SSBOs and the environment texture.
@@ -55,6 +57,8 @@ void add_depth_prepass(FrameGraph& graph, const PassEnv& env, ForwardTargets& ta
 void add_forward_opaque_pass(FrameGraph& graph, const PassEnv& env, ForwardTargets& targets, bool blend_as_opaque);
 void add_sky_pass(FrameGraph& graph, const PassEnv& env, ForwardTargets& targets);
 void add_transparent_pass(FrameGraph& graph, const PassEnv& env, ForwardTargets& targets);
+void add_tonemap_pass(FrameGraph& graph, const PassEnv& env, ForwardTargets& targets, const gl::Texture& display,
+                      float exposure_ev);
 
 }  // namespace candela
 // Note: the execute steps keep references to `env` and `targets`; both must outlive the graph's
