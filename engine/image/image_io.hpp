@@ -1,0 +1,11 @@
+#pragma once
+// Loading of the image I/O module (image_io_api.h). image_io() loads it once (thread-safe) and
+// throws candela::Error (internal) naming where it looked if it cannot.
+
+#include "image/image_io_api.h"
+
+namespace candela {
+
+const CandelaImageIoApi& image_io();
+
+}  // namespace candela
