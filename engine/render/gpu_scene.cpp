@@ -56,6 +56,8 @@ MaterialData to_gpu(const Material& m) {
     }
     d.texcoord = glm::ivec4(tc[0], tc[1], tc[2], tc[3]);
     d.texcoord2 = glm::ivec4(tc[4], -1, -1, -1);
+    d.volume = glm::vec4(m.thickness, m.attenuation_color);
+    d.volume2 = glm::vec4(std::isfinite(m.attenuation_distance) ? m.attenuation_distance : 0.0f, 0.0f, 0.0f, 0.0f);
     return d;
 }
 

@@ -31,8 +31,10 @@ struct MaterialData {  // std430, binding 1
     glm::ivec4 texcoord;
     glm::ivec4 texcoord2;
     glm::vec4 uv_transform[10];
+    glm::vec4 volume;
+    glm::vec4 volume2;
 };
-static_assert(sizeof(MaterialData) == 17 * 16);
+static_assert(sizeof(MaterialData) == 19 * 16);
 
 struct LightData {  // std430, binding 2
     glm::vec4 position_type;

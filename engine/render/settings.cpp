@@ -101,6 +101,12 @@ const std::vector<Knob>& knobs() {
                  "each emissive triangle becomes n^2 Lambertian patches (raster area-light approximation)"),
         make_int("area.max_patches", 1, 4096, [](RenderSettings& s) -> int& { return s.area.max_patches; },
                  "upper bound on emissive patches over the scene"),
+        make_float("ao.radius", 1e-6f, 1e9f, [](RenderSettings& s) -> float& { return s.ao.radius; },
+                   "ambient occlusion radius in world units (SSAO and --raytrace ao)"),
+        make_choice("rt.jitter", {"auto", "on", "off"}, [](RenderSettings& s) -> std::string& { return s.rt.jitter; },
+                    "jittered primary rays; auto: on for path and whitted, off for the raster references"),
+        make_float("rt.whitted_max_roughness", 0.0f, 1.0f, [](RenderSettings& s) -> float& { return s.rt.whitted_max_roughness; },
+                   "surfaces at most this rough reflect as mirrors in whitted mode"),
         make_float("reflections.max_roughness", 0.0f, 1.0f, [](RenderSettings& s) -> float& { return s.reflections_knobs.max_roughness; },
                    "metallic materials rougher than this call for no reflections"),
     };

@@ -29,6 +29,13 @@ struct RenderSettings {
         int subdivisions = 3;  // [1, 16] emissive triangle split into n^2 Lambertian patches
         int max_patches = 256; // [1, 4096] total patches over the scene
     } area;
+    struct AmbientOcclusion {
+        float radius = 1.0f;  // (0, 1e9] world units; SSAO and `--raytrace ao` use the same radius
+    } ao;
+    struct RayTracing {
+        std::string jitter = "auto";       // auto|on|off: auto jitters (anti-aliases) path and whitted only
+        float whitted_max_roughness = 0.05f;  // [0, 1] smoother surfaces are mirrors in whitted mode
+    } rt;
     struct Reflections {
         float max_roughness = 0.3f;  // [0, 1] metallic surfaces rougher than this need no reflection pass
     } reflections_knobs;

@@ -15,6 +15,7 @@
 #include "platform/context.hpp"
 #include "profile/stats.hpp"
 #include "render/still.hpp"
+#include "rt/ray_tracer.hpp"
 #include <nlohmann/json.hpp>
 #include "render/features.hpp"
 #include "scene/features.hpp"
@@ -32,6 +33,9 @@ void print_usage() {
         "                 [--effects all|none|LIST] [--set KNOB=VALUE ...] [--camera N|NAME]\n"
         "                 [--exposure EV] [--environment FILE] [--stats FILE.json] [--frames N] [--warmup N]\n"
         "                 [--debug-gl] [--verify-state] [--timings] [--strict] [--quiet]\n"
+        "                 [--raytrace whitted|path|direct|indirect|ao] [--spp N] [--max-depth N] [--seed N]\n"
+        "                 [--spp-shard K/N] [--time-limit S]\n"
+        "  candela merge OUT.exr SHARD.exr...\n"
         "  candela info SCENE [--effects ...] [--set ...] [--strict]\n"
         "  candela compare A B [--heatmap OUT.png] [--tolerance T] [--max-failing F] [--check]\n"
         "  candela bench frame SCENE [--effects LIST ...] [--size WxH] [--frames N] [--warmup N] [--json FILE]\n"
@@ -47,6 +51,11 @@ void print_usage() {
         "         debug output and fails on GL errors, --verify-state checks GL state between passes,\n"
         "         --timings prints where the time went, --strict treats loader warnings (missing\n"
         "         texture, skipped primitive, repaired data) as errors (exit 2).\n"
+        "         --raytrace renders with the compute-shader ray tracer instead: --spp samples per\n"
+        "         pixel (default 16), --max-depth bounces (whitted 5, path 8), --seed, --spp-shard K/N\n"
+        "         computes the samples s with s %% N == K (alpha holds the sample count) and\n"
+        "         --time-limit S stops at a sample boundary and still writes the image.\n"
+        "merge    the sample-weighted mean of --spp-shard outputs: equal to one run with all samples.\n"
         "info     counts, bounds, cameras, lights, the effects the scene calls for and the planned passes.\n"
         "compare  RMSE, relative MSE, PSNR, max difference and the pixels beyond --tolerance\n"
         "         (default 2/255) of A against B; --check exits 4 if more than --max-failing (default\n"
@@ -209,11 +218,57 @@ int check_gl_errors(const SceneSetup& s) {
     return 0;
 }
 
+int raytrace(const Parsed& p, const SceneSetup& s, const fs::path& out_path, float exposure) {
+    rt::Options o;
+    const auto mode = rt::parse_mode(p.get("--raytrace"));
+    if (!mode) throw bad_input("--raytrace '" + p.get("--raytrace") + "' must be whitted, path, direct, indirect or ao");
+    o.mode = *mode;
+    if (p.has("--spp")) o.spp = parse_int("--spp", p.get("--spp"), 1, 1 << 24);
+    if (p.has("--max-depth")) o.max_depth = parse_int("--max-depth", p.get("--max-depth"), 0, 64);
+    if (p.has("--seed")) o.seed = static_cast<std::uint32_t>(parse_int("--seed", p.get("--seed"), 0, 2147483647));
+    if (p.has("--time-limit")) o.time_limit_s = parse_float("--time-limit", p.get("--time-limit"), 0.0f, 1e9f);
+    if (p.has("--spp-shard")) {
+        int k = -1, n = -1;
+        char rest = 0;
+        if (std::sscanf(p.get("--spp-shard").c_str(), "%d/%d%c", &k, &n, &rest) != 2 || n < 1 || k < 0 || k >= n)
+            throw bad_input("--spp-shard '" + p.get("--spp-shard") + "' must be K/N with 0 <= K < N");
+        o.shard = k;
+        o.shard_count = n;
+    }
+    o.ao_radius = s.options.settings.ao.radius;
+    o.whitted_max_roughness = s.options.settings.rt.whitted_max_roughness;
+    o.jitter = s.options.settings.rt.jitter == "auto" ? -1 : s.options.settings.rt.jitter == "on" ? 1 : 0;
+    o.progress = true;
+    const ShaderLibrary shaders(ShaderLibrary::default_root());
+    GpuScene gpu(s.scene);
+    rt::RayTracer tracer(shaders, s.scene, gpu, o);
+    const float aspect = static_cast<float>(s.options.width) / static_cast<float>(s.options.height);
+    const rt::Result r = tracer.render(s.scene.select_camera(s.options.camera, aspect), s.options.width, s.options.height);
+    const rt::BvhStats& b = tracer.scene().geometry().bvh.stats;
+    log::info(std::string("ray traced '") + rt::to_string(o.mode) + "' [" + r.defines + "]: " + std::to_string(r.samples) +
+              " spp in " + fmt("%.1f", r.trace_ms) + " ms; BVH " + std::to_string(b.node_count) + " nodes, depth " +
+              std::to_string(b.max_depth) + ", SAH " + fmt("%.2f", b.sah_cost) + ", built in " + fmt("%.1f", b.build_ms) + " ms" +
+              (r.stopped_early ? " (stopped by --time-limit)" : ""));
+    if (r.nonfinite_samples) log::warn(std::to_string(r.nonfinite_samples) + " non-finite samples were replaced by 0");
+    write_image(out_path, r.image, exposure);
+    return check_gl_errors(s);
+}
+
 }  // namespace
+
+int cmd_merge(const Args& args) {
+    const Parsed p = parse(args, {}, {});
+    if (p.positional.size() < 2) throw bad_input("merge needs OUT.exr and at least one shard");
+    std::vector<ImageF> shards;
+    for (size_t i = 1; i < p.positional.size(); ++i) shards.push_back(read_image(p.positional[i]));
+    write_image(p.positional[0], rt::merge_shards(shards));
+    return 0;
+}
 
 int cmd_render(const Args& args) {
     std::vector<std::string> with_value = kSetupOptions;
-    with_value.insert(with_value.end(), {"-o", "--output", "--exposure", "--stats"});
+    with_value.insert(with_value.end(), {"-o", "--output", "--exposure", "--stats", "--raytrace", "--spp", "--max-depth",
+                                         "--seed", "--spp-shard", "--time-limit"});
     std::vector<std::string> flags = kSetupFlags;
     flags.push_back("--timings");
     const Parsed p = parse(args, with_value, flags);
@@ -239,6 +294,7 @@ int cmd_render(const Args& args) {
     const double context_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 
     const ShaderLibrary shaders(ShaderLibrary::default_root());
+    if (p.has("--raytrace")) return raytrace(p, s, out_path, exposure);
     const StillResult result = render_still(s.scene, shaders, s.options);
     const std::size_t bad = count_nonfinite(result.radiance);
     if (bad) log::warn(out + ": " + std::to_string(bad) + " non-finite values in the rendered radiance (written as 0 in .png)");

@@ -18,6 +18,7 @@ int main(int argc, char** argv) {
         if (command == "info") return cli::cmd_info(args);
         if (command == "compare") return cli::cmd_compare(args);
         if (command == "bench") return cli::cmd_bench(args);
+        if (command == "merge") return cli::cmd_merge(args);
         std::fprintf(stderr, "candela: unknown command '%s' (try 'candela --help')\n", command.c_str());
         return static_cast<int>(ExitCode::bad_input);
     } catch (const Error& e) {

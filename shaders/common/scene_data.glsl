@@ -21,6 +21,8 @@ struct MaterialData {
     ivec4 texcoord;            // texcoord set of base, metallic-roughness, normal, occlusion (-1: none)
     ivec4 texcoord2;           // x emissive (-1: none)
     vec4 uv_transform[10];     // per slot two rows of the 2x3 affine KHR_texture_transform
+    vec4 volume;               // x thickness (0: thin-walled), yzw attenuation color
+    vec4 volume2;              // x attenuation distance (0: none)
 };
 
 layout(std430, binding = 1) readonly buffer Materials { MaterialData materials[]; };

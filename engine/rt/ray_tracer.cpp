@@ -1,0 +1,168 @@
+#include "rt/ray_tracer.hpp"
+
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+
+#include "core/error.hpp"
+
+namespace candela::rt {
+namespace {
+
+struct FrameGpu {  // std140, binding 8: mirrors RtFrame in shaders/rt/scene.glsl
+    glm::mat4 inv_view_proj;
+    glm::vec4 camera_pos;
+    glm::vec4 env_radiance;
+    glm::ivec4 counts;
+    glm::ivec4 image;
+    glm::ivec4 params;
+    glm::vec4 fparams;
+};
+
+void progress_bar(int done, int total, double elapsed_s) {
+    const int width = 30;
+    const int filled = total > 0 ? done * width / total : width;
+    const double eta = done > 0 ? elapsed_s / done * (total - done) : 0.0;
+    std::fprintf(stderr, "\r[%.*s%.*s] %3d%% %d/%d spp, %.1f s, ETA %.1f s ", filled,
+                 "##############################", width - filled, "                              ",
+                 total ? done * 100 / total : 100, done, total, elapsed_s, eta);
+    if (done == total) std::fprintf(stderr, "\n");
+}
+
+}  // namespace
+
+const char* to_string(Mode mode) {
+    switch (mode) {
+        case Mode::whitted: return "whitted";
+        case Mode::path: return "path";
+        case Mode::direct: return "direct";
+        case Mode::indirect: return "indirect";
+        case Mode::ao: return "ao";
+    }
+    return "?";
+}
+
+std::optional<Mode> parse_mode(const std::string& name) {
+    for (Mode m : {Mode::whitted, Mode::path, Mode::direct, Mode::indirect, Mode::ao})
+        if (name == to_string(m)) return m;
+    return std::nullopt;
+}
+
+RayTracer::RayTracer(const ShaderLibrary& shaders, const Scene& scene, GpuScene& gpu, const Options& options)
+    : scene_(scene), gpu_(gpu), options_(options), rt_scene_(scene, static_cast<int>(scene.materials.size())) {
+    if (options_.spp < 1 || options_.spp > (1 << 24)) throw bad_input("--spp must be in [1, 16777216]");
+    if (options_.shard_count < 1 || options_.shard < 0 || options_.shard >= options_.shard_count)
+        throw bad_input("--spp-shard K/N needs 0 <= K < N");
+    if (options_.max_depth < 0) options_.max_depth = options_.mode == Mode::whitted ? 5 : options_.mode == Mode::direct ? 1 : 8;
+    if (options_.mode == Mode::direct) options_.max_depth = 1;
+    if (options_.max_depth > 64) throw bad_input("--max-depth must be in [0, 64]");
+    if (options_.jitter < 0) options_.jitter = options_.mode == Mode::path || options_.mode == Mode::whitted;
+    // Specialise: code for features the scene lacks is never compiled or run.
+    std::vector<std::string> defines;
+    switch (options_.mode) {
+        case Mode::ao: defines.push_back("MODE_AO"); break;
+        case Mode::path:
+        case Mode::direct: defines.push_back("MODE_PATH"); break;
+        case Mode::indirect: defines.push_back("MODE_INDIRECT"); break;
+        case Mode::whitted: defines.push_back("MODE_WHITTED"); break;
+    }
+    if (!rt_scene_.geometry().emitters.empty()) defines.push_back("HAS_EMITTERS");
+    if (rt_scene_.geometry().has_transmission) defines.push_back("HAS_TRANSMISSION");
+    for (const auto& d : defines) defines_ += (defines_.empty() ? "" : " ") + d;
+    program_ = shaders.build_or_throw({std::string("trace ") + defines_, {{ShaderStage::compute, "rt/trace.comp"}}, defines});
+    frame_ubo_ = gl::Buffer(sizeof(FrameGpu), nullptr, GL_DYNAMIC_STORAGE_BIT);
+}
+
+Result RayTracer::render(const Camera& camera, int width, int height) {
+    if (width < 1 || height < 1 || width > 16384 || height > 16384) throw bad_input("--size is out of range (1..16384 per side)");
+    Result result;
+    result.defines = defines_;
+    const size_t pixels = static_cast<size_t>(width) * static_cast<size_t>(height);
+    std::vector<glm::vec4> zeros(pixels, glm::vec4(0.0f));
+    gl::Buffer accum(static_cast<GLsizeiptr>(pixels * sizeof(glm::vec4)), zeros.data(), GL_DYNAMIC_STORAGE_BIT);
+    const unsigned zero = 0;
+    gl::Buffer diagnostics(sizeof(unsigned), &zero, GL_DYNAMIC_STORAGE_BIT);
+
+    FrameGpu f{};
+    const float aspect = static_cast<float>(width) / static_cast<float>(height);
+    f.inv_view_proj = glm::inverse(projection_matrix(camera, aspect) * glm::inverse(camera.world));
+    f.camera_pos = glm::vec4(glm::vec3(camera.world[3]), 1.0f);
+    f.env_radiance = glm::vec4(gpu_.environment_radiance(), gpu_.has_environment_map() ? 1.0f : 0.0f);
+    const RtGeometry& g = rt_scene_.geometry();
+    f.counts = glm::ivec4(static_cast<int>(g.triangles.size()), static_cast<int>(g.spheres.size()),
+                          static_cast<int>(g.emitters.size()), static_cast<int>(scene_.placed_lights().size()));
+    f.params = glm::ivec4(options_.max_depth, options_.jitter, 1, 0);
+    f.fparams = glm::vec4(options_.ao_radius, options_.whitted_max_roughness, static_cast<float>(g.emitted_power), 0.0f);
+
+    glUseProgram(program_.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, gpu_.materials().id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, gpu_.lights().id());  // punctual lights come first
+    rt_scene_.bind();
+    glBindBufferBase(GL_UNIFORM_BUFFER, 8, frame_ubo_.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 9, accum.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 10, diagnostics.id());
+    glBindTextureUnit(5, gpu_.environment_map().id());
+    glBindSampler(5, 0);
+
+    const bool show_progress = options_.progress && isatty(STDERR_FILENO);
+    int mine = 0;
+    for (int s = 0; s < options_.spp; ++s) mine += s % options_.shard_count == options_.shard;
+    const auto t0 = std::chrono::steady_clock::now();
+    auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
+    const int rows = std::max(1, options_.tile_rows);
+    for (int s = 0; s < options_.spp; ++s) {
+        if (s % options_.shard_count != options_.shard) continue;
+        if (options_.time_limit_s > 0.0 && result.samples > 0 && elapsed() >= options_.time_limit_s) {
+            result.stopped_early = true;
+            break;
+        }
+        for (int y0 = 0; y0 < height; y0 += rows) {
+            f.image = glm::ivec4(width, height, s, static_cast<int>(options_.seed));
+            f.params.w = y0;
+            frame_ubo_.update(0, sizeof(FrameGpu), &f);
+            glDispatchCompute(static_cast<GLuint>((width + 7) / 8), static_cast<GLuint>((std::min(rows, height - y0) + 7) / 8), 1);
+            glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_UNIFORM_BARRIER_BIT);
+        }
+        glFinish();  // a sample boundary: time limit and progress are checked here
+        ++result.samples;
+        if (show_progress) progress_bar(result.samples, mine, elapsed());
+    }
+    if (show_progress && result.stopped_early) std::fprintf(stderr, "\n");
+    result.trace_ms = elapsed() * 1000.0;
+
+    std::vector<glm::vec4> sums(pixels);
+    glGetNamedBufferSubData(accum.id(), 0, static_cast<GLsizeiptr>(pixels * sizeof(glm::vec4)), sums.data());
+    glGetNamedBufferSubData(diagnostics.id(), 0, sizeof(unsigned), &result.nonfinite_samples);
+    result.image = ImageF(width, height, 4);
+    for (size_t i = 0; i < pixels; ++i) {
+        const glm::vec4 v = sums[i];
+        float* o = result.image.pixels.data() + i * 4;
+        const float n = v.w > 0.0f ? v.w : 1.0f;
+        o[0] = v.x / n, o[1] = v.y / n, o[2] = v.z / n, o[3] = v.w;
+    }
+    glUseProgram(0);
+    return result;
+}
+
+ImageF merge_shards(const std::vector<ImageF>& shards) {
+    if (shards.empty()) throw bad_input("merge needs at least one shard");
+    ImageF out(shards[0].width, shards[0].height, 4);
+    for (const ImageF& s : shards)
+        if (s.width != out.width || s.height != out.height || s.channels != 4)
+            throw bad_input("merge: shards differ in size or have no sample-count channel");
+    for (size_t i = 0; i < static_cast<size_t>(out.width) * out.height; ++i) {
+        double sum[3] = {0, 0, 0}, count = 0;
+        for (const ImageF& s : shards) {
+            const float* p = s.pixels.data() + i * 4;
+            for (int c = 0; c < 3; ++c) sum[c] += static_cast<double>(p[c]) * p[3];
+            count += p[3];
+        }
+        float* o = out.pixels.data() + i * 4;
+        for (int c = 0; c < 3; ++c) o[c] = count > 0 ? static_cast<float>(sum[c] / count) : 0.0f;
+        o[3] = static_cast<float>(count);
+    }
+    return out;
+}
+
+}  // namespace candela::rt

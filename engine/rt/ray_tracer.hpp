@@ -1,0 +1,63 @@
+#pragma once
+// The compute-shader ray tracer: the reference every raster effect is judged against. Modes:
+// whitted, path, direct (path with one bounce), indirect (one diffuse bounce only), ao.
+#include <optional>
+#include <string>
+
+#include "image/image.hpp"
+#include "render/gpu_scene.hpp"
+#include "rt/rt_scene.hpp"
+#include "shader/shader_library.hpp"
+
+namespace candela::rt {
+
+enum class Mode { whitted, path, direct, indirect, ao };
+const char* to_string(Mode mode);
+std::optional<Mode> parse_mode(const std::string& name);
+
+struct Options {
+    Mode mode = Mode::path;
+    int spp = 16;          // [1, 1 << 24] samples per pixel (the whole render, before sharding)
+    int max_depth = -1;    // bounces; -1: the mode's default (whitted 5, path 8)
+    std::uint32_t seed = 1;
+    int shard = 0;         // --spp-shard K/N: this run computes samples s with s % N == K
+    int shard_count = 1;
+    double time_limit_s = 0.0;  // > 0: stop at the first sample boundary past it
+    float ao_radius = 1.0f;     // world units (ao.radius, shared with SSAO)
+    int jitter = -1;            // -1: on for path/whitted (anti-aliasing), off for direct/indirect/ao
+    float whitted_max_roughness = 0.05f;  // smoother surfaces reflect as mirrors in whitted mode
+    bool progress = false;      // progress bar with ETA on stderr
+    int tile_rows = 64;         // rows per dispatch: short dispatches never trip a GPU watchdog
+};
+
+struct Result {
+    ImageF image;  // rgb: mean radiance (ao: unoccluded fraction); a: samples accumulated
+    int samples = 0;           // samples per pixel this run computed
+    bool stopped_early = false;  // --time-limit
+    unsigned nonfinite_samples = 0;  // replaced by 0 (should stay 0; tests assert it)
+    double trace_ms = 0.0;
+    std::string defines;       // the shader specialisation used
+};
+
+class RayTracer {
+public:
+    // Builds the BVH, uploads the scene, compiles the program specialised to the mode and the
+    // scene's features. Throws candela::Error (internal) if the shader does not build.
+    RayTracer(const ShaderLibrary& shaders, const Scene& scene, GpuScene& gpu, const Options& options);
+    Result render(const Camera& camera, int width, int height);
+    const RtScene& scene() const { return rt_scene_; }
+
+private:
+    const Scene& scene_;
+    GpuScene& gpu_;
+    Options options_;
+    RtScene rt_scene_;
+    gl::Program program_;
+    gl::Buffer frame_ubo_;
+    std::string defines_;
+};
+
+// Merges shard images (alpha = sample count) into one: the sample-weighted mean.
+ImageF merge_shards(const std::vector<ImageF>& shards);
+
+}  // namespace candela::rt

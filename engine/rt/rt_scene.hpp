@@ -1,0 +1,55 @@
+#pragma once
+// The Scene as the ray tracer sees it: world-space triangles (nodes marked extras.sphere are
+// replaced by their exact sphere), analytic spheres, emissive triangles with a power CDF, and a
+// BVH over all of them, uploaded to SSBOs. Layouts mirror shaders/rt/scene.glsl.
+#include <cstdint>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "gl/handles.hpp"
+#include "rt/bvh.hpp"
+#include "scene/scene.hpp"
+
+namespace candela::rt {
+
+struct TriangleGpu {
+    glm::vec4 p0, p1, p2;  // p0.w material (int bits), p1.w node (int bits)
+    glm::vec4 n0, n1, n2;  // n0.w: probability that emitter sampling picks this triangle
+};
+struct SphereGpu {
+    glm::vec4 center_radius;
+    glm::ivec4 material_node;
+};
+struct EmitterGpu {
+    std::uint32_t triangle;
+    float cdf, pdf, area;
+};
+static_assert(sizeof(TriangleGpu) == 96 && sizeof(SphereGpu) == 32 && sizeof(EmitterGpu) == 16);
+
+// CPU-side geometry (also what the C++ tests and benchmarks use).
+struct RtGeometry {
+    std::vector<TriangleGpu> triangles;
+    std::vector<SphereGpu> spheres;
+    std::vector<EmitterGpu> emitters;
+    double emitted_power = 0.0;  // sum of luminance(emission) * area over emitters
+    bool has_transmission = false;
+    Bvh bvh;
+};
+
+// `default_material`: the material index used for primitives without one (GpuScene appends the
+// default material after the scene's).
+RtGeometry build_rt_geometry(const Scene& scene, int default_material, const BvhOptions& options = {});
+
+class RtScene {
+public:
+    RtScene(const Scene& scene, int default_material);
+    const RtGeometry& geometry() const { return geometry_; }
+    void bind() const;  // SSBO bindings 3..7
+
+private:
+    RtGeometry geometry_;
+    gl::Buffer nodes_, prim_indices_, triangles_, spheres_, emitters_;
+};
+
+}  // namespace candela::rt

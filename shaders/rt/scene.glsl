@@ -1,0 +1,187 @@
+// The ray tracer's view of the scene (layouts mirror engine/rt/gpu_rt_scene.hpp) and BVH
+// traversal: closest hit for camera and bounce rays, any hit for shadow and AO rays.
+#include "intersect.glsl"
+
+struct BvhNode {
+    vec3 bmin;
+    int right_or_first;  // interior: right child index (left = this + 1); leaf: first primitive
+    vec3 bmax;
+    int count;           // 0 for interior nodes
+};
+
+struct RtTriangle {
+    vec4 p0;  // w: material index (int bits)
+    vec4 p1;  // w: node index (int bits)
+    vec4 p2;
+    vec4 n0;
+    vec4 n1;
+    vec4 n2;
+};
+
+struct RtSphere {
+    vec4 center_radius;
+    ivec4 material_node;  // x material, y node
+};
+
+// An emissive triangle and the cumulative distribution used to pick one by emitted power.
+struct Emitter {
+    uint triangle;
+    float cdf;    // inclusive
+    float pdf;    // probability of choosing this emitter
+    float area;
+};
+
+layout(std430, binding = 3) readonly buffer BvhNodes { BvhNode nodes[]; };
+layout(std430, binding = 4) readonly buffer PrimIndices { uint prim_indices[]; };
+layout(std430, binding = 5) readonly buffer Triangles { RtTriangle triangles[]; };
+layout(std430, binding = 6) readonly buffer Spheres { RtSphere spheres[]; };
+layout(std430, binding = 7) readonly buffer Emitters { Emitter emitters[]; };
+
+layout(std140, binding = 8) uniform RtFrame {
+    mat4 inv_view_proj;
+    vec4 camera_pos;
+    vec4 env_radiance;   // rgb constant radiance, or the map's scale when w = 1
+    ivec4 counts;        // x triangles, y spheres, z emitters, w punctual lights
+    ivec4 image;         // x width, y height, z sample index, w seed
+    ivec4 params;        // x max depth, y jitter, z indirect occlusion, w tile y offset
+    vec4 fparams;        // x ao radius, y whitted max roughness, z emitter power total
+} rt;
+
+struct Hit {
+    float t;
+    int prim;   // < counts.x: triangle, else sphere (prim - counts.x); -1: miss
+    vec2 bary;
+};
+
+const int kStackSize = 64;
+
+Hit trace_closest(Ray ray, float tmax) {
+    Hit hit;
+    hit.t = tmax;
+    hit.prim = -1;
+    hit.bary = vec2(0.0);
+    if (rt.counts.x + rt.counts.y == 0) return hit;
+    WatertightRay w = watertight_setup(ray);
+    vec3 inv_dir = 1.0 / ray.dir;
+    int stack[kStackSize];
+    int sp = 0;
+    int node = 0;
+    if (intersect_aabb(nodes[0].bmin, nodes[0].bmax, ray.origin, inv_dir, hit.t) > hit.t) return hit;
+    while (true) {
+        BvhNode n = nodes[node];
+        if (n.count > 0) {
+            for (int i = 0; i < n.count; ++i) {
+                int prim = int(prim_indices[n.right_or_first + i]);
+                if (prim < rt.counts.x) {
+                    RtTriangle tri = triangles[prim];
+                    vec2 bary;
+                    float t = intersect_triangle(w, tri.p0.xyz, tri.p1.xyz, tri.p2.xyz, hit.t, bary);
+                    if (t > 0.0 && t < hit.t) { hit.t = t; hit.prim = prim; hit.bary = bary; }
+                } else {
+                    RtSphere s = spheres[prim - rt.counts.x];
+                    float t = intersect_sphere(ray, s.center_radius.xyz, s.center_radius.w, 0.0, hit.t);
+                    if (t > 0.0 && t < hit.t) { hit.t = t; hit.prim = prim; }
+                }
+            }
+        } else {
+            // Near child first; the far one waits on the stack.
+            int left = node + 1, right = n.right_or_first;
+            float tl = intersect_aabb(nodes[left].bmin, nodes[left].bmax, ray.origin, inv_dir, hit.t);
+            float tr = intersect_aabb(nodes[right].bmin, nodes[right].bmax, ray.origin, inv_dir, hit.t);
+            bool hl = tl <= hit.t, hr = tr <= hit.t;
+            if (hl && hr) {
+                int near_child = tl <= tr ? left : right;
+                int far_child = tl <= tr ? right : left;
+                if (sp < kStackSize) stack[sp++] = far_child;
+                node = near_child;
+                continue;
+            }
+            if (hl) { node = left; continue; }
+            if (hr) { node = right; continue; }
+        }
+        if (sp == 0) break;
+        node = stack[--sp];
+    }
+    return hit;
+}
+
+// True if anything lies on the ray within (0, tmax): shadow and AO rays stop at the first hit.
+bool trace_any(Ray ray, float tmax) {
+    if (rt.counts.x + rt.counts.y == 0) return false;
+    WatertightRay w = watertight_setup(ray);
+    vec3 inv_dir = 1.0 / ray.dir;
+    int stack[kStackSize];
+    int sp = 0;
+    int node = 0;
+    if (intersect_aabb(nodes[0].bmin, nodes[0].bmax, ray.origin, inv_dir, tmax) > tmax) return false;
+    while (true) {
+        BvhNode n = nodes[node];
+        if (n.count > 0) {
+            for (int i = 0; i < n.count; ++i) {
+                int prim = int(prim_indices[n.right_or_first + i]);
+                if (prim < rt.counts.x) {
+                    RtTriangle tri = triangles[prim];
+                    vec2 bary;
+                    if (intersect_triangle(w, tri.p0.xyz, tri.p1.xyz, tri.p2.xyz, tmax, bary) > 0.0) return true;
+                } else {
+                    RtSphere s = spheres[prim - rt.counts.x];
+                    if (intersect_sphere(ray, s.center_radius.xyz, s.center_radius.w, 0.0, tmax) > 0.0) return true;
+                }
+            }
+        } else {
+            int left = node + 1, right = n.right_or_first;
+            bool hl = intersect_aabb(nodes[left].bmin, nodes[left].bmax, ray.origin, inv_dir, tmax) <= tmax;
+            bool hr = intersect_aabb(nodes[right].bmin, nodes[right].bmax, ray.origin, inv_dir, tmax) <= tmax;
+            if (hl && hr) {
+                if (sp < kStackSize) stack[sp++] = right;
+                node = left;
+                continue;
+            }
+            if (hl) { node = left; continue; }
+            if (hr) { node = right; continue; }
+        }
+        if (sp == 0) break;
+        node = stack[--sp];
+    }
+    return false;
+}
+
+// Surface data at a hit.
+struct SurfaceHit {
+    vec3 p;
+    vec3 ng;        // geometric normal, facing the incoming ray
+    vec3 ns;        // shading normal, same side as ng
+    bool front;     // the ray hit the front (the side the geometric normal points to)
+    int material;
+};
+
+SurfaceHit surface_at(Ray ray, Hit hit) {
+    SurfaceHit s;
+    s.p = ray.origin + ray.dir * hit.t;
+    if (hit.prim < rt.counts.x) {
+        RtTriangle tri = triangles[hit.prim];
+        vec3 ng = normalize(cross(tri.p1.xyz - tri.p0.xyz, tri.p2.xyz - tri.p0.xyz));
+        float w0 = 1.0 - hit.bary.x - hit.bary.y;
+        vec3 ns = tri.n0.xyz * w0 + tri.n1.xyz * hit.bary.x + tri.n2.xyz * hit.bary.y;
+        float len = length(ns);
+        ns = len > 1e-12 ? ns / len : ng;
+        // Interpolated normals may point away from the geometric side; keep them together.
+        if (dot(ns, ng) < 0.0) ns = -ns;
+        s.material = floatBitsToInt(tri.p0.w);
+        s.front = dot(ng, ray.dir) < 0.0;
+        s.ng = s.front ? ng : -ng;
+        s.ns = s.front ? ns : -ns;
+        // Exact positions from barycentrics are more accurate than origin + t * dir far away.
+        s.p = tri.p0.xyz * w0 + tri.p1.xyz * hit.bary.x + tri.p2.xyz * hit.bary.y;
+    } else {
+        RtSphere sp = spheres[hit.prim - rt.counts.x];
+        vec3 n = normalize(s.p - sp.center_radius.xyz);
+        // Project the point back onto the sphere: removes the error of origin + t * dir.
+        s.p = sp.center_radius.xyz + n * sp.center_radius.w;
+        s.material = sp.material_node.x;
+        s.front = dot(n, ray.dir) < 0.0;
+        s.ng = s.front ? n : -n;
+        s.ns = s.ng;
+    }
+    return s;
+}

@@ -1,0 +1,398 @@
+#version 450 core
+// The compute-shader ray tracer: one sample per pixel per dispatch, accumulated in `accum`.
+// Modes (one is defined by the host): MODE_AO, MODE_PATH (MODE_DIRECT is MODE_PATH with one
+// bounce), MODE_INDIRECT, MODE_WHITTED. Scene features compiled in only when the scene has them:
+// HAS_EMITTERS (emissive triangles), HAS_TRANSMISSION (KHR_materials_transmission).
+#if !defined(MODE_AO) && !defined(MODE_PATH) && !defined(MODE_INDIRECT) && !defined(MODE_WHITTED)
+#define MODE_PATH  // the default when validated without defines
+#endif
+#include "../common/scene_data.glsl"
+#include "../common/brdf.glsl"
+#include "../common/sampling.glsl"
+#include "scene.glsl"
+
+layout(local_size_x = 8, local_size_y = 8) in;
+
+layout(std430, binding = 9) buffer Accum { vec4 accum[]; };  // rgb sum, w sample count
+layout(std430, binding = 10) buffer Diagnostics { uint nonfinite_samples; };
+layout(binding = 5) uniform sampler2D t_environment;
+
+// ---- materials -------------------------------------------------------------------------------
+
+BrdfInput brdf_input(int mi) {
+    MaterialData m = materials[mi];
+    BrdfInput b;
+    b.base_color = m.base_color.rgb;
+    b.metallic = saturate(m.emission_metallic.a);
+    b.roughness = saturate(m.params.x);
+    b.ior = m.params2.x;
+    b.specular_factor = m.specular.a;
+    b.specular_color = m.specular.rgb;
+    return b;
+}
+vec3 material_emission(int mi) { return materials[mi].emission_metallic.rgb; }
+bool material_double_sided(int mi) { return materials[mi].params.w > 0.5; }
+float material_transmission(int mi) { return materials[mi].params2.y; }
+// KHR_materials_volume: thickness 0 is a thin wall (light passes without bending).
+bool material_thin(int mi) { return materials[mi].volume.x <= 0.0; }
+
+// Light leaving a surface towards the viewer by emission: front side, or both if double-sided.
+vec3 emitted(SurfaceHit s) {
+    return (s.front || material_double_sided(s.material)) ? material_emission(s.material) : vec3(0.0);
+}
+
+vec3 environment(vec3 dir) {
+    if (rt.env_radiance.w < 0.5) return rt.env_radiance.rgb;
+    return rt.env_radiance.rgb * textureLod(t_environment, direction_to_equirect(normalize(dir)), 0.0).rgb;
+}
+
+// ---- BRDF sampling (lobe mixture: GGX visible normals + cosine) -------------------------------
+
+float specular_lobe_probability(BrdfInput m) {
+    if (m.metallic <= 0.0 && m.specular_factor <= 0.0) return 0.0;
+    return mix(0.25, 1.0, m.metallic);
+}
+
+float brdf_pdf(BrdfInput m, vec3 n, vec3 v, vec3 l) {
+    float NdotL = dot(n, l), NdotV = dot(n, v);
+    if (NdotL <= 0.0 || NdotV <= 0.0) return 0.0;
+    float ps = specular_lobe_probability(m);
+    vec3 h = normalize(v + l);
+    float spec = ps > 0.0 ? pdf_ggx_vndf_reflection(NdotV, saturate(dot(n, h)), brdf_alpha(m.roughness)) : 0.0;
+    return ps * spec + (1.0 - ps) * pdf_cosine_hemisphere(NdotL);
+}
+
+vec3 sample_brdf(BrdfInput m, vec3 n, vec3 v, inout Rng rng) {
+    float ps = specular_lobe_probability(m);
+    vec2 u = vec2(rng_next(rng), rng_next(rng));
+    if (rng_next(rng) < ps) {
+        vec3 t, b;
+        onb(n, t, b);
+        vec3 v_local = vec3(dot(v, t), dot(v, b), dot(v, n));
+        vec3 h_local = sample_ggx_vndf(v_local, brdf_alpha(m.roughness), u);
+        vec3 h = h_local.x * t + h_local.y * b + h_local.z * n;
+        return reflect(-v, h);
+    }
+    return to_world(sample_cosine_hemisphere(u), n);
+}
+
+float power_heuristic(float a, float b) {
+    float a2 = a * a, b2 = b * b;
+    return a2 + b2 > 0.0 ? a2 / (a2 + b2) : 0.0;
+}
+
+// ---- dielectric interfaces (exact Fresnel) ----------------------------------------------------
+
+// Unpolarised Fresnel reflectance; eta = n_incident / n_transmitted. 1 for total internal reflection.
+float fresnel_dielectric(float cos_i, float eta) {
+    float sin2_t = eta * eta * max(0.0, 1.0 - cos_i * cos_i);
+    if (sin2_t >= 1.0) return 1.0;
+    float cos_t = sqrt(1.0 - sin2_t);
+    float rs = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
+    float rp = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
+    return 0.5 * (rs * rs + rp * rp);
+}
+
+// ---- direct light ------------------------------------------------------------------------------
+
+Ray make_ray(vec3 origin, vec3 dir) {
+    Ray r;
+    r.origin = origin;
+    r.dir = dir;
+    return r;
+}
+
+// What fraction of light gets through along a shadow ray. Whitted's transparent shadows: each
+// crossing of a transmissive surface passes (1 - F) * transmission * base colour along a straight
+// line (exact for IOR 1; refraction's focusing is what path mode is for). Elsewhere, and for
+// every opaque surface, it is plain visibility.
+vec3 shadow_visibility(Ray ray, float tmax) {
+#if defined(MODE_WHITTED) && defined(HAS_TRANSMISSION)
+    vec3 T = vec3(1.0);
+    for (int crossing = 0; crossing < 16; ++crossing) {
+        Hit h = trace_closest(ray, tmax);
+        if (h.prim < 0) return T;
+        SurfaceHit s = surface_at(ray, h);
+        float transmission = materials[s.material].params2.y;
+        if (transmission <= 0.0) return vec3(0.0);
+        BrdfInput m = brdf_input(s.material);
+        bool thin = materials[s.material].volume.x <= 0.0;
+        float eta = thin ? 1.0 / m.ior : (s.front ? 1.0 / m.ior : m.ior);
+        float F = fresnel_dielectric(abs(dot(normalize(ray.dir), s.ng)), eta);
+        T *= (1.0 - F) * transmission * m.base_color;
+        if (max(T.r, max(T.g, T.b)) <= 0.0) return vec3(0.0);
+        ray.origin = offset_ray(s.p, -s.ng);
+        tmax -= h.t;
+    }
+    return vec3(0.0);
+#else
+    return trace_any(ray, tmax) ? vec3(0.0) : vec3(1.0);
+#endif
+}
+
+vec3 direct_punctual(SurfaceHit s, BrdfInput m, vec3 v) {
+    vec3 sum = vec3(0.0);
+    for (int i = 0; i < rt.counts.w; ++i) {
+        vec3 l, E;
+        float dist;
+        light_incidence(lights[i], s.p, l, E, dist);
+        float NdotL = dot(s.ns, l);
+        if (NdotL <= 0.0 || dot(s.ng, l) <= 0.0 || max(E.r, max(E.g, E.b)) <= 0.0) continue;
+        vec3 visible = shadow_visibility(make_ray(offset_ray(s.p, s.ng), l), dist);
+        sum += brdf_eval(m, s.ns, l, v) * E * NdotL * visible;
+    }
+    return sum;
+}
+
+#ifdef HAS_EMITTERS
+// One emissive triangle chosen by power, one point on it uniformly by area; MIS with the BRDF.
+vec3 direct_emitters(SurfaceHit s, BrdfInput m, vec3 v, inout Rng rng, bool use_mis) {
+    float u = rng_next(rng);
+    int lo = 0, hi = rt.counts.z - 1;
+    while (lo < hi) {
+        int mid = (lo + hi) / 2;
+        if (emitters[mid].cdf < u) lo = mid + 1; else hi = mid;
+    }
+    Emitter e = emitters[lo];
+    RtTriangle tri = triangles[e.triangle];
+    float su = sqrt(rng_next(rng));
+    float u2 = rng_next(rng);
+    vec3 q = (1.0 - su) * tri.p0.xyz + su * (1.0 - u2) * tri.p1.xyz + su * u2 * tri.p2.xyz;
+    vec3 nl = normalize(cross(tri.p1.xyz - tri.p0.xyz, tri.p2.xyz - tri.p0.xyz));
+    int mat = floatBitsToInt(tri.p0.w);
+    vec3 d = q - s.p;
+    float dist2 = dot(d, d);
+    if (dist2 <= 0.0) return vec3(0.0);
+    vec3 l = d * inversesqrt(dist2);
+    float cos_l = dot(nl, -l);
+    if (material_double_sided(mat)) cos_l = abs(cos_l);
+    float NdotL = dot(s.ns, l);
+    if (cos_l <= 0.0 || NdotL <= 0.0 || dot(s.ng, l) <= 0.0) return vec3(0.0);
+    float pdf = e.pdf / e.area * dist2 / cos_l;  // solid angle
+    vec3 origin = offset_ray(s.p, s.ng);
+    vec3 target = offset_ray(q, dot(nl, -l) > 0.0 ? nl : -nl);
+    vec3 visible = shadow_visibility(make_ray(origin, target - origin), 1.0);
+    float w = use_mis ? power_heuristic(pdf, brdf_pdf(m, s.ns, v, l)) : 1.0;
+    return brdf_eval(m, s.ns, l, v) * material_emission(mat) * NdotL * w * visible / pdf;
+}
+
+// Solid-angle pdf with which direct_emitters would have chosen the point the BRDF ray hit.
+float emitter_pdf(Ray ray, Hit hit, SurfaceHit s) {
+    if (hit.prim >= rt.counts.x) return 0.0;
+    RtTriangle tri = triangles[hit.prim];
+    float select_pdf = tri.n0.w;
+    if (select_pdf <= 0.0) return 0.0;
+    vec3 c = cross(tri.p1.xyz - tri.p0.xyz, tri.p2.xyz - tri.p0.xyz);
+    float area = 0.5 * length(c);
+    float dist = hit.t * length(ray.dir);
+    float cos_l = abs(dot(normalize(c), normalize(ray.dir)));
+    return cos_l > 0.0 ? select_pdf / area * dist * dist / cos_l : 0.0;
+}
+#endif
+
+// ---- camera ------------------------------------------------------------------------------------
+
+Ray camera_ray(ivec2 pixel, inout Rng rng) {
+    vec2 jitter = rt.params.y != 0 ? vec2(rng_next(rng), rng_next(rng)) : vec2(0.5);
+    vec2 ndc = vec2((float(pixel.x) + jitter.x) / float(rt.image.x) * 2.0 - 1.0,
+                    1.0 - (float(pixel.y) + jitter.y) / float(rt.image.y) * 2.0);
+    vec4 far_point = rt.inv_view_proj * vec4(ndc, 0.5, 1.0);
+    vec4 near_point = rt.inv_view_proj * vec4(ndc, 1.0, 1.0);
+    vec3 a = near_point.xyz / near_point.w;
+    vec3 b = far_point.xyz / far_point.w;
+    // Perspective: rays from the camera position; orthographic: from the near plane.
+    Ray r;
+    r.origin = a;
+    r.dir = normalize(b - a);
+    return r;
+}
+
+// ---- the modes ---------------------------------------------------------------------------------
+
+#ifdef MODE_AO
+vec3 radiance(Ray ray, inout Rng rng) {
+    Hit hit = trace_closest(ray, 3.0e38);
+    if (hit.prim < 0) return vec3(1.0);
+    SurfaceHit s = surface_at(ray, hit);
+    vec3 dir = to_world(sample_cosine_hemisphere(vec2(rng_next(rng), rng_next(rng))), s.ng);
+    bool occluded = trace_any(make_ray(offset_ray(s.p, s.ng), dir * rt.fparams.x), 1.0);
+    return vec3(occluded ? 0.0 : 1.0);
+}
+#endif
+
+#ifdef MODE_PATH
+// Unidirectional path tracing with next-event estimation (punctual lights always, emissive
+// triangles with MIS against BRDF sampling), Russian roulette after three bounces.
+vec3 radiance(Ray ray, inout Rng rng) {
+    vec3 sum = vec3(0.0);
+    vec3 throughput = vec3(1.0);
+    float last_brdf_pdf = 0.0;  // 0: the last bounce was specular-delta or the camera
+    int max_depth = rt.params.x;
+    for (int depth = 0; depth <= max_depth; ++depth) {
+        Hit hit = trace_closest(ray, 3.0e38);
+        if (hit.prim < 0) {
+            sum += throughput * environment(ray.dir);
+            break;
+        }
+        SurfaceHit s = surface_at(ray, hit);
+        vec3 Le = emitted(s);
+        if (max(Le.r, max(Le.g, Le.b)) > 0.0) {
+            float w = 1.0;
+#ifdef HAS_EMITTERS
+            if (last_brdf_pdf > 0.0) w = power_heuristic(last_brdf_pdf, emitter_pdf(ray, hit, s));
+#endif
+            sum += throughput * Le * w;
+        }
+        if (depth == max_depth) break;
+        vec3 v = -normalize(ray.dir);
+#ifdef HAS_TRANSMISSION
+        float transmission = material_transmission(s.material);
+        if (transmission > 0.0 && rng_next(rng) < transmission) {
+            // Smooth dielectric: reflect or refract by the exact Fresnel term.
+            BrdfInput m = brdf_input(s.material);
+            bool thin = material_thin(s.material);
+            float eta = thin ? 1.0 : (s.front ? 1.0 / m.ior : m.ior);
+            float cos_i = dot(v, s.ng);
+            // A thin wall reflects like the interface it stands for but does not bend the ray.
+            float F = fresnel_dielectric(cos_i, thin ? 1.0 / m.ior : eta);
+            if (rng_next(rng) < F) {
+                ray = make_ray(offset_ray(s.p, s.ng), reflect(-v, s.ng));
+            } else {
+                ray = make_ray(offset_ray(s.p, -s.ng), thin ? -v : refract(-v, s.ng, eta));
+                throughput *= m.base_color;
+            }
+            last_brdf_pdf = 0.0;
+            continue;
+        }
+#endif
+        BrdfInput m = brdf_input(s.material);
+        sum += throughput * direct_punctual(s, m, v);
+#ifdef HAS_EMITTERS
+        sum += throughput * direct_emitters(s, m, v, rng, true);
+#endif
+        vec3 l = sample_brdf(m, s.ns, v, rng);
+        float pdf = brdf_pdf(m, s.ns, v, l);
+        if (pdf <= 0.0 || dot(s.ng, l) <= 0.0) break;
+        throughput *= brdf_eval(m, s.ns, l, v) * dot(s.ns, l) / pdf;
+        last_brdf_pdf = pdf;
+        if (depth >= 3) {
+            float survive = clamp(max(throughput.r, max(throughput.g, throughput.b)), 0.05, 0.95);
+            if (rng_next(rng) >= survive) break;
+            throughput /= survive;
+        }
+        ray = make_ray(offset_ray(s.p, s.ng), l);
+    }
+    return sum;
+}
+#endif
+
+#ifdef MODE_INDIRECT
+// One diffuse bounce: light that reached the first visible point x after exactly one reflection
+// off another surface y (Lambertian at both ends, as RSM models it). The ground truth for RSM.
+vec3 radiance(Ray ray, inout Rng rng) {
+    Hit hit = trace_closest(ray, 3.0e38);
+    if (hit.prim < 0) return vec3(0.0);
+    SurfaceHit x = surface_at(ray, hit);
+    BrdfInput mx = brdf_input(x.material);
+    vec3 albedo_x = mx.base_color * (1.0 - mx.metallic);
+    vec3 dir = to_world(sample_cosine_hemisphere(vec2(rng_next(rng), rng_next(rng))), x.ns);
+    if (dot(dir, x.ng) <= 0.0) return vec3(0.0);
+    Ray bounce = make_ray(offset_ray(x.p, x.ng), dir);
+    Hit hy = trace_closest(bounce, 3.0e38);
+    if (hy.prim < 0) return vec3(0.0);
+    SurfaceHit y = surface_at(bounce, hy);
+    BrdfInput my = brdf_input(y.material);
+    // y reflects diffusely: the direct light at y with a Lambert BRDF of y's diffuse albedo.
+    BrdfInput lambert_y = my;
+    lambert_y.base_color = my.base_color * (1.0 - my.metallic);
+    lambert_y.metallic = 0.0;
+    lambert_y.specular_factor = 0.0;
+    vec3 v = -dir;
+    vec3 Ly = direct_punctual(y, lambert_y, v);
+#ifdef HAS_EMITTERS
+    Ly += direct_emitters(y, lambert_y, v, rng, false);
+#endif
+    // Cosine sampling: f_x * cos / pdf = albedo_x.
+    return albedo_x * Ly;
+}
+#endif
+
+#ifdef MODE_WHITTED
+// Whitted (1980): local shading with shadow rays, plus mirror reflection and refraction with the
+// exact Fresnel equations, to `max depth`. The branches are kept on a small explicit stack.
+vec3 radiance(Ray primary, inout Rng rng) {
+    const int kMaxStack = 16;
+    Ray rays[kMaxStack];
+    vec3 weights[kMaxStack];
+    int depths[kMaxStack];
+    int n = 1;
+    rays[0] = primary;
+    weights[0] = vec3(1.0);
+    depths[0] = 0;
+    vec3 sum = vec3(0.0);
+    while (n > 0) {
+        --n;
+        Ray ray = rays[n];
+        vec3 w = weights[n];
+        int depth = depths[n];
+        Hit hit = trace_closest(ray, 3.0e38);
+        if (hit.prim < 0) {
+            sum += w * environment(ray.dir);
+            continue;
+        }
+        SurfaceHit s = surface_at(ray, hit);
+        vec3 v = -normalize(ray.dir);
+        BrdfInput m = brdf_input(s.material);
+        sum += w * emitted(s);
+        bool can_branch = depth < rt.params.x && n + 2 <= kMaxStack;
+#ifdef HAS_TRANSMISSION
+        if (material_transmission(s.material) > 0.0) {
+            bool thin = material_thin(s.material);
+            float eta = thin ? 1.0 : (s.front ? 1.0 / m.ior : m.ior);
+            float F = fresnel_dielectric(dot(v, s.ng), thin ? 1.0 / m.ior : eta);
+            if (!can_branch) continue;
+            rays[n] = make_ray(offset_ray(s.p, s.ng), reflect(-v, s.ng));
+            weights[n] = w * F;
+            depths[n++] = depth + 1;
+            if (F < 1.0) {
+                rays[n] = make_ray(offset_ray(s.p, -s.ng), thin ? -v : refract(-v, s.ng, eta));
+                weights[n] = w * (1.0 - F) * m.base_color;
+                depths[n++] = depth + 1;
+            }
+            continue;
+        }
+#endif
+        // Local: punctual and area lights with shadow rays, and the unoccluded environment as an
+        // ambient term on the diffuse part.
+        sum += w * direct_punctual(s, m, v);
+#ifdef HAS_EMITTERS
+        sum += w * direct_emitters(s, m, v, rng, false);
+#endif
+        sum += w * environment(s.ns) * m.base_color * (1.0 - m.metallic);
+        if (m.roughness <= rt.fparams.y && can_branch) {
+            // Mirror reflection weighted by the BRDF's Fresnel at normal-vector incidence.
+            float cos_v = saturate(dot(v, s.ns));
+            vec3 F = mix(F_Schlick(dielectric_f0(m), vec3(dielectric_f90(m)), cos_v),
+                         F_Schlick(m.base_color, vec3(1.0), cos_v), m.metallic);
+            rays[n] = make_ray(offset_ray(s.p, s.ng), reflect(-v, s.ns));
+            weights[n] = w * F;
+            depths[n++] = depth + 1;
+        }
+    }
+    return sum;
+}
+#endif
+
+void main() {
+    ivec2 pixel = ivec2(gl_GlobalInvocationID.xy) + ivec2(0, rt.params.w);
+    if (pixel.x >= rt.image.x || pixel.y >= rt.image.y) return;
+    uint index = uint(pixel.y * rt.image.x + pixel.x);
+    Rng rng = rng_init(uint(rt.image.w), index, uint(rt.image.z));
+    Ray ray = camera_ray(pixel, rng);
+    vec3 L = radiance(ray, rng);
+    if (any(isnan(L)) || any(isinf(L))) {
+        atomicAdd(nonfinite_samples, 1u);
+        L = vec3(0.0);
+    }
+    accum[index] += vec4(L, 1.0);
+}

@@ -1,0 +1,360 @@
+// The compute-shader ray tracer on analytic cases: white furnace, a point light over a Lambert
+// plane, AO limits, Whitted mirrors and glass, determinism, shards, specialisation, and the
+// GLSL intersection routines against their C++ twins.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <random>
+
+#include "gl/debug.hpp"
+#include "gltf_builder.hpp"
+#include "platform/context.hpp"
+#include "render/still.hpp"
+#include "rt/intersect.hpp"
+#include "rt/ray_tracer.hpp"
+#include "scene/gltf_loader.hpp"
+
+namespace candela {
+namespace {
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+ShaderLibrary shader_lib() { return ShaderLibrary(fs::path(CANDELA_SOURCE_DIR) / "shaders"); }
+
+class RtTest : public ::testing::TestWithParam<Backend> {
+protected:
+    void SetUp() override {
+        ContextOptions options;
+        options.debug = true;
+        ContextResult r = create_context(GetParam(), options);
+        ASSERT_TRUE(r.context) << r.error;
+        context_ = std::move(r.context);
+        gl::reset_debug_error_count();
+    }
+    void TearDown() override {
+        if (context_) EXPECT_EQ(gl::debug_error_count(), 0);
+    }
+    rt::Result trace(const Scene& scene, rt::Options o, int w, int h, const std::string& camera = "") {
+        GpuScene gpu(scene);
+        rt::RayTracer tracer(shader_lib(), scene, gpu, o);
+        rt::Result r = tracer.render(scene.select_camera(camera, static_cast<float>(w) / static_cast<float>(h)), w, h);
+        EXPECT_EQ(r.nonfinite_samples, 0u);
+        EXPECT_EQ(count_nonfinite(r.image), 0u);
+        return r;
+    }
+    std::unique_ptr<Context> context_;
+};
+
+json lambert(glm::vec3 color) {
+    return {{"pbrMetallicRoughness", {{"baseColorFactor", {color.r, color.g, color.b, 1}}, {"metallicFactor", 0}, {"roughnessFactor", 1}}},
+            {"extensions", {{"KHR_materials_specular", {{"specularFactor", 0}}}}}};
+}
+
+// A UV sphere of radius r as a mesh; the node gets extras.sphere so the tracer uses the exact one.
+int add_sphere(test::GltfBuilder& b, float r, int material) {
+    std::vector<glm::vec3> p, n;
+    std::vector<uint32_t> idx;
+    const int seg = 16, rings = 8;
+    for (int i = 0; i <= rings; ++i)
+        for (int j = 0; j <= seg; ++j) {
+            const float th = 3.14159265f * static_cast<float>(i) / rings, ph = 6.2831853f * static_cast<float>(j) / seg;
+            const glm::vec3 d(std::sin(th) * std::cos(ph), std::cos(th), std::sin(th) * std::sin(ph));
+            p.push_back(d * r);
+            n.push_back(d);
+        }
+    for (int i = 0; i < rings; ++i)
+        for (int j = 0; j < seg; ++j) {
+            const uint32_t a = static_cast<uint32_t>(i * (seg + 1) + j), c = a + static_cast<uint32_t>(seg + 1);
+            idx.insert(idx.end(), {a, a + 1, c, a + 1, c + 1, c});
+        }
+    return b.add_mesh({{"POSITION", b.add_positions(p)}, {"NORMAL", b.add_vec3(n)}}, b.add_indices(idx), material);
+}
+
+void ortho_camera(test::GltfBuilder& b, glm::vec3 pos, glm::vec4 rotation_xyzw, float half) {
+    b.json()["cameras"].push_back({{"type", "orthographic"}, {"orthographic", {{"xmag", half}, {"ymag", half}, {"znear", 0.01}, {"zfar", 100}}}});
+    b.add_node({{"camera", b.json()["cameras"].size() - 1}, {"translation", {pos.x, pos.y, pos.z}},
+                {"rotation", {rotation_xyzw.x, rotation_xyzw.y, rotation_xyzw.z, rotation_xyzw.w}}});
+}
+
+const glm::vec4 kLookDown(-0.70710678f, 0.0f, 0.0f, 0.70710678f);  // camera -Z turned to -Y
+
+TEST_P(RtTest, WhiteFurnace) {
+    // A Lambert sphere of albedo 1 in a constant environment of radiance 1 reflects exactly 1.
+    test::GltfBuilder b;
+    b.json()["materials"] = {lambert(glm::vec3(1.0f))};
+    b.add_node({{"mesh", add_sphere(b, 1.0f, 0)}, {"extras", {{"sphere", {{"radius", 1.0}}}}}});
+    b.json()["scenes"][0]["extras"]["environment_radiance"] = {1, 1, 1};
+    b.json()["cameras"] = {{{"type", "perspective"}, {"perspective", {{"yfov", 0.6}, {"znear", 0.1}}}}};
+    b.add_node({{"camera", 0}, {"translation", {0, 0, 4}}});
+    const Scene scene = load_gltf(b.write(test::test_dir("furnace"), "furnace"));
+    rt::Options o;
+    o.mode = rt::Mode::path;
+    o.spp = 32;
+    const rt::Result r = trace(scene, o, 24, 24);
+    double sum = 0.0;
+    int beyond = 0;
+    for (int y = 0; y < 24; ++y)
+        for (int x = 0; x < 24; ++x) {
+            sum += r.image.at(x, y)[0];
+            // Every sample is exactly 1 here, so the 4-sigma bound of a mean of 32 samples is tight.
+            beyond += std::fabs(r.image.at(x, y)[0] - 1.0f) > 1e-4f;
+        }
+    EXPECT_NEAR(sum / (24 * 24), 1.0, 0.01);
+    EXPECT_EQ(beyond, 0);
+}
+
+// A white Lambert floor (y = 0) seen from straight above by an orthographic camera, optionally
+// with a point light at `light` of intensity I.
+Scene lambert_floor(const std::string& name, bool with_light, glm::vec3 light, float intensity, bool env = false) {
+    test::GltfBuilder b;
+    b.json()["materials"] = {lambert(glm::vec3(1.0f))};
+    const int quad = b.add_quad_mesh(0);
+    b.add_node({{"mesh", quad}, {"rotation", {-0.70710678, 0, 0, 0.70710678}}, {"scale", {4, 4, 4}}});  // XY quad -> XZ floor facing +Y
+    ortho_camera(b, {0, 5, 0}, kLookDown, 2.0f);
+    if (with_light) {
+        b.json()["extensions"]["KHR_lights_punctual"]["lights"] = {{{"type", "point"}, {"intensity", intensity}}};
+        b.add_node({{"translation", {light.x, light.y, light.z}}, {"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}});
+    }
+    if (env) b.json()["scenes"][0]["extras"]["environment_radiance"] = {1, 1, 1};
+    return load_gltf(b.write(test::test_dir(name), name));
+}
+
+TEST_P(RtTest, PointLightOverLambertPlaneIsICosOverDSquared) {
+    const glm::vec3 light(0.3f, 2.0f, -0.2f);
+    const float I = 10.0f;
+    const Scene scene = lambert_floor("pointplane", true, light, I);
+    rt::Options o;
+    o.mode = rt::Mode::direct;
+    o.spp = 1;
+    const int n = 32;
+    const rt::Result r = trace(scene, o, n, n);
+    int checked = 0;
+    for (int y = 0; y < n; ++y)
+        for (int x = 0; x < n; ++x) {
+            // Pixel centre to world: x to the right, image top = -z (camera looks down, up = -z).
+            const glm::vec3 p(-2.0f + 4.0f * (static_cast<float>(x) + 0.5f) / n, 0.0f, -2.0f + 4.0f * (static_cast<float>(y) + 0.5f) / n);
+            const glm::vec3 d = light - p;
+            const float dist = glm::length(d);
+            const float expected = (1.0f / 3.14159265f) * I * (d.y / dist) / (dist * dist);
+            EXPECT_NEAR(r.image.at(x, y)[0], expected, expected * 0.01f) << x << "," << y;
+            ++checked;
+        }
+    EXPECT_EQ(checked, n * n);
+}
+
+TEST_P(RtTest, PathAgreesWithRasterDirectLightWithoutShadows) {
+    const Scene scene = lambert_floor("raster_vs_path", true, glm::vec3(-0.4f, 1.5f, 0.6f), 5.0f);
+    rt::Options o;
+    o.mode = rt::Mode::path;
+    o.max_depth = 1;
+    o.spp = 16;
+    const rt::Result r = trace(scene, o, 32, 32);
+    StillOptions so;
+    so.width = so.height = 32;
+    const StillResult raster = render_still(scene, shader_lib(), so);
+    const CompareResult c = compare(r.image, raster.radiance, 1.0);
+    double mean = 0.0;
+    for (int i = 0; i < 32 * 32; ++i) mean += raster.radiance.pixels[static_cast<size_t>(i) * 4];
+    mean /= 32 * 32;
+    // Jittered primary rays average the pixel footprint; the raster samples its centre.
+    EXPECT_LT(c.rmse / mean, 0.01) << "rmse " << c.rmse << " mean " << mean;
+}
+
+TEST_P(RtTest, AmbientOcclusionLimits) {
+    // An open plane: nothing occludes, AO is exactly 1 everywhere.
+    const Scene open = lambert_floor("ao_open", false, {}, 0.0f);
+    rt::Options o;
+    o.mode = rt::Mode::ao;
+    o.spp = 8;
+    o.ao_radius = 10.0f;
+    const rt::Result r = trace(open, o, 16, 16);
+    for (float v : r.image.pixels) EXPECT_TRUE(v == 1.0f || v == 8.0f);  // rgb = 1, alpha = 8 samples
+    // Inside a closed box (the camera too), every AO ray hits a wall: AO is exactly 0.
+    test::GltfBuilder b;
+    b.json()["materials"] = {lambert(glm::vec3(1.0f))};
+    const int quad = b.add_quad_mesh(0);
+    const float h = 0.70710678f;
+    const std::vector<json> faces = {{0, 0, 0, 1}, {0, 1, 0, 0}, {0, h, 0, h}, {0, -h, 0, h}, {h, 0, 0, h}, {-h, 0, 0, h}};
+    const std::vector<glm::vec3> offsets = {{0, 0, -1}, {0, 0, 1}, {-1, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, -1, 0}};
+    for (size_t i = 0; i < faces.size(); ++i)
+        b.add_node({{"mesh", quad}, {"rotation", faces[i]}, {"translation", {offsets[i].x, offsets[i].y, offsets[i].z}}, {"scale", {1.001, 1.001, 1}}});
+    b.json()["cameras"] = {{{"type", "perspective"}, {"perspective", {{"yfov", 1.2}, {"znear", 0.01}}}}};
+    b.add_node({{"camera", 0}, {"translation", {0, 0, 0.5}}});
+    const Scene box = load_gltf(b.write(test::test_dir("ao_box"), "ao_box"));
+    const rt::Result rb = trace(box, o, 16, 16);
+    for (int y = 0; y < 16; ++y)
+        for (int x = 0; x < 16; ++x) EXPECT_EQ(rb.image.at(x, y)[0], 0.0f) << x << "," << y;
+}
+
+TEST_P(RtTest, WhittedMirrorShowsTheReflectedObjectWhereItShouldBe) {
+    // Camera looks down -Z at a mirror turned 45 degrees, which sends the view up (+Y) to an
+    // emissive red strip above it covering x in [0.2, 0.8].
+    test::GltfBuilder b;
+    b.json()["materials"] = {{{"pbrMetallicRoughness", {{"baseColorFactor", {1, 1, 1, 1}}, {"metallicFactor", 1}, {"roughnessFactor", 0}}}},
+                             {{"pbrMetallicRoughness", {{"baseColorFactor", {0, 0, 0, 1}}}}, {"emissiveFactor", {1, 0, 0}}, {"doubleSided", true}}};
+    const int mirror = b.add_quad_mesh(0);
+    b.add_node({{"mesh", mirror}, {"rotation", {-0.38268343, 0, 0, 0.92387953}}, {"scale", {3, 3, 3}}});  // -45 deg about X: faces (+Y+Z)/sqrt2
+    const int strip = b.add_quad_mesh(1);
+    b.add_node({{"mesh", strip}, {"translation", {0.5, 3, 0}}, {"rotation", {0.70710678, 0, 0, 0.70710678}}, {"scale", {0.3, 2, 1}}});
+    ortho_camera(b, {0, 0, 5}, {0, 0, 0, 1}, 1.0f);
+    b.json()["scenes"][0]["extras"]["environment_radiance"] = {0, 0, 0.25};
+    const Scene scene = load_gltf(b.write(test::test_dir("mirror"), "mirror"));
+    rt::Options o;
+    o.mode = rt::Mode::whitted;
+    o.spp = 1;
+    o.jitter = 0;
+    const rt::Result r = trace(scene, o, 40, 40);
+    const float* at_strip = r.image.at(30, 20);   // x = +0.5
+    const float* elsewhere = r.image.at(10, 20);  // x = -0.5
+    EXPECT_NEAR(at_strip[0], 1.0f, 1e-3f);
+    EXPECT_NEAR(at_strip[2], 0.0f, 1e-3f);
+    EXPECT_NEAR(elsewhere[0], 0.0f, 1e-3f);
+    EXPECT_NEAR(elsewhere[2], 0.25f, 1e-3f);  // the mirror shows the environment there
+}
+
+Scene glass_scene(const std::string& name, float ior, bool with_sphere) {
+    test::GltfBuilder b;
+    b.json()["materials"] = {lambert(glm::vec3(0.2f, 0.6f, 0.9f)),
+                             {{"pbrMetallicRoughness", {{"baseColorFactor", {1, 1, 1, 1}}, {"metallicFactor", 0}, {"roughnessFactor", 0}}},
+                              {"extensions", {{"KHR_materials_transmission", {{"transmissionFactor", 1}}},
+                                              {"KHR_materials_ior", {{"ior", ior}}},
+                                              {"KHR_materials_volume", {{"thicknessFactor", 1.0}}}}}}};
+    b.add_node({{"mesh", b.add_quad_mesh(0)}, {"translation", {0, 0, -2}}, {"scale", {3, 3, 1}}});
+    b.json()["extensions"]["KHR_lights_punctual"]["lights"] = {{{"type", "directional"}, {"intensity", 2.0}}};
+    b.add_node({{"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}});
+    if (with_sphere) b.add_node({{"mesh", add_sphere(b, 0.5f, 1)}, {"extras", {{"sphere", {{"radius", 0.5}}}}}});
+    b.json()["cameras"] = {{{"type", "perspective"}, {"perspective", {{"yfov", 0.8}, {"znear", 0.1}}}}};
+    b.add_node({{"camera", 0}, {"translation", {0, 0, 3}}});
+    b.json()["scenes"][0]["extras"]["environment_radiance"] = {0.1, 0.1, 0.1};
+    return load_gltf(b.write(test::test_dir(name), name));
+}
+
+TEST_P(RtTest, WhittedGlassOfIorOneIsInvisibleAndTotalInternalReflectionIsFinite) {
+    rt::Options o;
+    o.mode = rt::Mode::whitted;
+    o.spp = 1;
+    o.jitter = 0;
+    const rt::Result without = trace(glass_scene("glass_none", 1.0f, false), o, 32, 32);
+    const rt::Result with = trace(glass_scene("glass_ior1", 1.0f, true), o, 32, 32);
+    EXPECT_LT(compare(with.image, without.image, 1e-4).failing_pixels, 1u);
+    const rt::Result diamond = trace(glass_scene("glass_ior24", 2.4f, true), o, 32, 32);  // TIR inside
+    EXPECT_GT(compare(diamond.image, without.image, 1e-3).failing_pixels, 20u);  // visible
+}
+
+TEST_P(RtTest, DeterministicAndShardsMergeToTheSingleRun) {
+    const Scene scene = load_gltf(fs::path(CANDELA_SOURCE_DIR) / "samples/scenes/cornell_box.gltf");
+    rt::Options o;
+    o.mode = rt::Mode::path;
+    o.spp = 6;
+    o.seed = 42;
+    const rt::Result a = trace(scene, o, 20, 20);
+    const rt::Result b = trace(scene, o, 20, 20);
+    EXPECT_EQ(a.image.pixels, b.image.pixels);
+    std::vector<ImageF> shards;
+    for (int k = 0; k < 3; ++k) {
+        rt::Options s = o;
+        s.shard = k;
+        s.shard_count = 3;
+        shards.push_back(trace(scene, s, 20, 20).image);
+        EXPECT_EQ(shards.back().at(0, 0)[3], 2.0f);
+    }
+    const ImageF merged = rt::merge_shards(shards);
+    const CompareResult c = compare(merged, a.image, 1e-5);
+    EXPECT_EQ(c.failing_pixels, 0u) << "max " << c.max_abs;
+    o.seed = 43;
+    EXPECT_NE(trace(scene, o, 20, 20).image.pixels, a.image.pixels);
+}
+
+TEST_P(RtTest, ShadersAreSpecialisedToTheScene) {
+    auto defines = [&](const char* name) {
+        const Scene scene = load_gltf(fs::path(CANDELA_SOURCE_DIR) / "samples/scenes" / name);
+        rt::Options o;
+        o.spp = 1;
+        return trace(scene, o, 4, 4).defines;
+    };
+    EXPECT_EQ(defines("cornell_point.gltf"), "MODE_PATH");
+    EXPECT_EQ(defines("cornell_box.gltf"), "MODE_PATH HAS_EMITTERS");
+    EXPECT_EQ(defines("reflections.gltf"), "MODE_PATH HAS_TRANSMISSION");
+}
+
+TEST_P(RtTest, TimeLimitStopsAtASampleBoundaryAndStillGivesAnImage) {
+    const Scene scene = load_gltf(fs::path(CANDELA_SOURCE_DIR) / "samples/scenes/cornell_box.gltf");
+    rt::Options o;
+    o.mode = rt::Mode::path;
+    o.spp = 100000;
+    o.time_limit_s = 0.2;
+    const rt::Result r = trace(scene, o, 16, 16);
+    EXPECT_TRUE(r.stopped_early);
+    EXPECT_GE(r.samples, 1);
+    EXPECT_LT(r.samples, 100000);
+    EXPECT_EQ(r.image.at(3, 3)[3], static_cast<float>(r.samples));
+}
+
+TEST_P(RtTest, GlslIntersectionMatchesTheCppTwins) {
+    const auto dir = test::test_dir("rt_twin");
+    fs::create_directories(dir / "rt");
+    fs::copy_file(fs::path(CANDELA_SOURCE_DIR) / "shaders/rt/intersect.glsl", dir / "rt/intersect.glsl");
+    std::ofstream(dir / "twin.comp") << R"(#version 450 core
+#include "rt/intersect.glsl"
+layout(local_size_x = 1) in;
+struct Case { vec4 origin; vec4 dir; vec4 p0; vec4 p1; vec4 p2; vec4 sphere; };
+layout(std430, binding = 0) readonly buffer Cases { Case cases[]; };
+layout(std430, binding = 1) writeonly buffer Out { vec4 results[]; };
+void main() {
+    uint i = gl_GlobalInvocationID.x;
+    Case c = cases[i];
+    Ray r; r.origin = c.origin.xyz; r.dir = c.dir.xyz;
+    vec2 bary;
+    float tt = intersect_triangle(watertight_setup(r), c.p0.xyz, c.p1.xyz, c.p2.xyz, 1e30, bary);
+    float ts = intersect_sphere(r, c.sphere.xyz, c.sphere.w, 0.0, 1e30);
+    vec3 off = offset_ray(c.origin.xyz, normalize(c.dir.xyz));
+    results[i * 2u] = vec4(tt, bary, ts);
+    results[i * 2u + 1u] = vec4(off, 0.0);
+}
+)";
+    struct Case { glm::vec4 origin, dir, p0, p1, p2, sphere; };
+    std::vector<Case> cases;
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+    for (int i = 0; i < 256; ++i) {
+        const float scale = std::pow(10.0f, static_cast<float>(i % 7) - 3.0f);
+        const glm::vec3 o = glm::vec3(u(rng), u(rng), u(rng) + 3.0f) * scale;
+        cases.push_back({glm::vec4(o, 0), glm::vec4(u(rng) * 0.3f, u(rng) * 0.3f, -1.0f, 0),
+                         glm::vec4(glm::vec3(-1, -1, 0) * scale, 0), glm::vec4(glm::vec3(1, -1, 0) * scale, 0),
+                         glm::vec4(glm::vec3(0, 1, 0) * scale, 0), glm::vec4(0, 0, 0, 0.7f * scale)});
+    }
+    const ShaderLibrary lib(dir);
+    gl::Program program = lib.build_or_throw({"rt_twin", {{ShaderStage::compute, "twin.comp"}}, {}});
+    gl::Buffer in(static_cast<GLsizeiptr>(cases.size() * sizeof(Case)), cases.data());
+    gl::Buffer out(static_cast<GLsizeiptr>(cases.size() * 2 * 16), nullptr, GL_DYNAMIC_STORAGE_BIT);
+    glUseProgram(program.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, in.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, out.id());
+    glDispatchCompute(static_cast<GLuint>(cases.size()), 1, 1);
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    std::vector<glm::vec4> res(cases.size() * 2);
+    glGetNamedBufferSubData(out.id(), 0, static_cast<GLsizeiptr>(res.size() * 16), res.data());
+    int hits = 0;
+    for (size_t i = 0; i < cases.size(); ++i) {
+        const Case& c = cases[i];
+        const rt::Ray ray{glm::vec3(c.origin), glm::vec3(c.dir)};
+        glm::vec2 bary;
+        const float tt = rt::intersect_triangle(rt::watertight_setup(ray), glm::vec3(c.p0), glm::vec3(c.p1), glm::vec3(c.p2), 1e30f, bary);
+        const float ts = rt::intersect_sphere(ray, glm::vec3(c.sphere), c.sphere.w, 0.0f, 1e30f);
+        const glm::vec3 off = rt::offset_ray(glm::vec3(c.origin), glm::normalize(glm::vec3(c.dir)));
+        EXPECT_EQ(tt > 0.0f, res[i * 2].x > 0.0f) << i;
+        if (tt > 0.0f) EXPECT_NEAR(res[i * 2].x, tt, std::fabs(tt) * 1e-5f) << i;
+        EXPECT_EQ(ts > 0.0f, res[i * 2].w > 0.0f) << i;
+        if (ts > 0.0f) EXPECT_NEAR(res[i * 2].w, ts, std::fabs(ts) * 1e-5f) << i;
+        for (int k = 0; k < 3; ++k) EXPECT_NEAR(res[i * 2 + 1][k], off[k], std::fabs(off[k]) * 1e-6f + 1e-12f) << i;
+        hits += tt > 0.0f;
+    }
+    EXPECT_GT(hits, 30);  // the cases exercise hits, not only misses
+}
+
+INSTANTIATE_TEST_SUITE_P(Backends, RtTest, ::testing::Values(Backend::egl, Backend::osmesa),
+                         [](const auto& info) { return std::string(to_string(info.param)); });
+
+}  // namespace
+}  // namespace candela
