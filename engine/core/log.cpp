@@ -1,10 +1,18 @@
 #include "core/log.hpp"
 
 #include <atomic>
+#include <cstdlib>
 
 namespace candela::log {
 namespace {
-std::atomic<Level> g_level{Level::info};
+// CANDELA_LOG=quiet|warn|info|debug sets the starting level (default info).
+Level initial_level() {
+    const char* env = std::getenv("CANDELA_LOG");
+    if (!env) return Level::info;
+    const std::string v = env;
+    return v == "debug" ? Level::debug : v == "warn" ? Level::warn : v == "quiet" ? Level::quiet : Level::info;
+}
+std::atomic<Level> g_level{initial_level()};
 std::atomic<int> g_warnings{0};
 }  // namespace
 

@@ -39,12 +39,13 @@ const char* to_string(Mode mode) {
         case Mode::direct: return "direct";
         case Mode::indirect: return "indirect";
         case Mode::ao: return "ao";
+        case Mode::primary: return "primary";
     }
     return "?";
 }
 
 std::optional<Mode> parse_mode(const std::string& name) {
-    for (Mode m : {Mode::whitted, Mode::path, Mode::direct, Mode::indirect, Mode::ao})
+    for (Mode m : {Mode::whitted, Mode::path, Mode::direct, Mode::indirect, Mode::ao, Mode::primary})
         if (name == to_string(m)) return m;
     return std::nullopt;
 }
@@ -62,6 +63,7 @@ RayTracer::RayTracer(const ShaderLibrary& shaders, const Scene& scene, GpuScene&
     std::vector<std::string> defines;
     switch (options_.mode) {
         case Mode::ao: defines.push_back("MODE_AO"); break;
+        case Mode::primary: defines.push_back("MODE_PRIMARY"); break;
         case Mode::path:
         case Mode::direct: defines.push_back("MODE_PATH"); break;
         case Mode::indirect: defines.push_back("MODE_INDIRECT"); break;

@@ -11,7 +11,7 @@
 
 namespace candela::rt {
 
-enum class Mode { whitted, path, direct, indirect, ao };
+enum class Mode { whitted, path, direct, indirect, ao, primary };
 const char* to_string(Mode mode);
 std::optional<Mode> parse_mode(const std::string& name);
 
@@ -45,6 +45,8 @@ public:
     // scene's features. Throws candela::Error (internal) if the shader does not build.
     RayTracer(const ShaderLibrary& shaders, const Scene& scene, GpuScene& gpu, const Options& options);
     Result render(const Camera& camera, int width, int height);
+    // Changes the sample count for the next render (benchmarks warm up with one sample first).
+    void set_spp(int spp) { options_.spp = spp; }
     const RtScene& scene() const { return rt_scene_; }
 
 private:

@@ -19,6 +19,7 @@
 #include <nlohmann/json.hpp>
 #include "render/features.hpp"
 #include "scene/features.hpp"
+#include "scene/generate.hpp"
 #include "scene/gltf_loader.hpp"
 
 namespace candela::cli {
@@ -33,12 +34,13 @@ void print_usage() {
         "                 [--effects all|none|LIST] [--set KNOB=VALUE ...] [--camera N|NAME]\n"
         "                 [--exposure EV] [--environment FILE] [--stats FILE.json] [--frames N] [--warmup N]\n"
         "                 [--debug-gl] [--verify-state] [--timings] [--strict] [--quiet]\n"
-        "                 [--raytrace whitted|path|direct|indirect|ao] [--spp N] [--max-depth N] [--seed N]\n"
+        "                 [--raytrace whitted|path|direct|indirect|ao|primary] [--spp N] [--max-depth N] [--seed N]\n"
         "                 [--spp-shard K/N] [--time-limit S]\n"
         "  candela merge OUT.exr SHARD.exr...\n"
         "  candela info SCENE [--effects ...] [--set ...] [--strict]\n"
         "  candela compare A B [--heatmap OUT.png] [--tolerance T] [--max-failing F] [--check]\n"
         "  candela bench frame SCENE [--effects LIST ...] [--size WxH] [--frames N] [--warmup N] [--json FILE]\n"
+        "  candela bench rays SCENE|generated:N ... [--size WxH] [--spp N]\n"
         "\n"
         "render   SCENE (.gltf/.glb) to OUT: .exr holds linear radiance; .png is exposure + ACES + sRGB.\n"
         "         --size WxH (default 512x512), --backend (default auto: EGL, then OSMesa),\n"
@@ -60,7 +62,8 @@ void print_usage() {
         "compare  RMSE, relative MSE, PSNR, max difference and the pixels beyond --tolerance\n"
         "         (default 2/255) of A against B; --check exits 4 if more than --max-failing (default\n"
         "         0.001 = 0.1 %) of the pixels fail.\n"
-        "bench    frame: median frame time and per-pass GPU time of each --effects variant (default\n"
+        "bench    rays: primary and AO ray rates of the ray tracer (SCENE may be generated:N triangles).\n"
+        "         frame: median frame time and per-pass GPU time of each --effects variant (default\n"
         "         all and none), measured interleaved in one run (default 1280x720, 20 frames, 3 warm-up).\n"
         "\n"
         "exit codes: 0 ok, 1 internal error, 2 bad input (file, option), 3 no usable OpenGL 4.5,\n"
@@ -140,6 +143,12 @@ std::string fmt(const char* f, double v) {
 }
 
 Scene load_scene(const std::string& path, bool strict) {
+    if (path.rfind("generated:", 0) == 0) {
+        const std::string n = path.substr(10);
+        if (n.empty() || n.size() > 9 || n.find_first_not_of("0123456789") != std::string::npos || std::stoul(n) < 2)
+            throw bad_input(path + ": expected generated:N with 2 <= N < 1e9 triangles");
+        return make_bumpy_sphere_scene(std::stoul(n));
+    }
     const int before = log::warning_count();
     Scene scene = load_gltf(path);
     const int warnings = log::warning_count() - before;
@@ -221,7 +230,7 @@ int check_gl_errors(const SceneSetup& s) {
 int raytrace(const Parsed& p, const SceneSetup& s, const fs::path& out_path, float exposure) {
     rt::Options o;
     const auto mode = rt::parse_mode(p.get("--raytrace"));
-    if (!mode) throw bad_input("--raytrace '" + p.get("--raytrace") + "' must be whitted, path, direct, indirect or ao");
+    if (!mode) throw bad_input("--raytrace '" + p.get("--raytrace") + "' must be whitted, path, direct, indirect, ao or primary");
     o.mode = *mode;
     if (p.has("--spp")) o.spp = parse_int("--spp", p.get("--spp"), 1, 1 << 24);
     if (p.has("--max-depth")) o.max_depth = parse_int("--max-depth", p.get("--max-depth"), 0, 64);
@@ -319,9 +328,61 @@ int cmd_render(const Args& args) {
     return check_gl_errors(s);
 }
 
+// `candela bench rays SCENE...`: ray rates of the compute-shader tracer. SCENE may be a glTF
+// file or generated:N (a bumpy sphere of about N triangles).
+int bench_rays(const Args& args) {
+    const Parsed p = parse(args, {"--size", "--spp", "--backend"}, {"--quiet"});
+    if (p.positional.empty()) throw bad_input("bench rays needs at least one SCENE (a .gltf or generated:N)");
+    if (p.flags.count("--quiet")) log::set_level(log::Level::warn);
+    int w = 512, h = 512;
+    if (p.has("--size")) parse_size(p.get("--size"), w, h);
+    const int spp = p.has("--spp") ? parse_int("--spp", p.get("--spp"), 1, 4096) : 8;
+    SceneSetup s;
+    if (p.has("--backend")) {
+        const auto b = parse_backend(p.get("--backend"));
+        if (!b || *b == Backend::glfw) throw bad_input("--backend must be auto, egl or osmesa");
+        s.backend = *b;
+    }
+    ContextResult ctx = open_context(s);
+    if (!ctx.context) return static_cast<int>(ExitCode::no_gl);
+    const ShaderLibrary shaders(ShaderLibrary::default_root());
+    std::printf("device: %s (%s); %dx%d, %d spp per mode, after one warm-up sample\n", ctx.context->device_string().c_str(),
+                to_string(ctx.context->backend()), w, h, spp);
+    std::printf("%-28s %10s %10s %10s %12s %12s\n", "scene", "triangles", "bvh ms", "SAH", "primary Mr/s", "AO Mr/s");
+    for (const std::string& name : p.positional) {
+        const Scene scene = load_scene(name, false);
+        GpuScene gpu(scene);
+        const Camera camera = scene.select_camera("", static_cast<float>(w) / static_cast<float>(h));
+        double ms[2] = {0, 0};
+        rt::BvhStats stats{};
+        size_t tris = 0;
+        for (int m = 0; m < 2; ++m) {
+            rt::Options o;
+            o.mode = m == 0 ? rt::Mode::primary : rt::Mode::ao;
+            o.ao_radius = 1e30f;  // AO rays as long as shadow rays to a directional light
+            o.spp = 1;
+            rt::RayTracer tracer(shaders, scene, gpu, o);
+            tracer.render(camera, w, h);  // warm-up: llvmpipe compiles the shader at its first dispatch
+            tracer.set_spp(spp);
+            ms[m] = tracer.render(camera, w, h).trace_ms;
+            stats = tracer.scene().geometry().bvh.stats;
+            tris = tracer.scene().geometry().triangles.size();
+        }
+        log::debug("bench rays: primary " + fmt("%.1f", ms[0]) + " ms, ao " + fmt("%.1f", ms[1]) + " ms");
+        const double rays = static_cast<double>(w) * h * spp;
+        const double primary = rays / (ms[0] * 1e3);
+        // An AO sample is one camera ray plus one any-hit ray: the difference prices the latter.
+        const double ao = ms[1] > ms[0] ? rays / ((ms[1] - ms[0]) * 1e3) : 0.0;
+        std::printf("%-28s %10zu %10.1f %10.2f %12.2f %12.2f\n", name.substr(name.size() > 28 ? name.size() - 28 : 0).c_str(), tris,
+                    stats.build_ms, stats.sah_cost, primary, ao);
+    }
+    return 0;
+}
+
 int cmd_bench(const Args& args) {
+    if (!args.empty() && args[0] == "rays") return bench_rays(Args(args.begin() + 1, args.end()));
     if (args.empty() || args[0] != "frame")
-        throw bad_input("bench needs a benchmark name: 'candela bench frame SCENE' (others arrive with their issues)");
+        throw bad_input("bench needs a benchmark: 'candela bench frame SCENE' or 'candela bench rays SCENE...'");
     const Args rest(args.begin() + 1, args.end());
     std::vector<std::string> with_value = kSetupOptions;
     with_value.push_back("--json");

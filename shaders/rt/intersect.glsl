@@ -75,14 +75,15 @@ float intersect_sphere(Ray ray, vec3 center, float radius, float tmin, float tma
     return -1.0;
 }
 
-// Slab test; returns the entry distance or a value > tmax on a miss.
+// Slab test; returns the entry distance (>= 0) or -1 on a miss. (A "large value" for a miss is a
+// trap: it compares equal to an unbounded tmax, and every miss then walks the whole tree.)
 float intersect_aabb(vec3 bmin, vec3 bmax, vec3 origin, vec3 inv_dir, float tmax) {
     vec3 t0 = (bmin - origin) * inv_dir;
     vec3 t1 = (bmax - origin) * inv_dir;
     vec3 tn = min(t0, t1), tf = max(t0, t1);
     float enter = max(max(tn.x, tn.y), max(tn.z, 0.0));
     float leave = min(min(tf.x, tf.y), min(tf.z, tmax));
-    return enter <= leave ? enter : 3.0e38;
+    return enter <= leave ? enter : -1.0;
 }
 
 // Moves a secondary ray's origin off the surface along the geometric normal by a few ulps of the

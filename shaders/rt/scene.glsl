@@ -66,7 +66,7 @@ Hit trace_closest(Ray ray, float tmax) {
     int stack[kStackSize];
     int sp = 0;
     int node = 0;
-    if (intersect_aabb(nodes[0].bmin, nodes[0].bmax, ray.origin, inv_dir, hit.t) > hit.t) return hit;
+    if (intersect_aabb(nodes[0].bmin, nodes[0].bmax, ray.origin, inv_dir, hit.t) < 0.0) return hit;
     while (true) {
         BvhNode n = nodes[node];
         if (n.count > 0) {
@@ -88,7 +88,7 @@ Hit trace_closest(Ray ray, float tmax) {
             int left = node + 1, right = n.right_or_first;
             float tl = intersect_aabb(nodes[left].bmin, nodes[left].bmax, ray.origin, inv_dir, hit.t);
             float tr = intersect_aabb(nodes[right].bmin, nodes[right].bmax, ray.origin, inv_dir, hit.t);
-            bool hl = tl <= hit.t, hr = tr <= hit.t;
+            bool hl = tl >= 0.0, hr = tr >= 0.0;
             if (hl && hr) {
                 int near_child = tl <= tr ? left : right;
                 int far_child = tl <= tr ? right : left;
@@ -113,7 +113,7 @@ bool trace_any(Ray ray, float tmax) {
     int stack[kStackSize];
     int sp = 0;
     int node = 0;
-    if (intersect_aabb(nodes[0].bmin, nodes[0].bmax, ray.origin, inv_dir, tmax) > tmax) return false;
+    if (intersect_aabb(nodes[0].bmin, nodes[0].bmax, ray.origin, inv_dir, tmax) < 0.0) return false;
     while (true) {
         BvhNode n = nodes[node];
         if (n.count > 0) {
@@ -130,8 +130,8 @@ bool trace_any(Ray ray, float tmax) {
             }
         } else {
             int left = node + 1, right = n.right_or_first;
-            bool hl = intersect_aabb(nodes[left].bmin, nodes[left].bmax, ray.origin, inv_dir, tmax) <= tmax;
-            bool hr = intersect_aabb(nodes[right].bmin, nodes[right].bmax, ray.origin, inv_dir, tmax) <= tmax;
+            bool hl = intersect_aabb(nodes[left].bmin, nodes[left].bmax, ray.origin, inv_dir, tmax) >= 0.0;
+            bool hr = intersect_aabb(nodes[right].bmin, nodes[right].bmax, ray.origin, inv_dir, tmax) >= 0.0;
             if (hl && hr) {
                 if (sp < kStackSize) stack[sp++] = right;
                 node = left;

@@ -3,7 +3,8 @@
 // Modes (one is defined by the host): MODE_AO, MODE_PATH (MODE_DIRECT is MODE_PATH with one
 // bounce), MODE_INDIRECT, MODE_WHITTED. Scene features compiled in only when the scene has them:
 // HAS_EMITTERS (emissive triangles), HAS_TRANSMISSION (KHR_materials_transmission).
-#if !defined(MODE_AO) && !defined(MODE_PATH) && !defined(MODE_INDIRECT) && !defined(MODE_WHITTED)
+#if !defined(MODE_AO) && !defined(MODE_PATH) && !defined(MODE_INDIRECT) && !defined(MODE_WHITTED) && \
+    !defined(MODE_PRIMARY)
 #define MODE_PATH  // the default when validated without defines
 #endif
 #include "../common/scene_data.glsl"
@@ -208,6 +209,16 @@ Ray camera_ray(ivec2 pixel, inout Rng rng) {
 }
 
 // ---- the modes ---------------------------------------------------------------------------------
+
+#ifdef MODE_PRIMARY
+// Camera rays only: the shading normal (0.5 + 0.5 n), black on a miss. For ray-rate benchmarks
+// and as a debug view of what the tracer sees.
+vec3 radiance(Ray ray, inout Rng rng) {
+    Hit hit = trace_closest(ray, 3.0e38);
+    if (hit.prim < 0) return vec3(0.0);
+    return 0.5 + 0.5 * surface_at(ray, hit).ns;
+}
+#endif
 
 #ifdef MODE_AO
 vec3 radiance(Ray ray, inout Rng rng) {

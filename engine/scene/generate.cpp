@@ -1,0 +1,82 @@
+#include "scene/generate.hpp"
+
+#include <cmath>
+
+#include "scene/mesh_utils.hpp"
+
+namespace candela {
+
+Scene make_bumpy_sphere_scene(std::size_t triangles) {
+    Scene scene;
+    scene.source = "generated:" + std::to_string(triangles);
+    Material white;
+    white.name = "white";
+    white.base_color = glm::vec4(0.8f, 0.8f, 0.8f, 1.0f);
+    white.metallic = 0.0f;
+    white.roughness = 0.8f;
+    scene.materials.push_back(white);
+
+    // rings * segments * 2 = triangles, with segments = 2 * rings.
+    const int rings = std::max(2, static_cast<int>(std::sqrt(static_cast<double>(triangles) / 4.0)));
+    const int segments = 2 * rings;
+    Primitive sphere;
+    sphere.material = 0;
+    const float pi = 3.14159265358979f;
+    for (int i = 0; i <= rings; ++i)
+        for (int j = 0; j <= segments; ++j) {
+            const float th = pi * static_cast<float>(i) / static_cast<float>(rings);
+            const float ph = 2.0f * pi * static_cast<float>(j) / static_cast<float>(segments);
+            const glm::vec3 d(std::sin(th) * std::cos(ph), std::cos(th), std::sin(th) * std::sin(ph));
+            const float bump = 1.0f + 0.05f * std::sin(13.0f * th) * std::cos(17.0f * ph);
+            Vertex v;
+            v.position = d * bump + glm::vec3(0.0f, 1.2f, 0.0f);
+            sphere.vertices.push_back(v);
+        }
+    for (int i = 0; i < rings; ++i)
+        for (int j = 0; j < segments; ++j) {
+            const auto a = static_cast<std::uint32_t>(i * (segments + 1) + j), c = a + static_cast<std::uint32_t>(segments + 1);
+            // The first and last rings touch the poles: one of their two triangles has no area.
+            if (i > 0) sphere.indices.insert(sphere.indices.end(), {a, a + 1, c});
+            if (i < rings - 1) sphere.indices.insert(sphere.indices.end(), {a + 1, c + 1, c});
+        }
+    generate_smooth_normals(sphere);
+    compute_bounds(sphere);
+
+    Primitive ground;
+    ground.material = 0;
+    const glm::vec3 corners[4] = {{-4, 0, 4}, {4, 0, 4}, {4, 0, -4}, {-4, 0, -4}};
+    for (const auto& c : corners) {
+        Vertex v;
+        v.position = c;
+        v.normal = glm::vec3(0, 1, 0);
+        ground.vertices.push_back(v);
+    }
+    ground.indices = {0, 1, 2, 0, 2, 3};
+    compute_bounds(ground);
+
+    scene.meshes.push_back({"bumpy_sphere", {std::move(sphere)}});
+    scene.meshes.push_back({"ground", {std::move(ground)}});
+    Node s;
+    s.name = "bumpy_sphere";
+    s.mesh = 0;
+    Node g;
+    g.name = "ground";
+    g.mesh = 1;
+    Light sun;
+    sun.name = "sun";
+    sun.type = LightType::directional;
+    sun.intensity = 3.0f;
+    scene.lights.push_back(sun);
+    Node l;
+    l.name = "sun";
+    l.light = 0;
+    // Pointing down and away from the camera.
+    l.local = glm::mat4(glm::mat3(glm::vec3(1, 0, 0), glm::normalize(glm::vec3(0, 0.6f, -0.8f)), glm::normalize(glm::vec3(0, 0.8f, 0.6f))));
+    scene.nodes = {s, g, l};
+    scene.roots = {0, 1, 2};
+    scene.environment.radiance = glm::vec3(0.2f);
+    scene.update_world_transforms();
+    return scene;
+}
+
+}  // namespace candela
