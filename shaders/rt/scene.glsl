@@ -55,7 +55,9 @@ struct Hit {
 
 const int kStackSize = 64;
 
-Hit trace_closest(Ray ray, float tmax) {
+// One traversal for both kinds of query: `any_hit` returns at the first hit found (shadow and AO
+// rays), otherwise the closest hit is kept and used to prune. Near child first, explicit stack.
+Hit trace(Ray ray, float tmax, bool any_hit) {
     Hit hit;
     hit.t = tmax;
     hit.prim = -1;
@@ -72,19 +74,23 @@ Hit trace_closest(Ray ray, float tmax) {
         if (n.count > 0) {
             for (int i = 0; i < n.count; ++i) {
                 int prim = int(prim_indices[n.right_or_first + i]);
+                float t;
+                vec2 bary = vec2(0.0);
                 if (prim < rt.counts.x) {
                     RtTriangle tri = triangles[prim];
-                    vec2 bary;
-                    float t = intersect_triangle(w, tri.p0.xyz, tri.p1.xyz, tri.p2.xyz, hit.t, bary);
-                    if (t > 0.0 && t < hit.t) { hit.t = t; hit.prim = prim; hit.bary = bary; }
+                    t = intersect_triangle(w, tri.p0.xyz, tri.p1.xyz, tri.p2.xyz, hit.t, bary);
                 } else {
                     RtSphere s = spheres[prim - rt.counts.x];
-                    float t = intersect_sphere(ray, s.center_radius.xyz, s.center_radius.w, 0.0, hit.t);
-                    if (t > 0.0 && t < hit.t) { hit.t = t; hit.prim = prim; }
+                    t = intersect_sphere(ray, s.center_radius.xyz, s.center_radius.w, 0.0, hit.t);
+                }
+                if (t > 0.0 && t < hit.t) {
+                    hit.t = t;
+                    hit.prim = prim;
+                    hit.bary = bary;
+                    if (any_hit) return hit;
                 }
             }
         } else {
-            // Near child first; the far one waits on the stack.
             int left = node + 1, right = n.right_or_first;
             float tl = intersect_aabb(nodes[left].bmin, nodes[left].bmax, ray.origin, inv_dir, hit.t);
             float tr = intersect_aabb(nodes[right].bmin, nodes[right].bmax, ray.origin, inv_dir, hit.t);
@@ -105,46 +111,9 @@ Hit trace_closest(Ray ray, float tmax) {
     return hit;
 }
 
-// True if anything lies on the ray within (0, tmax): shadow and AO rays stop at the first hit.
-bool trace_any(Ray ray, float tmax) {
-    if (rt.counts.x + rt.counts.y == 0) return false;
-    WatertightRay w = watertight_setup(ray);
-    vec3 inv_dir = 1.0 / ray.dir;
-    int stack[kStackSize];
-    int sp = 0;
-    int node = 0;
-    if (intersect_aabb(nodes[0].bmin, nodes[0].bmax, ray.origin, inv_dir, tmax) < 0.0) return false;
-    while (true) {
-        BvhNode n = nodes[node];
-        if (n.count > 0) {
-            for (int i = 0; i < n.count; ++i) {
-                int prim = int(prim_indices[n.right_or_first + i]);
-                if (prim < rt.counts.x) {
-                    RtTriangle tri = triangles[prim];
-                    vec2 bary;
-                    if (intersect_triangle(w, tri.p0.xyz, tri.p1.xyz, tri.p2.xyz, tmax, bary) > 0.0) return true;
-                } else {
-                    RtSphere s = spheres[prim - rt.counts.x];
-                    if (intersect_sphere(ray, s.center_radius.xyz, s.center_radius.w, 0.0, tmax) > 0.0) return true;
-                }
-            }
-        } else {
-            int left = node + 1, right = n.right_or_first;
-            bool hl = intersect_aabb(nodes[left].bmin, nodes[left].bmax, ray.origin, inv_dir, tmax) >= 0.0;
-            bool hr = intersect_aabb(nodes[right].bmin, nodes[right].bmax, ray.origin, inv_dir, tmax) >= 0.0;
-            if (hl && hr) {
-                if (sp < kStackSize) stack[sp++] = right;
-                node = left;
-                continue;
-            }
-            if (hl) { node = left; continue; }
-            if (hr) { node = right; continue; }
-        }
-        if (sp == 0) break;
-        node = stack[--sp];
-    }
-    return false;
-}
+Hit trace_closest(Ray ray, float tmax) { return trace(ray, tmax, false); }
+// True if anything lies on the ray within (0, tmax).
+bool trace_any(Ray ray, float tmax) { return trace(ray, tmax, true).prim >= 0; }
 
 // Surface data at a hit.
 struct SurfaceHit {

@@ -7,6 +7,7 @@
 
 #include "core/error.hpp"
 #include "gl/debug.hpp"
+#include "gl_fixture.hpp"
 #include "gltf_builder.hpp"
 #include "image/image.hpp"
 #include "platform/context.hpp"
@@ -19,21 +20,7 @@ namespace fs = std::filesystem;
 
 ShaderLibrary shaders() { return ShaderLibrary(fs::path(CANDELA_SOURCE_DIR) / "shaders"); }
 
-class GlTest : public ::testing::TestWithParam<Backend> {
-protected:
-    void SetUp() override {
-        ContextOptions options;
-        options.debug = true;
-        ContextResult r = create_context(GetParam(), options);
-        ASSERT_TRUE(r.context) << r.error;
-        context_ = std::move(r.context);
-        gl::reset_debug_error_count();
-    }
-    void TearDown() override {
-        if (context_) EXPECT_EQ(gl::debug_error_count(), 0) << "GL errors during the test";
-    }
-    std::unique_ptr<Context> context_;
-};
+using GlTest = test::GlContextTest;
 
 TEST_P(GlTest, ContextIsCore45WithComputeShaders) {
     EXPECT_EQ(context_->backend(), GetParam());
@@ -147,8 +134,7 @@ TEST_P(GlTest, MirroredNodeIsNotCulled) {
     EXPECT_NEAR(r.radiance.at(8, 8)[0], 1.0f / 3.14159265f, 1e-4f);
 }
 
-INSTANTIATE_TEST_SUITE_P(Backends, GlTest, ::testing::Values(Backend::egl, Backend::osmesa),
-                         [](const auto& info) { return std::string(to_string(info.param)); });
+INSTANTIATE_TEST_SUITE_P(Backends, GlTest, ::testing::Values(Backend::egl, Backend::osmesa), test::backend_name);
 
 }  // namespace
 }  // namespace candela

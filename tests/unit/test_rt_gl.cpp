@@ -8,6 +8,7 @@
 #include <random>
 
 #include "gl/debug.hpp"
+#include "gl_fixture.hpp"
 #include "gltf_builder.hpp"
 #include "platform/context.hpp"
 #include "render/still.hpp"
@@ -22,19 +23,8 @@ using nlohmann::json;
 
 ShaderLibrary shader_lib() { return ShaderLibrary(fs::path(CANDELA_SOURCE_DIR) / "shaders"); }
 
-class RtTest : public ::testing::TestWithParam<Backend> {
+class RtTest : public test::GlContextTest {
 protected:
-    void SetUp() override {
-        ContextOptions options;
-        options.debug = true;
-        ContextResult r = create_context(GetParam(), options);
-        ASSERT_TRUE(r.context) << r.error;
-        context_ = std::move(r.context);
-        gl::reset_debug_error_count();
-    }
-    void TearDown() override {
-        if (context_) EXPECT_EQ(gl::debug_error_count(), 0);
-    }
     rt::Result trace(const Scene& scene, rt::Options o, int w, int h, const std::string& camera = "") {
         GpuScene gpu(scene);
         rt::RayTracer tracer(shader_lib(), scene, gpu, o);
@@ -43,7 +33,6 @@ protected:
         EXPECT_EQ(count_nonfinite(r.image), 0u);
         return r;
     }
-    std::unique_ptr<Context> context_;
 };
 
 json lambert(glm::vec3 color) {
@@ -353,8 +342,7 @@ void main() {
     EXPECT_GT(hits, 30);  // the cases exercise hits, not only misses
 }
 
-INSTANTIATE_TEST_SUITE_P(Backends, RtTest, ::testing::Values(Backend::egl, Backend::osmesa),
-                         [](const auto& info) { return std::string(to_string(info.param)); });
+INSTANTIATE_TEST_SUITE_P(Backends, RtTest, ::testing::Values(Backend::egl, Backend::osmesa), test::backend_name);
 
 }  // namespace
 }  // namespace candela
