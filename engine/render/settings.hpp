@@ -35,6 +35,7 @@ struct RenderSettings {
     struct RayTracing {
         std::string jitter = "auto";       // auto|on|off: auto jitters (anti-aliases) path and whitted only
         float whitted_max_roughness = 0.05f;  // [0, 1] smoother surfaces are mirrors in whitted mode
+        bool indirect_occlusion = true;       // indirect mode: visibility between bounce points
     } rt;
     struct Reflections {
         float max_roughness = 0.3f;  // [0, 1] metallic surfaces rougher than this need no reflection pass

@@ -15,6 +15,7 @@ struct FrameGpu {  // std140, binding 8: mirrors RtFrame in shaders/rt/scene.gls
     glm::vec4 camera_pos;
     glm::vec4 env_radiance;
     glm::ivec4 counts;
+    glm::ivec4 counts2;
     glm::ivec4 image;
     glm::ivec4 params;
     glm::vec4 fparams;
@@ -94,7 +95,8 @@ Result RayTracer::render(const Camera& camera, int width, int height) {
     const RtGeometry& g = rt_scene_.geometry();
     f.counts = glm::ivec4(static_cast<int>(g.triangles.size()), static_cast<int>(g.spheres.size()),
                           static_cast<int>(g.emitters.size()), static_cast<int>(scene_.placed_lights().size()));
-    f.params = glm::ivec4(options_.max_depth, options_.jitter, 1, 0);
+    f.counts2 = glm::ivec4(static_cast<int>(g.surfaces.size()), 0, 0, 0);
+    f.params = glm::ivec4(options_.max_depth, options_.jitter, options_.indirect_occlusion ? 1 : 0, 0);
     f.fparams = glm::vec4(options_.ao_radius, options_.whitted_max_roughness, static_cast<float>(g.emitted_power), 0.0f);
 
     glUseProgram(program_.id());

@@ -26,6 +26,10 @@ struct Options {
     float ao_radius = 1.0f;     // world units (ao.radius, shared with SSAO)
     int jitter = -1;            // -1: on for path/whitted (anti-aliasing), off for direct/indirect/ao
     float whitted_max_roughness = 0.05f;  // smoother surfaces reflect as mirrors in whitted mode
+    // indirect mode: with false, the bounce points y are sampled over all surfaces by area and the
+    // visibility between x and y is ignored (RSM's own model), so RSM's sampling error can be
+    // told apart from its missing occlusion. Light visibility at y is kept in both.
+    bool indirect_occlusion = true;
     bool progress = false;      // progress bar with ETA on stderr
     int tile_rows = 64;         // rows per dispatch: short dispatches never trip a GPU watchdog
 };

@@ -71,6 +71,21 @@ RtGeometry build_rt_geometry(const Scene& scene, int default_material, const Bvh
         g.triangles[g.emitters[i].triangle].n0.w = g.emitters[i].pdf;
     }
     if (!g.emitters.empty()) g.emitters.back().cdf = 1.0f;
+    double total_area = 0.0;
+    for (size_t i = 0; i < g.triangles.size(); ++i) {
+        const TriangleGpu& t = g.triangles[i];
+        const float area = 0.5f * glm::length(glm::cross(glm::vec3(t.p1 - t.p0), glm::vec3(t.p2 - t.p0)));
+        if (!(area > 0.0f) || !std::isfinite(area)) continue;
+        g.surfaces.push_back({static_cast<std::uint32_t>(i), 0.0f, 0.0f, area});
+        total_area += area;
+    }
+    double running_area = 0.0;
+    for (EmitterGpu& s : g.surfaces) {
+        running_area += s.area;
+        s.pdf = static_cast<float>(s.area / total_area);
+        s.cdf = static_cast<float>(running_area / total_area);
+    }
+    if (!g.surfaces.empty()) g.surfaces.back().cdf = 1.0f;
     for (const Material& m : scene.materials) g.has_transmission = g.has_transmission || m.transmission > 0.0f;
 
     std::vector<Aabb> boxes;
@@ -105,6 +120,7 @@ RtScene::RtScene(const Scene& scene, int default_material) : geometry_(build_rt_
     triangles_ = upload(geometry_.triangles);
     spheres_ = upload(geometry_.spheres);
     emitters_ = upload(geometry_.emitters);
+    surfaces_ = upload(geometry_.surfaces);
 }
 
 void RtScene::bind() const {
@@ -113,6 +129,7 @@ void RtScene::bind() const {
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, triangles_.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, spheres_.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 7, emitters_.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 11, surfaces_.id());
 }
 
 }  // namespace candela::rt

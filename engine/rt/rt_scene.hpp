@@ -32,6 +32,9 @@ struct RtGeometry {
     std::vector<TriangleGpu> triangles;
     std::vector<SphereGpu> spheres;
     std::vector<EmitterGpu> emitters;
+    // Every triangle by area (EmitterGpu layout: pdf = area / total): uniform points over all
+    // surfaces, for the indirect mode without occlusion between bounce points.
+    std::vector<EmitterGpu> surfaces;
     double emitted_power = 0.0;  // sum of luminance(emission) * area over emitters
     bool has_transmission = false;
     Bvh bvh;
@@ -45,11 +48,11 @@ class RtScene {
 public:
     RtScene(const Scene& scene, int default_material);
     const RtGeometry& geometry() const { return geometry_; }
-    void bind() const;  // SSBO bindings 3..7
+    void bind() const;  // SSBO bindings 3..7 and 11
 
 private:
     RtGeometry geometry_;
-    gl::Buffer nodes_, prim_indices_, triangles_, spheres_, emitters_;
+    gl::Buffer nodes_, prim_indices_, triangles_, spheres_, emitters_, surfaces_;
 };
 
 }  // namespace candela::rt

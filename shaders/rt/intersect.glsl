@@ -78,9 +78,11 @@ float intersect_sphere(Ray ray, vec3 center, float radius, float tmin, float tma
 // Slab test; returns the entry distance (>= 0) or -1 on a miss. (A "large value" for a miss is a
 // trap: it compares equal to an unbounded tmax, and every miss then walks the whole tree.)
 float intersect_aabb(vec3 bmin, vec3 bmax, vec3 origin, vec3 inv_dir, float tmax) {
-    vec3 t0 = (bmin - origin) * inv_dir;
-    vec3 t1 = (bmax - origin) * inv_dir;
-    vec3 tn = min(t0, t1), tf = max(t0, t1);
+    // Near and far planes chosen by the direction's sign (Williams et al. 2005): an empty box
+    // (bmin = +inf, bmax = -inf, as the BVH stores empty subtrees) is missed by every ray.
+    bvec3 negative = lessThan(inv_dir, vec3(0.0));
+    vec3 tn = (mix(bmin, bmax, negative) - origin) * inv_dir;
+    vec3 tf = (mix(bmax, bmin, negative) - origin) * inv_dir;
     float enter = max(max(tn.x, tn.y), max(tn.z, 0.0));
     float leave = min(min(tf.x, tf.y), min(tf.z, tmax));
     return enter <= leave ? enter : -1.0;

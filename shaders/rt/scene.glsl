@@ -36,12 +36,14 @@ layout(std430, binding = 4) readonly buffer PrimIndices { uint prim_indices[]; }
 layout(std430, binding = 5) readonly buffer Triangles { RtTriangle triangles[]; };
 layout(std430, binding = 6) readonly buffer Spheres { RtSphere spheres[]; };
 layout(std430, binding = 7) readonly buffer Emitters { Emitter emitters[]; };
+layout(std430, binding = 11) readonly buffer Surfaces { Emitter surfaces[]; };  // every triangle by area
 
 layout(std140, binding = 8) uniform RtFrame {
     mat4 inv_view_proj;
     vec4 camera_pos;
     vec4 env_radiance;   // rgb constant radiance, or the map's scale when w = 1
     ivec4 counts;        // x triangles, y spheres, z emitters, w punctual lights
+    ivec4 counts2;       // x surfaces (triangles with area)
     ivec4 image;         // x width, y height, z sample index, w seed
     ivec4 params;        // x max depth, y jitter, z indirect occlusion, w tile y offset
     vec4 fparams;        // x ao radius, y whitted max roughness, z emitter power total

@@ -346,3 +346,44 @@ INSTANTIATE_TEST_SUITE_P(Backends, RtTest, ::testing::Values(Backend::egl, Backe
 
 }  // namespace
 }  // namespace candela
+
+namespace candela {
+namespace {
+
+class RtIndirectTest : public test::GlContextTest {};
+
+TEST_P(RtIndirectTest, WithoutOccludersBothIndirectVariantsAgree) {
+    // A floor and a red wall meeting at a right angle, lit by a point light: nothing stands
+    // between any two bounce points, so sampling y by ray casting (with occlusion) and by area
+    // (without) estimate the same integral.
+    test::GltfBuilder b;
+    b.json()["materials"] = {lambert(glm::vec3(0.8f)), lambert(glm::vec3(0.9f, 0.1f, 0.1f))};
+    b.add_node({{"mesh", b.add_quad_mesh(0)}, {"rotation", {-0.70710678, 0, 0, 0.70710678}}, {"scale", {2, 2, 2}}});
+    b.add_node({{"mesh", b.add_quad_mesh(1)}, {"translation", {0, 2, -2}}, {"scale", {2, 2, 2}}});
+    b.json()["extensions"]["KHR_lights_punctual"]["lights"] = {{{"type", "point"}, {"intensity", 8.0}}};
+    b.add_node({{"translation", {0.5, 1.5, 0.5}}, {"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}});
+    b.json()["cameras"] = {{{"type", "perspective"}, {"perspective", {{"yfov", 0.9}, {"znear", 0.05}}}}};
+    b.add_node({{"camera", 0}, {"translation", {0, 1.2, 4}}});
+    const Scene scene = load_gltf(b.write(test::test_dir("indirect_open"), "indirect_open"));
+    GpuScene gpu(scene);
+    auto mean_red = [&](bool occlusion) {
+        rt::Options o;
+        o.mode = rt::Mode::indirect;
+        o.spp = 96;
+        o.indirect_occlusion = occlusion;
+        rt::RayTracer tracer(shader_lib(), scene, gpu, o);
+        const rt::Result r = tracer.render(scene.select_camera("", 1.0f), 16, 16);
+        EXPECT_EQ(r.nonfinite_samples, 0u);
+        double sum = 0.0;
+        for (int i = 0; i < 16 * 16; ++i) sum += r.image.pixels[static_cast<size_t>(i) * 4];
+        return sum / (16 * 16);
+    };
+    const double with = mean_red(true), without = mean_red(false);
+    EXPECT_GT(with, 0.0);
+    EXPECT_NEAR(without, with, 0.08 * with) << "with occlusion " << with << ", without " << without;
+}
+
+INSTANTIATE_TEST_SUITE_P(Backends, RtIndirectTest, ::testing::Values(Backend::egl), test::backend_name);
+
+}  // namespace
+}  // namespace candela
