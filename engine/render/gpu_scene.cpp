@@ -199,6 +199,7 @@ GpuScene::GpuScene(const Scene& scene) : scene_(scene) {
         env_sh_ = project_irradiance_sh(map);
         for (auto& c : env_sh_) c *= env.intensity;
         env_radiance_ = glm::vec3(env.intensity);
+        env_image_ = map;
     }
 }
 

@@ -89,6 +89,8 @@ public:
     const gl::Texture& white_texture() const { return white_; }
 
     bool has_environment_map() const { return static_cast<bool>(env_map_); }
+    // The map's pixels (linear RGBA, unscaled), for the ray tracer's importance sampling.
+    const ImageF& environment_image() const { return env_image_; }
     const gl::Texture& environment_map() const { return env_map_ ? env_map_ : white_; }
     int environment_mips() const { return env_mips_; }
     glm::vec3 environment_radiance() const { return env_radiance_; }
@@ -107,6 +109,7 @@ private:
     std::map<std::tuple<int, int, int, int>, gl::Sampler> samplers_;
     gl::Texture white_;
     gl::Texture env_map_;
+    ImageF env_image_;
     int env_mips_ = 1;
     glm::vec3 env_radiance_{0.0f};
     std::array<glm::vec3, 9> env_sh_{};

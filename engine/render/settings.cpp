@@ -109,6 +109,8 @@ const std::vector<Knob>& knobs() {
                    "surfaces at most this rough reflect as mirrors in whitted mode"),
         make_bool("rt.indirect_occlusion", [](RenderSettings& s) -> bool& { return s.rt.indirect_occlusion; },
                   "--raytrace indirect: 0 ignores visibility between the bounce points (RSM's own model)"),
+        make_bool("rt.env_importance", [](RenderSettings& s) -> bool& { return s.rt.env_importance; },
+                  "path/direct: importance-sample environment maps by luminance, with MIS"),
         make_float("reflections.max_roughness", 0.0f, 1.0f, [](RenderSettings& s) -> float& { return s.reflections_knobs.max_roughness; },
                    "metallic materials rougher than this call for no reflections"),
     };

@@ -36,6 +36,7 @@ struct RenderSettings {
         std::string jitter = "auto";       // auto|on|off: auto jitters (anti-aliases) path and whitted only
         float whitted_max_roughness = 0.05f;  // [0, 1] smoother surfaces are mirrors in whitted mode
         bool indirect_occlusion = true;       // indirect mode: visibility between bounce points
+        bool env_importance = true;           // path/direct: sample environment maps by luminance (MIS)
     } rt;
     struct Reflections {
         float max_roughness = 0.3f;  // [0, 1] metallic surfaces rougher than this need no reflection pass

@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 
 #include "core/error.hpp"
@@ -32,6 +33,50 @@ void progress_bar(int done, int total, double elapsed_s) {
 }
 
 }  // namespace
+
+std::vector<float> environment_distribution(const ImageF& map) {
+    const int w = map.width, h = map.height;
+    const size_t n = static_cast<size_t>(w) * static_cast<size_t>(h);
+    std::vector<float> out(2 * n + static_cast<size_t>(h), 0.0f);
+    std::vector<double> f(n);
+    std::vector<double> row_sum(static_cast<size_t>(h), 0.0);
+    double total = 0.0;
+    for (int y = 0; y < h; ++y) {
+        const double sin_theta = std::sin(3.14159265358979 * (y + 0.5) / h);
+        for (int x = 0; x < w; ++x) {
+            const float* p = map.at(x, y);
+            double lum = 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2];
+            if (!std::isfinite(lum) || lum < 0.0) lum = 0.0;
+            const size_t i = static_cast<size_t>(y) * static_cast<size_t>(w) + static_cast<size_t>(x);
+            f[i] = lum * sin_theta;
+            row_sum[static_cast<size_t>(y)] += f[i];
+        }
+        total += row_sum[static_cast<size_t>(y)];
+    }
+    if (!(total > 0.0)) {  // a black map: sample uniformly
+        std::fill(f.begin(), f.end(), 1.0);
+        std::fill(row_sum.begin(), row_sum.end(), static_cast<double>(w));
+        total = static_cast<double>(n);
+    }
+    for (int y = 0; y < h; ++y) {
+        double running = 0.0;
+        for (int x = 0; x < w; ++x) {
+            const size_t i = static_cast<size_t>(y) * static_cast<size_t>(w) + static_cast<size_t>(x);
+            out[i] = static_cast<float>(f[i] / total);
+            running += f[i];
+            out[n + i] = row_sum[static_cast<size_t>(y)] > 0.0 ? static_cast<float>(running / row_sum[static_cast<size_t>(y)])
+                                                                : static_cast<float>(x + 1) / static_cast<float>(w);
+        }
+        out[n + static_cast<size_t>(y) * static_cast<size_t>(w) + static_cast<size_t>(w - 1)] = 1.0f;
+    }
+    double running = 0.0;
+    for (int y = 0; y < h; ++y) {
+        running += row_sum[static_cast<size_t>(y)];
+        out[2 * n + static_cast<size_t>(y)] = static_cast<float>(running / total);
+    }
+    out[2 * n + static_cast<size_t>(h - 1)] = 1.0f;
+    return out;
+}
 
 const char* to_string(Mode mode) {
     switch (mode) {
@@ -72,6 +117,15 @@ RayTracer::RayTracer(const ShaderLibrary& shaders, const Scene& scene, GpuScene&
     }
     if (!rt_scene_.geometry().emitters.empty()) defines.push_back("HAS_EMITTERS");
     if (rt_scene_.geometry().has_transmission) defines.push_back("HAS_TRANSMISSION");
+    if (gpu_.has_environment_map() && options_.env_importance &&
+        (options_.mode == Mode::path || options_.mode == Mode::direct)) {
+        defines.push_back("HAS_ENV_MAP_SAMPLING");
+        const ImageF& map = gpu_.environment_image();
+        const std::vector<float> dist = environment_distribution(map);
+        env_distribution_ = gl::Buffer(static_cast<GLsizeiptr>(dist.size() * sizeof(float)), dist.data());
+        env_width_ = map.width;
+        env_height_ = map.height;
+    }
     for (const auto& d : defines) defines_ += (defines_.empty() ? "" : " ") + d;
     program_ = shaders.build_or_throw({std::string("trace ") + defines_, {{ShaderStage::compute, "rt/trace.comp"}}, defines});
     frame_ubo_ = gl::Buffer(sizeof(FrameGpu), nullptr, GL_DYNAMIC_STORAGE_BIT);
@@ -95,7 +149,7 @@ Result RayTracer::render(const Camera& camera, int width, int height) {
     const RtGeometry& g = rt_scene_.geometry();
     f.counts = glm::ivec4(static_cast<int>(g.triangles.size()), static_cast<int>(g.spheres.size()),
                           static_cast<int>(g.emitters.size()), static_cast<int>(scene_.placed_lights().size()));
-    f.counts2 = glm::ivec4(static_cast<int>(g.surfaces.size()), 0, 0, 0);
+    f.counts2 = glm::ivec4(static_cast<int>(g.surfaces.size()), env_width_, env_height_, 0);
     f.params = glm::ivec4(options_.max_depth, options_.jitter, options_.indirect_occlusion ? 1 : 0, 0);
     f.fparams = glm::vec4(options_.ao_radius, options_.whitted_max_roughness, static_cast<float>(g.emitted_power), 0.0f);
 
@@ -106,6 +160,7 @@ Result RayTracer::render(const Camera& camera, int width, int height) {
     glBindBufferBase(GL_UNIFORM_BUFFER, 8, frame_ubo_.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 9, accum.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 10, diagnostics.id());
+    if (env_distribution_) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 12, env_distribution_.id());
     glBindTextureUnit(5, gpu_.environment_map().id());
     glBindSampler(5, 0);
 

@@ -30,6 +30,9 @@ struct Options {
     // visibility between x and y is ignored (RSM's own model), so RSM's sampling error can be
     // told apart from its missing occlusion. Light visibility at y is kept in both.
     bool indirect_occlusion = true;
+    // Environment maps: sample directions by the map's luminance and combine with BRDF sampling
+    // by MIS (path and direct). Off: BRDF sampling only (for comparison).
+    bool env_importance = true;
     bool progress = false;      // progress bar with ETA on stderr
     int tile_rows = 64;         // rows per dispatch: short dispatches never trip a GPU watchdog
 };
@@ -60,8 +63,15 @@ private:
     RtScene rt_scene_;
     gl::Program program_;
     gl::Buffer frame_ubo_;
+    gl::Buffer env_distribution_;
+    int env_width_ = 0, env_height_ = 0;
     std::string defines_;
 };
+
+// The environment map's sampling distribution: [0, W*H) the probability of each texel
+// (luminance * sin(theta), normalised), then W*H row-conditional CDFs, then the H-entry marginal
+// CDF over rows (Pharr, Jakob & Humphreys, PBRT 3rd ed., 13.6.7 and 14.2.4).
+std::vector<float> environment_distribution(const ImageF& equirect);
 
 // Merges shard images (alpha = sample count) into one: the sample-weighted mean.
 ImageF merge_shards(const std::vector<ImageF>& shards);

@@ -247,6 +247,7 @@ int raytrace(const Parsed& p, const SceneSetup& s, const fs::path& out_path, flo
     o.ao_radius = s.options.settings.ao.radius;
     o.whitted_max_roughness = s.options.settings.rt.whitted_max_roughness;
     o.indirect_occlusion = s.options.settings.rt.indirect_occlusion;
+    o.env_importance = s.options.settings.rt.env_importance;
     o.jitter = s.options.settings.rt.jitter == "auto" ? -1 : s.options.settings.rt.jitter == "on" ? 1 : 0;
     o.progress = true;
     const ShaderLibrary shaders(ShaderLibrary::default_root());

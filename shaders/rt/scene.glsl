@@ -43,7 +43,7 @@ layout(std140, binding = 8) uniform RtFrame {
     vec4 camera_pos;
     vec4 env_radiance;   // rgb constant radiance, or the map's scale when w = 1
     ivec4 counts;        // x triangles, y spheres, z emitters, w punctual lights
-    ivec4 counts2;       // x surfaces (triangles with area)
+    ivec4 counts2;       // x surfaces (triangles with area), y/z environment map width/height
     ivec4 image;         // x width, y height, z sample index, w seed
     ivec4 params;        // x max depth, y jitter, z indirect occlusion, w tile y offset
     vec4 fparams;        // x ao radius, y whitted max roughness, z emitter power total

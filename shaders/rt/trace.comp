@@ -47,6 +47,50 @@ vec3 environment(vec3 dir) {
     return rt.env_radiance.rgb * textureLod(t_environment, direction_to_equirect(normalize(dir)), 0.0).rgb;
 }
 
+#ifdef HAS_ENV_MAP_SAMPLING
+// ---- environment map importance sampling -------------------------------------------------------
+// env_dist: texel probabilities, row-conditional CDFs, marginal CDF (engine/rt/ray_tracer.hpp).
+layout(std430, binding = 12) readonly buffer EnvDistribution { float env_dist[]; };
+
+// Solid-angle pdf of drawing `dir` from the environment distribution.
+float env_pdf(vec3 dir) {
+    int w = rt.counts2.y, h = rt.counts2.z;
+    vec2 uv = direction_to_equirect(normalize(dir));
+    int x = clamp(int(uv.x * float(w)), 0, w - 1);
+    int y = clamp(int(uv.y * float(h)), 0, h - 1);
+    float sin_theta = sin(PI * (float(y) + 0.5) / float(h));
+    if (sin_theta <= 0.0) return 0.0;
+    return env_dist[y * w + x] * float(w * h) / (2.0 * PI * PI * sin_theta);
+}
+
+vec3 sample_env(inout Rng rng, out float pdf) {
+    int w = rt.counts2.y, h = rt.counts2.z;
+    int n = w * h;
+    float u = rng_next(rng);
+    int lo = 0, hi = h - 1;
+    while (lo < hi) {
+        int mid = (lo + hi) / 2;
+        if (env_dist[2 * n + mid] < u) lo = mid + 1; else hi = mid;
+    }
+    int y = lo;
+    float u2 = rng_next(rng);
+    lo = 0;
+    hi = w - 1;
+    while (lo < hi) {
+        int mid = (lo + hi) / 2;
+        if (env_dist[n + y * w + mid] < u2) lo = mid + 1; else hi = mid;
+    }
+    int x = lo;
+    // Uniform within the texel; the pdf uses the texel-centre sin(theta), as env_pdf does.
+    float phi = ((float(x) + rng_next(rng)) / float(w) - 0.5) * 2.0 * PI;
+    float theta = (float(y) + rng_next(rng)) / float(h) * PI;
+    vec3 dir = vec3(sin(theta) * sin(phi), cos(theta), -sin(theta) * cos(phi));
+    float sin_c = sin(PI * (float(y) + 0.5) / float(h));
+    pdf = sin_c > 0.0 ? env_dist[y * w + x] * float(n) / (2.0 * PI * PI * sin_c) : 0.0;
+    return dir;
+}
+#endif
+
 // ---- BRDF sampling (lobe mixture: GGX visible normals + cosine) -------------------------------
 
 float specular_lobe_probability(BrdfInput m) {
@@ -242,7 +286,11 @@ vec3 radiance(Ray ray, inout Rng rng) {
     for (int depth = 0; depth <= max_depth; ++depth) {
         Hit hit = trace_closest(ray, 3.0e38);
         if (hit.prim < 0) {
-            sum += throughput * environment(ray.dir);
+            float w = 1.0;
+#ifdef HAS_ENV_MAP_SAMPLING
+            if (last_brdf_pdf > 0.0) w = power_heuristic(last_brdf_pdf, env_pdf(ray.dir));
+#endif
+            sum += throughput * environment(ray.dir) * w;
             break;
         }
         SurfaceHit s = surface_at(ray, hit);
@@ -280,6 +328,18 @@ vec3 radiance(Ray ray, inout Rng rng) {
         sum += throughput * direct_punctual(s, m, v);
 #ifdef HAS_EMITTERS
         sum += throughput * direct_emitters(s, m, v, rng, true);
+#endif
+#ifdef HAS_ENV_MAP_SAMPLING
+        {
+            float pdf_env;
+            vec3 le = sample_env(rng, pdf_env);
+            float NdotL = dot(s.ns, le);
+            if (pdf_env > 0.0 && NdotL > 0.0 && dot(s.ng, le) > 0.0 &&
+                !trace_any(make_ray(offset_ray(s.p, s.ng), le), 3.0e38)) {
+                float w = power_heuristic(pdf_env, brdf_pdf(m, s.ns, v, le));
+                sum += throughput * brdf_eval(m, s.ns, le, v) * environment(le) * NdotL * w / pdf_env;
+            }
+        }
 #endif
         vec3 l = sample_brdf(m, s.ns, v, rng);
         float pdf = brdf_pdf(m, s.ns, v, l);
