@@ -64,6 +64,14 @@ public:
     Texture() = default;
     // A 2D texture with `levels` mip levels (0: a full chain).
     static Texture create_2d(GLenum internal_format, int width, int height, int levels = 1);
+    // Takes ownership of a texture made elsewhere (e.g. an array texture).
+    static Texture adopt(GLuint id, int width, int height, GLenum internal_format) {
+        Texture t(id);
+        t.width_ = width;
+        t.height_ = height;
+        t.format_ = internal_format;
+        return t;
+    }
     int width() const { return width_; }
     int height() const { return height_; }
     GLenum format() const { return format_; }

@@ -1,6 +1,8 @@
 #include "render/gpu_scene.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #include <glm/gtc/matrix_inverse.hpp>
 
@@ -56,6 +58,8 @@ MaterialData to_gpu(const Material& m) {
     }
     d.texcoord = glm::ivec4(tc[0], tc[1], tc[2], tc[3]);
     d.texcoord2 = glm::ivec4(tc[4], -1, -1, -1);
+    d.images = glm::ivec4(slots[0]->image, slots[1]->image, slots[2]->image, slots[3]->image);
+    d.images2 = glm::ivec4(slots[4]->image, -1, -1, -1);
     d.volume = glm::vec4(m.thickness, m.attenuation_color);
     d.volume2 = glm::vec4(std::isfinite(m.attenuation_distance) ? m.attenuation_distance : 0.0f, 0.0f, 0.0f, 0.0f);
     return d;
@@ -214,6 +218,40 @@ void GpuScene::update_lights(int area_subdivisions, std::size_t max_patches) {
     light_count_ = static_cast<int>(lights.size());
     if (lights.empty()) lights.push_back(LightData{});
     lights_ = gl::Buffer(static_cast<GLsizeiptr>(lights.size() * sizeof(LightData)), lights.data());
+}
+
+const gl::Texture& GpuScene::image_array() const {
+    if (image_array_) return image_array_;
+    int side = 1;
+    for (const Image& img : scene_.images)
+        if (img.valid) side = std::max({side, img.width, img.height});
+    side = std::min(side, 2048);
+    const int layers = std::max<int>(1, static_cast<int>(scene_.images.size()));
+    GLuint id = 0;
+    glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &id);
+    const int levels = 1 + static_cast<int>(std::floor(std::log2(static_cast<double>(side))));
+    glTextureStorage3D(id, levels, GL_RGBA8, side, side, layers);
+    std::vector<std::uint8_t> layer(static_cast<size_t>(side) * static_cast<size_t>(side) * 4, 255);
+    for (size_t i = 0; i < scene_.images.size(); ++i) {
+        const Image& img = scene_.images[i];
+        if (img.valid) {
+            // Nearest-neighbour resampling to the common size (exact when sizes divide evenly).
+            for (int y = 0; y < side; ++y)
+                for (int x = 0; x < side; ++x) {
+                    const size_t sx = static_cast<size_t>(x) * static_cast<size_t>(img.width) / static_cast<size_t>(side);
+                    const size_t sy = static_cast<size_t>(y) * static_cast<size_t>(img.height) / static_cast<size_t>(side);
+                    std::memcpy(&layer[(static_cast<size_t>(y) * static_cast<size_t>(side) + static_cast<size_t>(x)) * 4],
+                                &img.rgba8[(sy * static_cast<size_t>(img.width) + sx) * 4], 4);
+                }
+        }
+        glTextureSubImage3D(id, 0, 0, 0, static_cast<GLint>(i), side, side, 1, GL_RGBA, GL_UNSIGNED_BYTE, layer.data());
+    }
+    glGenerateTextureMipmap(id);
+    glTextureParameteri(id, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+    glTextureParameteri(id, GL_TEXTURE_WRAP_S, GL_REPEAT);
+    glTextureParameteri(id, GL_TEXTURE_WRAP_T, GL_REPEAT);
+    image_array_ = gl::Texture::adopt(id, side, side, GL_RGBA8);
+    return image_array_;
 }
 
 const gl::Texture& GpuScene::texture(int image, bool srgb) {

@@ -33,8 +33,10 @@ struct MaterialData {  // std430, binding 1
     glm::vec4 uv_transform[10];
     glm::vec4 volume;
     glm::vec4 volume2;
+    glm::ivec4 images;
+    glm::ivec4 images2;
 };
-static_assert(sizeof(MaterialData) == 19 * 16);
+static_assert(sizeof(MaterialData) == 21 * 16);
 
 struct LightData {  // std430, binding 2
     glm::vec4 position_type;
@@ -88,6 +90,9 @@ public:
     const gl::Sampler& sampler(const SamplerDesc& desc);
     const gl::Texture& white_texture() const { return white_; }
 
+    // Every scene image resized to one size, as layers of an RGBA8 array (layer = image index):
+    // how compute shaders (the ray tracer) sample material textures without bindless textures.
+    const gl::Texture& image_array() const;
     bool has_environment_map() const { return static_cast<bool>(env_map_); }
     // The map's pixels (linear RGBA, unscaled), for the ray tracer's importance sampling.
     const ImageF& environment_image() const { return env_image_; }
@@ -110,6 +115,7 @@ private:
     gl::Texture white_;
     gl::Texture env_map_;
     ImageF env_image_;
+    mutable gl::Texture image_array_;
     int env_mips_ = 1;
     glm::vec3 env_radiance_{0.0f};
     std::array<glm::vec3, 9> env_sh_{};

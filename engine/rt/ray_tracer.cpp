@@ -163,6 +163,8 @@ Result RayTracer::render(const Camera& camera, int width, int height) {
     if (env_distribution_) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 12, env_distribution_.id());
     glBindTextureUnit(5, gpu_.environment_map().id());
     glBindSampler(5, 0);
+    glBindTextureUnit(6, gpu_.image_array().id());
+    glBindSampler(6, 0);
 
     const bool show_progress = options_.progress && isatty(STDERR_FILENO);
     int mine = 0;

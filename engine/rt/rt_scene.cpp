@@ -33,6 +33,9 @@ RtGeometry build_rt_geometry(const Scene& scene, int default_material, const Bvh
         tri.n0 = glm::vec4(t.n[0], 0.0f);
         tri.n1 = glm::vec4(t.n[1], 0.0f);
         tri.n2 = glm::vec4(t.n[2], 0.0f);
+        tri.uv_a = glm::vec4(t.uv0[0], t.uv0[1]);
+        tri.uv_b = glm::vec4(t.uv0[2], t.uv1[0]);
+        tri.uv_c = glm::vec4(t.uv1[1], t.uv1[2]);
         g.triangles.push_back(tri);
     }
     for (size_t i = 0; i < scene.nodes.size(); ++i) {

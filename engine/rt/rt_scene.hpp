@@ -16,6 +16,9 @@ namespace candela::rt {
 struct TriangleGpu {
     glm::vec4 p0, p1, p2;  // p0.w material (int bits), p1.w node (int bits)
     glm::vec4 n0, n1, n2;  // n0.w: probability that emitter sampling picks this triangle
+    glm::vec4 uv_a;        // uv0 of p0, uv0 of p1
+    glm::vec4 uv_b;        // uv0 of p2, uv1 of p0
+    glm::vec4 uv_c;        // uv1 of p1, uv1 of p2
 };
 struct SphereGpu {
     glm::vec4 center_radius;
@@ -25,7 +28,7 @@ struct EmitterGpu {
     std::uint32_t triangle;
     float cdf, pdf, area;
 };
-static_assert(sizeof(TriangleGpu) == 96 && sizeof(SphereGpu) == 32 && sizeof(EmitterGpu) == 16);
+static_assert(sizeof(TriangleGpu) == 144 && sizeof(SphereGpu) == 32 && sizeof(EmitterGpu) == 16);
 
 // CPU-side geometry (also what the C++ tests and benchmarks use).
 struct RtGeometry {

@@ -93,6 +93,8 @@ std::vector<WorldTriangle> Scene::world_triangles() const {
                     const glm::vec3 n = normal_matrix * v.normal;
                     const float len = glm::length(n);
                     tri.n[static_cast<size_t>(k)] = len > 0.0f ? n / len : glm::vec3(0, 0, 1);
+                    tri.uv0[static_cast<size_t>(k)] = v.uv0;
+                    tri.uv1[static_cast<size_t>(k)] = v.uv1;
                 }
                 out.push_back(tri);
             }

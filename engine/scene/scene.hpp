@@ -167,6 +167,7 @@ struct SanitizeReport {
 struct WorldTriangle {
     std::array<glm::vec3, 3> p;
     std::array<glm::vec3, 3> n;
+    std::array<glm::vec2, 3> uv0, uv1;
     int material = -1;
     int node = -1;
 };

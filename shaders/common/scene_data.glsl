@@ -23,6 +23,8 @@ struct MaterialData {
     vec4 uv_transform[10];     // per slot two rows of the 2x3 affine KHR_texture_transform
     vec4 volume;               // x thickness (0: thin-walled), yzw attenuation color
     vec4 volume2;              // x attenuation distance (0: none)
+    ivec4 images;              // scene image of base, metallic-roughness, normal, occlusion (-1: none)
+    ivec4 images2;             // x emissive image
 };
 
 layout(std430, binding = 1) readonly buffer Materials { MaterialData materials[]; };

@@ -16,6 +16,9 @@ struct RtTriangle {
     vec4 n0;
     vec4 n1;
     vec4 n2;
+    vec4 uv_a;  // uv0 of p0, uv0 of p1
+    vec4 uv_b;  // uv0 of p2, uv1 of p0
+    vec4 uv_c;  // uv1 of p1, uv1 of p2
 };
 
 struct RtSphere {
@@ -49,6 +52,15 @@ layout(std140, binding = 8) uniform RtFrame {
     vec4 fparams;        // x ao radius, y whitted max roughness, z emitter power total
 } rt;
 
+// Scene images as array layers (layer = image index; GpuScene::image_array).
+layout(binding = 6) uniform sampler2DArray t_images;
+
+vec2 material_uv(MaterialData m, int slot, int set, vec2 uv0, vec2 uv1) {
+    vec3 uv = vec3(set == 1 ? uv1 : uv0, 1.0);
+    return vec2(dot(m.uv_transform[slot * 2].xyz, uv), dot(m.uv_transform[slot * 2 + 1].xyz, uv));
+}
+vec4 material_texture(int image, vec2 uv) { return textureLod(t_images, vec3(uv, float(image)), 0.0); }
+
 struct Hit {
     float t;
     int prim;   // < counts.x: triangle, else sphere (prim - counts.x); -1: miss
@@ -81,6 +93,20 @@ Hit trace(Ray ray, float tmax, bool any_hit) {
                 if (prim < rt.counts.x) {
                     RtTriangle tri = triangles[prim];
                     t = intersect_triangle(w, tri.p0.xyz, tri.p1.xyz, tri.p2.xyz, hit.t, bary);
+                    // alphaMode MASK: texels below the cutoff are holes, for every kind of ray.
+                    if (t > 0.0 && t < hit.t) {
+                        MaterialData m = materials[floatBitsToInt(tri.p0.w)];
+                        if (int(m.params.z) == 1) {
+                            float alpha = m.base_color.a;
+                            if (m.texcoord.x >= 0) {
+                                float w0 = 1.0 - bary.x - bary.y;
+                                vec2 uv0 = tri.uv_a.xy * w0 + tri.uv_a.zw * bary.x + tri.uv_b.xy * bary.y;
+                                vec2 uv1 = tri.uv_b.zw * w0 + tri.uv_c.xy * bary.x + tri.uv_c.zw * bary.y;
+                                alpha *= material_texture(m.images.x, material_uv(m, 0, m.texcoord.x, uv0, uv1)).a;
+                            }
+                            if (alpha < m.params.y) t = -1.0;
+                        }
+                    }
                 } else {
                     RtSphere s = spheres[prim - rt.counts.x];
                     t = intersect_sphere(ray, s.center_radius.xyz, s.center_radius.w, 0.0, hit.t);
@@ -124,6 +150,8 @@ struct SurfaceHit {
     vec3 ns;        // shading normal, same side as ng
     bool front;     // the ray hit the front (the side the geometric normal points to)
     int material;
+    vec2 uv0;
+    vec2 uv1;
 };
 
 SurfaceHit surface_at(Ray ray, Hit hit) {
@@ -144,6 +172,8 @@ SurfaceHit surface_at(Ray ray, Hit hit) {
         s.ns = s.front ? ns : -ns;
         // Exact positions from barycentrics are more accurate than origin + t * dir far away.
         s.p = tri.p0.xyz * w0 + tri.p1.xyz * hit.bary.x + tri.p2.xyz * hit.bary.y;
+        s.uv0 = tri.uv_a.xy * w0 + tri.uv_a.zw * hit.bary.x + tri.uv_b.xy * hit.bary.y;
+        s.uv1 = tri.uv_b.zw * w0 + tri.uv_c.xy * hit.bary.x + tri.uv_c.zw * hit.bary.y;
     } else {
         RtSphere sp = spheres[hit.prim - rt.counts.x];
         vec3 n = normalize(s.p - sp.center_radius.xyz);
@@ -153,6 +183,8 @@ SurfaceHit surface_at(Ray ray, Hit hit) {
         s.front = dot(n, ray.dir) < 0.0;
         s.ng = s.front ? n : -n;
         s.ns = s.ng;
+        s.uv0 = direction_to_equirect(n);  // spheres carry no mesh UVs here
+        s.uv1 = s.uv0;
     }
     return s;
 }

@@ -20,18 +20,39 @@ layout(binding = 5) uniform sampler2D t_environment;
 
 // ---- materials -------------------------------------------------------------------------------
 
-BrdfInput brdf_input(int mi) {
+vec3 srgb_to_linear(vec3 c) {
+    return mix(c / 12.92, pow((c + 0.055) / 1.055, vec3(2.4)), step(vec3(0.04045), c));
+}
+
+// The material at a hit, with its textures (base colour, metallic-roughness), as the forward pass
+// reads them. Normal and occlusion maps are not used here: occlusion is what the tracer computes.
+BrdfInput brdf_input(SurfaceHit s) {
+    int mi = s.material;
     MaterialData m = materials[mi];
     BrdfInput b;
     b.base_color = m.base_color.rgb;
     b.metallic = saturate(m.emission_metallic.a);
     b.roughness = saturate(m.params.x);
+    if (m.texcoord.x >= 0)
+        b.base_color *= srgb_to_linear(material_texture(m.images.x, material_uv(m, 0, m.texcoord.x, s.uv0, s.uv1)).rgb);
+    if (m.texcoord.y >= 0) {
+        vec4 mr = material_texture(m.images.y, material_uv(m, 1, m.texcoord.y, s.uv0, s.uv1));
+        b.roughness *= mr.g;
+        b.metallic *= mr.b;
+    }
     b.ior = m.params2.x;
     b.specular_factor = m.specular.a;
     b.specular_color = m.specular.rgb;
     return b;
 }
 vec3 material_emission(int mi) { return materials[mi].emission_metallic.rgb; }
+vec3 surface_emission(SurfaceHit s) {
+    MaterialData m = materials[s.material];
+    vec3 e = m.emission_metallic.rgb;
+    if (m.texcoord2.x >= 0)
+        e *= srgb_to_linear(material_texture(m.images2.x, material_uv(m, 4, m.texcoord2.x, s.uv0, s.uv1)).rgb);
+    return e;
+}
 bool material_double_sided(int mi) { return materials[mi].params.w > 0.5; }
 float material_transmission(int mi) { return materials[mi].params2.y; }
 // KHR_materials_volume: thickness 0 is a thin wall (light passes without bending).
@@ -39,7 +60,7 @@ bool material_thin(int mi) { return materials[mi].volume.x <= 0.0; }
 
 // Light leaving a surface towards the viewer by emission: front side, or both if double-sided.
 vec3 emitted(SurfaceHit s) {
-    return (s.front || material_double_sided(s.material)) ? material_emission(s.material) : vec3(0.0);
+    return (s.front || material_double_sided(s.material)) ? surface_emission(s) : vec3(0.0);
 }
 
 vec3 environment(vec3 dir) {
@@ -160,7 +181,7 @@ vec3 shadow_visibility(Ray ray, float tmax) {
         SurfaceHit s = surface_at(ray, h);
         float transmission = materials[s.material].params2.y;
         if (transmission <= 0.0) return vec3(0.0);
-        BrdfInput m = brdf_input(s.material);
+        BrdfInput m = brdf_input(s);
         bool thin = materials[s.material].volume.x <= 0.0;
         float eta = thin ? 1.0 / m.ior : (s.front ? 1.0 / m.ior : m.ior);
         float F = fresnel_dielectric(abs(dot(normalize(ray.dir), s.ng)), eta);
@@ -308,7 +329,7 @@ vec3 radiance(Ray ray, inout Rng rng) {
         float transmission = material_transmission(s.material);
         if (transmission > 0.0 && rng_next(rng) < transmission) {
             // Smooth dielectric: reflect or refract by the exact Fresnel term.
-            BrdfInput m = brdf_input(s.material);
+            BrdfInput m = brdf_input(s);
             bool thin = material_thin(s.material);
             float eta = thin ? 1.0 : (s.front ? 1.0 / m.ior : m.ior);
             float cos_i = dot(v, s.ng);
@@ -324,7 +345,7 @@ vec3 radiance(Ray ray, inout Rng rng) {
             continue;
         }
 #endif
-        BrdfInput m = brdf_input(s.material);
+        BrdfInput m = brdf_input(s);
         sum += throughput * direct_punctual(s, m, v);
 #ifdef HAS_EMITTERS
         sum += throughput * direct_emitters(s, m, v, rng, true);
@@ -361,7 +382,7 @@ vec3 radiance(Ray ray, inout Rng rng) {
 // Light leaving y towards x after one diffuse reflection at y (Lambertian, y's diffuse albedo):
 // the direct light at y, with visibility from y to the lights.
 vec3 diffuse_outgoing(SurfaceHit y, vec3 to_x, inout Rng rng) {
-    BrdfInput my = brdf_input(y.material);
+    BrdfInput my = brdf_input(y);
     BrdfInput lambert_y = my;
     lambert_y.base_color = my.base_color * (1.0 - my.metallic);
     lambert_y.metallic = 0.0;
@@ -379,7 +400,7 @@ vec3 radiance(Ray ray, inout Rng rng) {
     Hit hit = trace_closest(ray, 3.0e38);
     if (hit.prim < 0) return vec3(0.0);
     SurfaceHit x = surface_at(ray, hit);
-    BrdfInput mx = brdf_input(x.material);
+    BrdfInput mx = brdf_input(x);
     vec3 albedo_x = mx.base_color * (1.0 - mx.metallic);
     if (rt.params.z != 0) {
         // With occlusion: y is what a cosine-distributed ray from x sees.
@@ -452,7 +473,7 @@ vec3 radiance(Ray primary, inout Rng rng) {
         }
         SurfaceHit s = surface_at(ray, hit);
         vec3 v = -normalize(ray.dir);
-        BrdfInput m = brdf_input(s.material);
+        BrdfInput m = brdf_input(s);
         sum += w * emitted(s);
         bool can_branch = depth < rt.params.x && n + 2 <= kMaxStack;
 #ifdef HAS_TRANSMISSION

@@ -442,3 +442,35 @@ INSTANTIATE_TEST_SUITE_P(Backends, RtEnvTest, ::testing::Values(Backend::egl), t
 
 }  // namespace
 }  // namespace candela
+
+namespace candela {
+namespace {
+
+class RtMaterialTest : public test::GlContextTest {};
+
+TEST_P(RtMaterialTest, AlphaMaskedTexelsAreHolesForRays) {
+    // transparency.gltf has a fence quad facing the camera (normal +Z) with an alpha-masked
+    // texture, standing on the floor (normal +Y). Through its holes camera rays reach the floor:
+    // in the fence's rows some pixels must show the floor's normal. Without the mask none would.
+    const Scene scene = load_gltf(fs::path(CANDELA_SOURCE_DIR) / "samples/scenes/transparency.gltf");
+    rt::Options o;
+    o.mode = rt::Mode::primary;
+    o.spp = 1;
+    GpuScene gpu(scene);
+    rt::RayTracer tracer(shader_lib(), scene, gpu, o);
+    const rt::Result r = tracer.render(scene.select_camera("", 1.0f), 96, 96);
+    int floor_through_fence = 0, fence = 0;
+    for (int y = 70; y <= 78; ++y)
+        for (int x = 0; x < 96; ++x) {
+            const float* p = r.image.at(x, y);
+            floor_through_fence += p[1] > 0.9f && p[2] < 0.7f;  // normal ~ +Y
+            fence += p[2] > 0.9f && p[1] < 0.7f;                // normal ~ +Z
+        }
+    EXPECT_GT(floor_through_fence, 20);
+    EXPECT_GT(fence, 20);
+}
+
+INSTANTIATE_TEST_SUITE_P(Backends, RtMaterialTest, ::testing::Values(Backend::egl), test::backend_name);
+
+}  // namespace
+}  // namespace candela
