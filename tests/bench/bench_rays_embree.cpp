@@ -1,0 +1,128 @@
+// The same rays as `candela bench rays`, through Embree 3's single-ray API on the CPU, so that the
+// compute-shader tracer's rates can be compared in one run on the same cores. Optional: built
+// only when Debian's libembree-dev is installed (it is not a dependency of Candela).
+//   bench_rays_embree SCENE|generated:N ... [--size WxH] [--spp N] [--threads N]
+// Camera rays through pixel centres (the tracer's primary mode without jitter), and per hit one
+// cosine-distributed any-hit ray of unbounded length (the tracer's AO rays with ao.radius = inf).
+#include <embree3/rtcore.h>
+
+#include <atomic>
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "rt/sampling.hpp"
+#include "scene/generate.hpp"
+#include "scene/gltf_loader.hpp"
+
+using namespace candela;
+
+namespace {
+
+struct Rates {
+    double primary_mrays = 0, ao_mrays = 0;
+};
+
+Rates measure(const Scene& scene, int w, int h, int spp, int threads) {
+    RTCDevice device = rtcNewDevice(nullptr);
+    RTCScene rtc_scene = rtcNewScene(device);
+    const std::vector<WorldTriangle> tris = scene.world_triangles();
+    RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                          3 * sizeof(float), tris.size() * 3));
+    auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                                               3 * sizeof(unsigned), tris.size()));
+    for (size_t t = 0; t < tris.size(); ++t)
+        for (int k = 0; k < 3; ++k) {
+            std::memcpy(v + (t * 3 + static_cast<size_t>(k)) * 3, &tris[t].p[static_cast<size_t>(k)], 12);
+            idx[t * 3 + static_cast<size_t>(k)] = static_cast<unsigned>(t * 3 + static_cast<size_t>(k));
+        }
+    rtcCommitGeometry(geom);
+    rtcAttachGeometry(rtc_scene, geom);
+    rtcReleaseGeometry(geom);
+    rtcCommitScene(rtc_scene);
+
+    const float aspect = static_cast<float>(w) / static_cast<float>(h);
+    const Camera camera = scene.select_camera("", aspect);
+    const glm::mat4 inv = glm::inverse(projection_matrix(camera, aspect) * glm::inverse(camera.world));
+    auto run = [&](bool ao) {
+        std::atomic<int> next_row{0};
+        auto worker = [&] {
+            RTCIntersectContext ctx;
+            rtcInitIntersectContext(&ctx);
+            for (int y; (y = next_row++) < h;)
+                for (int x = 0; x < w; ++x)
+                    for (int s = 0; s < spp; ++s) {
+                        const glm::vec2 ndc((static_cast<float>(x) + 0.5f) / static_cast<float>(w) * 2.0f - 1.0f,
+                                            1.0f - (static_cast<float>(y) + 0.5f) / static_cast<float>(h) * 2.0f);
+                        const glm::vec4 a4 = inv * glm::vec4(ndc, 1.0f, 1.0f), b4 = inv * glm::vec4(ndc, 0.5f, 1.0f);
+                        const glm::vec3 a = glm::vec3(a4) / a4.w, d = glm::normalize(glm::vec3(b4) / b4.w - a);
+                        RTCRayHit rh{};
+                        rh.ray.org_x = a.x, rh.ray.org_y = a.y, rh.ray.org_z = a.z;
+                        rh.ray.dir_x = d.x, rh.ray.dir_y = d.y, rh.ray.dir_z = d.z;
+                        rh.ray.tnear = 0.0f;
+                        rh.ray.tfar = 1e30f;
+                        rh.ray.mask = ~0u;
+                        rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+                        rtcIntersect1(rtc_scene, &ctx, &rh);
+                        if (!ao || rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) continue;
+                        glm::vec3 n = glm::normalize(glm::vec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z));
+                        if (glm::dot(n, d) > 0.0f) n = -n;
+                        const std::uint32_t r0 = rt::pcg_hash(static_cast<std::uint32_t>((y * w + x) * 977 + s));
+                        const std::uint32_t r1 = rt::pcg_hash(r0);
+                        glm::vec3 t, b;
+                        rt::onb(n, t, b);
+                        const glm::vec3 l = rt::sample_cosine_hemisphere({static_cast<float>(r0 >> 8) / 16777216.0f,
+                                                                          static_cast<float>(r1 >> 8) / 16777216.0f});
+                        const glm::vec3 dir = l.x * t + l.y * b + l.z * n;
+                        const glm::vec3 p = a + d * rh.ray.tfar + n * 1e-4f;
+                        RTCRay shadow{};
+                        shadow.org_x = p.x, shadow.org_y = p.y, shadow.org_z = p.z;
+                        shadow.dir_x = dir.x, shadow.dir_y = dir.y, shadow.dir_z = dir.z;
+                        shadow.tnear = 0.0f;
+                        shadow.tfar = 1e30f;
+                        shadow.mask = ~0u;
+                        rtcOccluded1(rtc_scene, &ctx, &shadow);
+                    }
+        };
+        const auto t0 = std::chrono::steady_clock::now();
+        std::vector<std::thread> pool;
+        for (int i = 0; i < threads; ++i) pool.emplace_back(worker);
+        for (auto& th : pool) th.join();
+        return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    };
+    run(false);  // warm-up
+    const double primary_ms = run(false);
+    const double ao_ms = run(true);
+    rtcReleaseScene(rtc_scene);
+    rtcReleaseDevice(device);
+    const double rays = static_cast<double>(w) * h * spp;
+    return {rays / (primary_ms * 1e3), ao_ms > primary_ms ? rays / ((ao_ms - primary_ms) * 1e3) : 0.0};
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    int w = 512, h = 512, spp = 4, threads = 2;
+    std::vector<std::string> scenes;
+    for (int i = 1; i < argc; ++i) {
+        const std::string a = argv[i];
+        if (a == "--size" && i + 1 < argc) std::sscanf(argv[++i], "%dx%d", &w, &h);
+        else if (a == "--spp" && i + 1 < argc) spp = std::atoi(argv[++i]);
+        else if (a == "--threads" && i + 1 < argc) threads = std::atoi(argv[++i]);
+        else scenes.push_back(a);
+    }
+    std::printf("Embree %d.%d.%d single-ray API, %d threads; %dx%d, %d spp\n", RTC_VERSION_MAJOR, RTC_VERSION_MINOR,
+                RTC_VERSION_PATCH, threads, w, h, spp);
+    std::printf("%-28s %12s %12s\n", "scene", "primary Mr/s", "AO Mr/s");
+    for (const std::string& name : scenes) {
+        const Scene scene = name.rfind("generated:", 0) == 0 ? make_bumpy_sphere_scene(std::stoul(name.substr(10))) : load_gltf(name);
+        const Rates r = measure(scene, w, h, spp, threads);
+        std::printf("%-28s %12.2f %12.2f\n", name.substr(name.size() > 28 ? name.size() - 28 : 0).c_str(), r.primary_mrays,
+                    r.ao_mrays);
+    }
+    return 0;
+}
