@@ -117,6 +117,7 @@ RayTracer::RayTracer(const ShaderLibrary& shaders, const Scene& scene, GpuScene&
     }
     if (!rt_scene_.geometry().emitters.empty()) defines.push_back("HAS_EMITTERS");
     if (rt_scene_.geometry().has_transmission) defines.push_back("HAS_TRANSMISSION");
+    if (options_.traversal_stats) defines.push_back("RT_STATS");
     if (gpu_.has_environment_map() && options_.env_importance &&
         (options_.mode == Mode::path || options_.mode == Mode::direct)) {
         defines.push_back("HAS_ENV_MAP_SAMPLING");
@@ -138,8 +139,8 @@ Result RayTracer::render(const Camera& camera, int width, int height) {
     const size_t pixels = static_cast<size_t>(width) * static_cast<size_t>(height);
     std::vector<glm::vec4> zeros(pixels, glm::vec4(0.0f));
     gl::Buffer accum(static_cast<GLsizeiptr>(pixels * sizeof(glm::vec4)), zeros.data(), GL_DYNAMIC_STORAGE_BIT);
-    const unsigned zero = 0;
-    gl::Buffer diagnostics(sizeof(unsigned), &zero, GL_DYNAMIC_STORAGE_BIT);
+    const unsigned zeros4[4] = {0, 0, 0, 0};
+    gl::Buffer diagnostics(sizeof(zeros4), zeros4, GL_DYNAMIC_STORAGE_BIT);
 
     FrameGpu f{};
     const float aspect = static_cast<float>(width) / static_cast<float>(height);
@@ -194,7 +195,13 @@ Result RayTracer::render(const Camera& camera, int width, int height) {
 
     std::vector<glm::vec4> sums(pixels);
     glGetNamedBufferSubData(accum.id(), 0, static_cast<GLsizeiptr>(pixels * sizeof(glm::vec4)), sums.data());
-    glGetNamedBufferSubData(diagnostics.id(), 0, sizeof(unsigned), &result.nonfinite_samples);
+    unsigned diag[4] = {0, 0, 0, 0};
+    glGetNamedBufferSubData(diagnostics.id(), 0, sizeof(diag), diag);
+    result.nonfinite_samples = diag[0];
+    if (diag[3] > 0) {
+        result.nodes_per_ray = static_cast<double>(diag[1]) / diag[3];
+        result.primitives_per_ray = static_cast<double>(diag[2]) / diag[3];
+    }
     result.image = ImageF(width, height, 4);
     for (size_t i = 0; i < pixels; ++i) {
         const glm::vec4 v = sums[i];

@@ -35,6 +35,7 @@ struct Options {
     bool env_importance = true;
     bool progress = false;      // progress bar with ETA on stderr
     int tile_rows = 64;         // rows per dispatch: short dispatches never trip a GPU watchdog
+    bool traversal_stats = false;  // count BVH nodes and primitives per ray (slower; benchmarks)
 };
 
 struct Result {
@@ -42,6 +43,8 @@ struct Result {
     int samples = 0;           // samples per pixel this run computed
     bool stopped_early = false;  // --time-limit
     unsigned nonfinite_samples = 0;  // replaced by 0 (should stay 0; tests assert it)
+    // With Options::traversal_stats: mean BVH nodes visited and primitives tested per traced ray.
+    double nodes_per_ray = 0.0, primitives_per_ray = 0.0;
     double trace_ms = 0.0;
     std::string defines;       // the shader specialisation used
 };

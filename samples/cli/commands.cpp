@@ -350,7 +350,8 @@ int bench_rays(const Args& args) {
     const ShaderLibrary shaders(ShaderLibrary::default_root());
     std::printf("device: %s (%s); %dx%d, %d spp per mode, after one warm-up sample\n", ctx.context->device_string().c_str(),
                 to_string(ctx.context->backend()), w, h, spp);
-    std::printf("%-28s %10s %10s %10s %12s %12s\n", "scene", "triangles", "bvh ms", "SAH", "primary Mr/s", "AO Mr/s");
+    std::printf("%-28s %10s %10s %10s %12s %12s %10s %10s\n", "scene", "triangles", "bvh ms", "SAH", "primary Mr/s", "AO Mr/s",
+                "nodes/ray", "prims/ray");
     for (const std::string& name : p.positional) {
         const Scene scene = load_scene(name, false);
         GpuScene gpu(scene);
@@ -371,12 +372,19 @@ int bench_rays(const Args& args) {
             tris = tracer.scene().geometry().triangles.size();
         }
         log::debug("bench rays: primary " + fmt("%.1f", ms[0]) + " ms, ao " + fmt("%.1f", ms[1]) + " ms");
+        // Traversal work per camera ray, counted in a separate (slower) run.
+        rt::Options counting;
+        counting.mode = rt::Mode::primary;
+        counting.spp = 1;
+        counting.traversal_stats = true;
+        const rt::Result counted = rt::RayTracer(shaders, scene, gpu, counting).render(camera, w, h);
         const double rays = static_cast<double>(w) * h * spp;
         const double primary = rays / (ms[0] * 1e3);
         // An AO sample is one camera ray plus one any-hit ray: the difference prices the latter.
         const double ao = ms[1] > ms[0] ? rays / ((ms[1] - ms[0]) * 1e3) : 0.0;
-        std::printf("%-28s %10zu %10.1f %10.2f %12.2f %12.2f\n", name.substr(name.size() > 28 ? name.size() - 28 : 0).c_str(), tris,
-                    stats.build_ms, stats.sah_cost, primary, ao);
+        std::printf("%-28s %10zu %10.1f %10.2f %12.2f %12.2f %10.1f %10.1f\n",
+                    name.substr(name.size() > 28 ? name.size() - 28 : 0).c_str(), tris, stats.build_ms, stats.sah_cost, primary,
+                    ao, counted.nodes_per_ray, counted.primitives_per_ray);
     }
     return 0;
 }

@@ -82,9 +82,17 @@ Hit trace(Ray ray, float tmax, bool any_hit) {
     int stack[kStackSize];
     int sp = 0;
     int node = 0;
+#ifdef RT_STATS
+    uint visited = 0u, tested = 0u;
+    atomicAdd(traversal_rays, 1u);
+#endif
     if (intersect_aabb(nodes[0].bmin, nodes[0].bmax, ray.origin, inv_dir, hit.t) < 0.0) return hit;
     while (true) {
         BvhNode n = nodes[node];
+#ifdef RT_STATS
+        ++visited;
+        if (n.count > 0) tested += uint(n.count);
+#endif
         if (n.count > 0) {
             for (int i = 0; i < n.count; ++i) {
                 int prim = int(prim_indices[n.right_or_first + i]);
@@ -120,7 +128,13 @@ Hit trace(Ray ray, float tmax, bool any_hit) {
                     hit.t = t;
                     hit.prim = prim;
                     hit.bary = bary;
-                    if (any_hit) return hit;
+                    if (any_hit) {
+#ifdef RT_STATS
+                        atomicAdd(traversal_nodes, visited);
+                        atomicAdd(traversal_primitives, tested);
+#endif
+                        return hit;
+                    }
                 }
             }
         } else {
@@ -141,6 +155,10 @@ Hit trace(Ray ray, float tmax, bool any_hit) {
         if (sp == 0) break;
         node = stack[--sp];
     }
+#ifdef RT_STATS
+    atomicAdd(traversal_nodes, visited);
+    atomicAdd(traversal_primitives, tested);
+#endif
     return hit;
 }
 

@@ -10,12 +10,17 @@
 #include "../common/scene_data.glsl"
 #include "../common/brdf.glsl"
 #include "../common/sampling.glsl"
+layout(std430, binding = 10) buffer Diagnostics {
+    uint nonfinite_samples;
+    uint traversal_nodes;      // RT_STATS only: BVH nodes visited, all rays
+    uint traversal_primitives; // RT_STATS only: primitives intersected, all rays
+    uint traversal_rays;       // RT_STATS only
+};
 #include "scene.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
 layout(std430, binding = 9) buffer Accum { vec4 accum[]; };  // rgb sum, w sample count
-layout(std430, binding = 10) buffer Diagnostics { uint nonfinite_samples; };
 layout(binding = 5) uniform sampler2D t_environment;
 
 // ---- materials -------------------------------------------------------------------------------
