@@ -36,6 +36,9 @@ RtGeometry build_rt_geometry(const Scene& scene, int default_material, const Bvh
         tri.uv_a = glm::vec4(t.uv0[0], t.uv0[1]);
         tri.uv_b = glm::vec4(t.uv0[2], t.uv1[0]);
         tri.uv_c = glm::vec4(t.uv1[1], t.uv1[2]);
+        tri.t0 = t.tangent[0];
+        tri.t1 = t.tangent[1];
+        tri.t2 = t.tangent[2];
         g.triangles.push_back(tri);
     }
     for (size_t i = 0; i < scene.nodes.size(); ++i) {

@@ -19,6 +19,7 @@ struct TriangleGpu {
     glm::vec4 uv_a;        // uv0 of p0, uv0 of p1
     glm::vec4 uv_b;        // uv0 of p2, uv1 of p0
     glm::vec4 uv_c;        // uv1 of p1, uv1 of p2
+    glm::vec4 t0, t1, t2;  // world tangents, w = handedness (normal maps)
 };
 struct SphereGpu {
     glm::vec4 center_radius;
@@ -28,7 +29,7 @@ struct EmitterGpu {
     std::uint32_t triangle;
     float cdf, pdf, area;
 };
-static_assert(sizeof(TriangleGpu) == 144 && sizeof(SphereGpu) == 32 && sizeof(EmitterGpu) == 16);
+static_assert(sizeof(TriangleGpu) == 192 && sizeof(SphereGpu) == 32 && sizeof(EmitterGpu) == 16);
 
 // CPU-side geometry (also what the C++ tests and benchmarks use).
 struct RtGeometry {

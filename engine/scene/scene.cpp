@@ -93,6 +93,10 @@ std::vector<WorldTriangle> Scene::world_triangles() const {
                     const glm::vec3 n = normal_matrix * v.normal;
                     const float len = glm::length(n);
                     tri.n[static_cast<size_t>(k)] = len > 0.0f ? n / len : glm::vec3(0, 0, 1);
+                    const glm::vec3 t = glm::mat3(node.world) * glm::vec3(v.tangent);
+                    const float tl = glm::length(t);
+                    tri.tangent[static_cast<size_t>(k)] =
+                        glm::vec4(tl > 0.0f ? t / tl : glm::vec3(1, 0, 0), (v.tangent.w < 0.0f ? -1.0f : 1.0f) * (flip ? -1.0f : 1.0f));
                     tri.uv0[static_cast<size_t>(k)] = v.uv0;
                     tri.uv1[static_cast<size_t>(k)] = v.uv1;
                 }

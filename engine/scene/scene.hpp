@@ -168,6 +168,9 @@ struct WorldTriangle {
     std::array<glm::vec3, 3> p;
     std::array<glm::vec3, 3> n;
     std::array<glm::vec2, 3> uv0, uv1;
+    // World tangents; w is the handedness, already multiplied by the sign of the node's
+    // determinant so that cross(n, t) * w is the world bitangent.
+    std::array<glm::vec4, 3> tangent;
     int material = -1;
     int node = -1;
 };

@@ -60,7 +60,9 @@ void main() {
         float tl = length(t);
         if (tl > 1e-8) {
             t /= tl;
-            vec3 b = cross(n, t) * (v_tangent.w < 0.0 ? -1.0 : 1.0) * (gl_FrontFacing ? 1.0 : -1.0);
+            // A mirroring model matrix reverses the handedness of the transformed frame.
+            vec3 b = cross(n, t) * (v_tangent.w < 0.0 ? -1.0 : 1.0) * (gl_FrontFacing ? 1.0 : -1.0) *
+                     (u_mirrored != 0 ? -1.0 : 1.0);
             vec3 tn = texture(t_normal, slot_uv(m, 2, m.texcoord.z)).xyz * 2.0 - 1.0;
             tn.xy *= m.params2.z;
             vec3 mapped = mat3(t, b, n) * tn;

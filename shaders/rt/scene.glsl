@@ -19,6 +19,9 @@ struct RtTriangle {
     vec4 uv_a;  // uv0 of p0, uv0 of p1
     vec4 uv_b;  // uv0 of p2, uv1 of p0
     vec4 uv_c;  // uv1 of p1, uv1 of p2
+    vec4 t0;    // world tangents, w = handedness (normal maps)
+    vec4 t1;
+    vec4 t2;
 };
 
 struct RtSphere {
@@ -197,6 +200,26 @@ SurfaceHit surface_at(Ray ray, Hit hit) {
         s.p = tri.p0.xyz * w0 + tri.p1.xyz * hit.bary.x + tri.p2.xyz * hit.bary.y;
         s.uv0 = tri.uv_a.xy * w0 + tri.uv_a.zw * hit.bary.x + tri.uv_b.xy * hit.bary.y;
         s.uv1 = tri.uv_b.zw * w0 + tri.uv_c.xy * hit.bary.x + tri.uv_c.zw * hit.bary.y;
+        // Normal map, as the forward pass applies it (tangent frame from the interpolated tangent).
+        int mi = s.material;
+        if (materials[mi].texcoord.z >= 0) {
+            MaterialData m = materials[mi];
+            vec3 tg = tri.t0.xyz * w0 + tri.t1.xyz * hit.bary.x + tri.t2.xyz * hit.bary.y;
+            vec3 t = tg - s.ns * dot(s.ns, tg);
+            float tl = length(t);
+            if (tl > 1e-8) {
+                t /= tl;
+                vec3 b = cross(s.ns, t) * (tri.t0.w < 0.0 ? -1.0 : 1.0) * (s.front ? 1.0 : -1.0);
+                vec3 tn = material_texture(m.images.z, material_uv(m, 2, m.texcoord.z, s.uv0, s.uv1)).xyz * 2.0 - 1.0;
+                tn.xy *= m.params2.z;
+                vec3 mapped = mat3(t, b, s.ns) * tn;
+                float ml = length(mapped);
+                if (ml > 1e-8) s.ns = mapped / ml;
+                // Keep the shading normal on the side the ray came from.
+                float side = dot(s.ns, s.ng);
+                if (side < 1e-4) s.ns = normalize(s.ns + s.ng * (1e-4 - side));
+            }
+        }
     } else {
         RtSphere sp = spheres[hit.prim - rt.counts.x];
         vec3 n = normalize(s.p - sp.center_radius.xyz);

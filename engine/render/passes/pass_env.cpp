@@ -43,6 +43,7 @@ void draw_item(const PassEnv& env, FrameGraph::Context& ctx, const GpuScene::Dra
     glProgramUniformMatrix4fv(program, 0, 1, GL_FALSE, glm::value_ptr(d.model));
     glProgramUniformMatrix3fv(program, 1, 1, GL_FALSE, glm::value_ptr(d.normal_matrix));
     glProgramUniform1i(program, 2, d.primitive_material);
+    glProgramUniform1i(program, 3, d.mirrored ? 1 : 0);
     for (int s = 0; s < 5; ++s) {
         const auto su = static_cast<size_t>(s);
         const gl::Texture& t = d.textures[su] >= 0 ? env.scene.texture(d.textures[su], d.srgb[su]) : env.scene.white_texture();
