@@ -20,6 +20,11 @@ void StateCache::apply(const PipelineState& w) {
     }
     if (changed(k_clip_, s_.reversed_z, w.reversed_z))
         glClipControl(GL_LOWER_LEFT, w.reversed_z ? GL_ZERO_TO_ONE : GL_NEGATIVE_ONE_TO_ONE);
+    const std::array<float, 2> offset = {w.polygon_offset_factor, w.polygon_offset_units};
+    if (changed(k_offset_, offset_, offset)) {
+        enable(GL_POLYGON_OFFSET_FILL, offset[0] != 0.0f || offset[1] != 0.0f);
+        glPolygonOffset(offset[0], offset[1]);
+    }
 }
 
 void StateCache::set_cull(bool cull, GLenum face) {
@@ -49,7 +54,7 @@ void StateCache::bind_vertex_array(GLuint vao) {
 
 void StateCache::reset() {
     k_depth_test_ = k_depth_func_ = k_depth_write_ = k_blend_ = k_blend_func_ = k_cull_ = k_cull_face_ = k_front_face_ =
-        k_color_write_ = k_clip_ = k_fbo_ = k_viewport_ = k_program_ = k_vao_ = false;
+        k_color_write_ = k_clip_ = k_offset_ = k_fbo_ = k_viewport_ = k_program_ = k_vao_ = false;
 }
 
 std::string StateCache::verify() const {
@@ -66,6 +71,8 @@ std::string StateCache::verify() const {
     if (k_cull_ && get_bool(GL_CULL_FACE) != s_.cull) return "GL_CULL_FACE";
     if (k_front_face_ && static_cast<GLenum>(get_int(GL_FRONT_FACE)) != s_.front_face) return "glFrontFace";
     if (k_clip_ && (static_cast<GLenum>(get_int(GL_CLIP_DEPTH_MODE)) == GL_ZERO_TO_ONE) != s_.reversed_z) return "glClipControl";
+    if (k_offset_ && get_bool(GL_POLYGON_OFFSET_FILL) != (offset_[0] != 0.0f || offset_[1] != 0.0f))
+        return "GL_POLYGON_OFFSET_FILL";
     if (k_program_ && static_cast<GLuint>(get_int(GL_CURRENT_PROGRAM)) != program_) return "glUseProgram";
     if (k_fbo_ && static_cast<GLuint>(get_int(GL_DRAW_FRAMEBUFFER_BINDING)) != fbo_) return "glBindFramebuffer";
     return {};

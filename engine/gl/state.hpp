@@ -20,6 +20,10 @@ struct PipelineState {
     GLenum front_face = GL_CCW;
     bool color_write = true;
     bool reversed_z = true;  // glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE)
+    // glPolygonOffset(factor, units) with GL_POLYGON_OFFSET_FILL when either is non-zero
+    // (shadow casters: negative values push depth away from the light under reversed-Z).
+    float polygon_offset_factor = 0.0f;
+    float polygon_offset_units = 0.0f;
 };
 
 class StateCache {
@@ -58,9 +62,10 @@ private:
     PipelineState s_{};
     // Whether each field's cached value is known to match GL.
     bool k_depth_test_ = false, k_depth_func_ = false, k_depth_write_ = false, k_blend_ = false, k_blend_func_ = false,
-         k_cull_ = false, k_cull_face_ = false, k_front_face_ = false, k_color_write_ = false, k_clip_ = false,
+         k_cull_ = false, k_cull_face_ = false, k_front_face_ = false, k_color_write_ = false, k_clip_ = false, k_offset_ = false,
          k_fbo_ = false, k_viewport_ = false, k_program_ = false, k_vao_ = false;
     std::array<GLenum, 4> blend_func_{};
+    std::array<float, 2> offset_{};
     GLuint fbo_ = 0, program_ = 0, vao_ = 0;
     std::array<int, 4> viewport_{};
     int real_calls_ = 0, skipped_calls_ = 0;

@@ -27,7 +27,28 @@ Features analyze(const Scene& scene, const RenderSettings& s) {
     f.environment = scene.environment.present();
     f.punctual_lights = static_cast<int>(scene.placed_lights().size());
     const SceneFeatures& sf = f.scene;
-    f.shadows = decide("shadows", s.shadows, sf.shadows.needed, false, sf.shadows.reason);
+    f.shadows = decide("shadows", s.shadows, sf.shadows.needed, true, sf.shadows.reason);
+    // Area-light pieces: arealight.samples per emissive primitive drawn.
+    int emissive_primitives = 0;
+    std::vector<int> stack(scene.roots.begin(), scene.roots.end());
+    while (!stack.empty()) {
+        const Node& node = scene.nodes[static_cast<size_t>(stack.back())];
+        stack.pop_back();
+        stack.insert(stack.end(), node.children.begin(), node.children.end());
+        if (node.mesh < 0) continue;
+        for (const Primitive& p : scene.meshes[static_cast<size_t>(node.mesh)].primitives)
+            emissive_primitives += scene.material(p.material).is_emissive() && !p.indices.empty();
+    }
+    f.area_light_pieces = emissive_primitives * s.arealight.samples;
+    const int light_count = f.punctual_lights + f.area_light_pieces;
+    if (s.path == "forward" || s.path == "deferred") {
+        f.deferred = s.path == "deferred";
+        f.path_reason = "--path " + s.path;
+    } else {
+        f.deferred = light_count >= s.deferred.auto_lights;
+        f.path_reason = "auto: " + std::to_string(light_count) + " light(s) " + (f.deferred ? ">= " : "< ") +
+                        std::to_string(s.deferred.auto_lights) + " (deferred.auto_lights)";
+    }
     f.ssao = decide("ssao", s.ssao, f.environment, false,
                     f.environment ? "ambient/environment light to occlude" : "no ambient or environment light to occlude");
     bool shadowed_light = false;
@@ -36,17 +57,27 @@ Features analyze(const Scene& scene, const RenderSettings& s) {
     const bool rsm_needed = sf.shadows.needed && shadowed_light;
     f.rsm = decide("rsm", s.rsm, rsm_needed, false,
                    rsm_needed ? "a shadowed directional or spot light" : "no shadowed directional or spot light");
-    f.transparency = decide("transparency", s.transparency, sf.transparency.needed, true, sf.transparency.reason);
+    // Debug views show surface values of the nearest surface: blended ones count as opaque there,
+    // as they do for the ray tracer's rays.
+    f.transparency = decide("transparency", s.transparency && s.debug.view == "none", sf.transparency.needed, true,
+                            sf.transparency.reason);
     f.reflections = decide("reflections", s.reflections, sf.reflections.needed, false, sf.reflections.reason);
     return f;
 }
 
 std::vector<PlannedPass> plan_passes(const Features& f, const RenderSettings& s) {
     std::vector<PlannedPass> plan;
-    if (s.forward.depth_prepass) plan.push_back({"depth_prepass", "forward.depth_prepass=1"});
-    plan.push_back({"forward_opaque", f.transparency.planned ? "opaque and masked geometry"
-                                      : f.transparency.needed ? "all geometry (BLEND drawn as opaque: transparency off)"
-                                                              : "all geometry"});
+    if (f.shadows.planned) plan.push_back({"shadow_maps", f.shadows.reason.substr(4)});
+    const std::string what = f.transparency.planned ? "opaque and masked geometry"
+                             : f.transparency.needed ? "all geometry (BLEND drawn as opaque: transparency off)"
+                                                     : "all geometry";
+    if (f.deferred) {
+        plan.push_back({"gbuffer", what + "; deferred path, " + f.path_reason});
+        plan.push_back({"deferred_lighting", "tiled light culling and shading of the G-buffer"});
+    } else {
+        if (s.forward.depth_prepass) plan.push_back({"depth_prepass", "forward.depth_prepass=1"});
+        plan.push_back({"forward_opaque", what + "; forward path, " + f.path_reason});
+    }
     if (f.environment) plan.push_back({"sky", "the scene has environment light"});
     if (f.transparency.planned) plan.push_back({"transparent", f.transparency.reason.substr(4)});
     return plan;
@@ -58,6 +89,9 @@ nlohmann::json to_json(const Features& f) {
         j["effects"][d->name] = {{"enabled", d->enabled}, {"needed", d->needed}, {"planned", d->planned}, {"reason", d->reason}};
     j["environment"] = f.environment;
     j["punctual_lights"] = f.punctual_lights;
+    j["area_light_pieces"] = f.area_light_pieces;
+    j["path"] = f.deferred ? "deferred" : "forward";
+    j["path_reason"] = f.path_reason;
     j["emissive_area_lights"] = f.scene.emissive_area_lights.needed;
     j["transmission"] = f.scene.transmission.needed;
     return j;

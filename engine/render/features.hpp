@@ -26,7 +26,9 @@ struct Features {
     EffectDecision shadows, ssao, rsm, transparency, reflections;
     bool environment = false;  // sky pass and ambient term
     int punctual_lights = 0;
-    int emissive_patches = 0;
+    int area_light_pieces = 0;  // emissive primitives drawn * arealight.samples
+    bool deferred = false;      // the render path
+    std::string path_reason;
     SceneFeatures scene;
     std::vector<const EffectDecision*> effects() const { return {&shadows, &ssao, &rsm, &transparency, &reflections}; }
 };

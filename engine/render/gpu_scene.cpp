@@ -79,36 +79,92 @@ LightData to_gpu(const Scene::PlacedLight& pl) {
     return d;
 }
 
-std::vector<LightData> emissive_patches(const Scene& scene, int subdivisions, std::size_t max_patches) {
-    std::vector<WorldTriangle> emitters;
-    for (const WorldTriangle& t : scene.world_triangles())
-        if (scene.material(t.material).is_emissive()) emitters.push_back(t);
-    std::vector<LightData> out;
-    if (emitters.empty()) return out;
-    int k = std::max(subdivisions, 1);
-    while (k > 1 && emitters.size() * static_cast<size_t>(k * k) > max_patches) --k;
-    if (emitters.size() > max_patches) emitters.resize(max_patches);
-    for (const WorldTriangle& t : emitters) {
-        const Material& m = scene.material(t.material);
-        const glm::vec3 cross = glm::cross(t.p[1] - t.p[0], t.p[2] - t.p[0]);
-        const float area2 = glm::length(cross);
-        if (!(area2 > 0.0f) || !std::isfinite(area2)) continue;
-        const glm::vec3 normal = cross / area2;
-        const float sub_area = 0.5f * area2 / static_cast<float>(k * k);
-        // Barycentric grid: k^2 congruent sub-triangles (upright and inverted), their centroids.
-        for (int i = 0; i < k; ++i)
-            for (int j = 0; j < k - i; ++j)
-                for (int inverted = 0; inverted < (j < k - i - 1 ? 2 : 1); ++inverted) {
-                    const float a = (static_cast<float>(i) + (inverted ? 2.0f : 1.0f) / 3.0f) / static_cast<float>(k);
-                    const float b = (static_cast<float>(j) + (inverted ? 2.0f : 1.0f) / 3.0f) / static_cast<float>(k);
-                    const glm::vec3 p = t.p[0] + a * (t.p[1] - t.p[0]) + b * (t.p[2] - t.p[0]);
-                    LightData d{};
-                    d.position_type = glm::vec4(p, 3.0f);
-                    d.direction_range = glm::vec4(normal, m.double_sided ? 1.0f : 0.0f);
-                    d.color = glm::vec4(m.emission() * sub_area, 0.0f);
-                    d.cone = glm::vec4(sub_area, 0.0f, 0.0f, 0.0f);
-                    out.push_back(d);
-                }
+namespace {
+
+struct MicroPatch {
+    glm::vec3 centroid;
+    glm::vec3 normal_area;  // normal * area
+    float area;
+};
+
+// Splits patches[lo, hi) into `pieces` groups of about equal area: sort along the longest axis of
+// their centroids and cut at the area quantile, recursively.
+void split_patches(std::vector<MicroPatch>& patches, size_t lo, size_t hi, int pieces, std::vector<std::pair<size_t, size_t>>& out) {
+    if (pieces <= 1 || hi - lo <= 1) {
+        out.emplace_back(lo, hi);
+        return;
+    }
+    Bounds b;
+    for (size_t i = lo; i < hi; ++i) b.extend(patches[i].centroid);
+    const glm::vec3 e = b.extent();
+    const int axis = e.x >= e.y && e.x >= e.z ? 0 : e.y >= e.z ? 1 : 2;
+    std::sort(patches.begin() + static_cast<std::ptrdiff_t>(lo), patches.begin() + static_cast<std::ptrdiff_t>(hi),
+              [axis](const MicroPatch& a, const MicroPatch& c) { return a.centroid[axis] < c.centroid[axis]; });
+    const int left = pieces / 2;
+    float total = 0.0f;
+    for (size_t i = lo; i < hi; ++i) total += patches[i].area;
+    const float target = total * static_cast<float>(left) / static_cast<float>(pieces);
+    float acc = 0.0f;
+    size_t mid = lo;
+    while (mid < hi - 1 && acc + patches[mid].area * 0.5f < target) acc += patches[mid++].area;
+    mid = std::clamp(mid, lo + 1, hi - 1);
+    split_patches(patches, lo, mid, left, out);
+    split_patches(patches, mid, hi, pieces - left, out);
+}
+
+}  // namespace
+
+std::vector<AreaPiece> area_light_pieces(const Scene& scene, const GpuScene& gpu, int samples) {
+    std::vector<AreaPiece> out;
+    const auto& draws = gpu.draws();
+    for (size_t di = 0; di < draws.size(); ++di) {
+        const GpuScene::Draw& d = draws[di];
+        const Node& node = scene.nodes[static_cast<size_t>(d.node)];
+        const Primitive* prim = &scene.meshes[static_cast<size_t>(node.mesh)].primitives[static_cast<size_t>(d.primitive)];
+        const Material& m = scene.material(prim->material);
+        if (!m.is_emissive()) continue;
+        const size_t tris = prim->triangle_count();
+        // Enough sub-triangles that every piece gets several.
+        int k = 1;
+        while (k < 8 && tris * static_cast<size_t>(k * k) < static_cast<size_t>(8 * samples)) ++k;
+        std::vector<MicroPatch> patches;
+        for (size_t t = 0; t < tris; ++t) {
+            glm::vec3 p[3];
+            for (int c = 0; c < 3; ++c)
+                p[c] = glm::vec3(d.model * glm::vec4(prim->vertices[prim->indices[t * 3 + static_cast<size_t>(c)]].position, 1.0f));
+            const glm::vec3 cr = glm::cross(p[1] - p[0], p[2] - p[0]);
+            const float area2 = glm::length(cr);
+            if (!(area2 > 0.0f) || !std::isfinite(area2)) continue;
+            const float sub_area = 0.5f * area2 / static_cast<float>(k * k);
+            // Barycentric grid: k^2 congruent sub-triangles (upright and inverted), their centroids.
+            for (int i = 0; i < k; ++i)
+                for (int j = 0; j < k - i; ++j)
+                    for (int inverted = 0; inverted < (j < k - i - 1 ? 2 : 1); ++inverted) {
+                        const float a = (static_cast<float>(i) + (inverted ? 2.0f : 1.0f) / 3.0f) / static_cast<float>(k);
+                        const float b = (static_cast<float>(j) + (inverted ? 2.0f : 1.0f) / 3.0f) / static_cast<float>(k);
+                        patches.push_back({p[0] + a * (p[1] - p[0]) + b * (p[2] - p[0]), cr / area2 * sub_area, sub_area});
+                    }
+        }
+        if (patches.empty()) continue;
+        std::vector<std::pair<size_t, size_t>> groups;
+        split_patches(patches, 0, patches.size(), samples, groups);
+        for (const auto& [lo, hi] : groups) {
+            AreaPiece piece;
+            glm::vec3 na(0.0f);
+            for (size_t i = lo; i < hi; ++i) {
+                piece.centroid += patches[i].centroid * patches[i].area;
+                piece.area += patches[i].area;
+                na += patches[i].normal_area;
+            }
+            if (!(piece.area > 0.0f)) continue;
+            piece.centroid /= piece.area;
+            const float nl = glm::length(na);
+            piece.normal = nl > 0.0f ? na / nl : glm::vec3(0.0f, -1.0f, 0.0f);
+            piece.power_per_sr = m.emission() * piece.area;
+            piece.double_sided = m.double_sided;
+            piece.draw = static_cast<int>(di);
+            out.push_back(piece);
+        }
     }
     return out;
 }
@@ -143,7 +199,6 @@ GpuScene::GpuScene(const Scene& scene) : scene_(scene) {
     mats.push_back(to_gpu(Material{}));  // the default material
     materials_ = gl::Buffer(static_cast<GLsizeiptr>(mats.size() * sizeof(MaterialData)), mats.data());
 
-    update_lights(3, 256);
 
     // Draws: every node reachable from the roots that has a mesh.
     std::vector<int> stack(scene.roots.begin(), scene.roots.end());
@@ -159,6 +214,7 @@ GpuScene::GpuScene(const Scene& scene) : scene_(scene) {
             if (p.indices.empty()) continue;
             Draw d{};
             d.node = ni;
+            d.primitive = static_cast<int>(pi);
             d.primitive_material = p.material >= 0 ? p.material : static_cast<int>(scene.materials.size());
             d.index_count = static_cast<GLsizei>(p.indices.size());
             d.first_index = ranges[static_cast<size_t>(node.mesh)][pi].first_index;
@@ -185,6 +241,8 @@ GpuScene::GpuScene(const Scene& scene) : scene_(scene) {
         }
     }
 
+    update_lights(4, false, 1);
+
     white_ = gl::Texture::create_2d(GL_RGBA8, 1, 1, 1);
     const std::uint8_t white[4] = {255, 255, 255, 255};
     glTextureSubImage2D(white_.id(), 0, 0, 0, 1, 1, GL_RGBA, GL_UNSIGNED_BYTE, white);
@@ -207,14 +265,53 @@ GpuScene::GpuScene(const Scene& scene) : scene_(scene) {
     }
 }
 
-void GpuScene::update_lights(int area_subdivisions, std::size_t max_patches) {
-    if (area_subdivisions == area_subdivisions_ && max_patches == max_patches_) return;
-    area_subdivisions_ = area_subdivisions;
-    max_patches_ = max_patches;
+void GpuScene::update_lights(int area_samples, bool shadows, int cascades) {
+    const std::tuple<int, bool, int> key{area_samples, shadows, cascades};
+    if (key == light_key_) return;
+    light_key_ = key;
     std::vector<LightData> lights;
-    for (const auto& pl : scene_.placed_lights()) lights.push_back(to_gpu(pl));
-    const std::vector<LightData> patches = emissive_patches(scene_, area_subdivisions, max_patches);
-    lights.insert(lights.end(), patches.begin(), patches.end());
+    light_infos_.clear();
+    for (const auto& pl : scene_.placed_lights()) {
+        lights.push_back(to_gpu(pl));
+        LightInfo info;
+        info.kind = pl.light->type == LightType::directional ? LightInfo::Kind::directional
+                    : pl.light->type == LightType::point     ? LightInfo::Kind::point
+                                                             : LightInfo::Kind::spot;
+        info.position = pl.position;
+        info.direction = pl.direction;
+        info.outer_cone = pl.light->outer_cone;
+        light_infos_.push_back(info);
+    }
+    punctual_count_ = static_cast<int>(lights.size());
+    for (const AreaPiece& piece : area_light_pieces(scene_, *this, area_samples)) {
+        LightData d{};
+        d.position_type = glm::vec4(piece.centroid, 3.0f);
+        d.direction_range = glm::vec4(piece.normal, piece.double_sided ? 1.0f : 0.0f);
+        d.color = glm::vec4(piece.power_per_sr, 0.0f);
+        d.cone = glm::vec4(piece.area, 0.0f, 0.0f, 0.0f);
+        lights.push_back(d);
+        LightInfo info;
+        info.kind = LightInfo::Kind::area;
+        info.position = piece.centroid;
+        info.direction = piece.normal;
+        info.size = std::sqrt(piece.area);
+        info.own_draw = piece.draw;
+        info.double_sided = piece.double_sided;
+        light_infos_.push_back(info);
+    }
+    // Shadow views: consecutive layers of one depth array. cone.z = first view, cone.w = count.
+    shadow_views_ = 0;
+    for (size_t i = 0; i < lights.size(); ++i) {
+        LightInfo& info = light_infos_[i];
+        info.view_count = !shadows ? 0
+                          : info.kind == LightInfo::Kind::directional ? cascades
+                          : info.kind == LightInfo::Kind::spot        ? 1
+                                                                      : 6;
+        info.first_view = info.view_count > 0 ? shadow_views_ : -1;
+        shadow_views_ += info.view_count;
+        lights[i].cone.z = static_cast<float>(info.first_view);
+        lights[i].cone.w = static_cast<float>(info.view_count);
+    }
     light_count_ = static_cast<int>(lights.size());
     if (lights.empty()) lights.push_back(LightData{});
     lights_ = gl::Buffer(static_cast<GLsizeiptr>(lights.size() * sizeof(LightData)), lights.data());

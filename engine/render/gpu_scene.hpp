@@ -19,7 +19,10 @@ struct FrameData {  // std140, binding 0
     glm::vec4 camera_pos;
     glm::vec4 env_radiance;
     glm::vec4 env_sh[9];
-    glm::ivec4 counts;
+    glm::ivec4 counts;       // x lights in the buffer, y env mips, z punctual lights
+    glm::ivec4 shadow_mode;  // x filter (0 off 1 hard 2 pcf 3 pcss), y pcf size, z/w pcss taps
+    glm::vec4 shadow_bias;   // x normal, y depth (texels), z resolution, w max radius (texels)
+    glm::ivec4 debug;        // x view (0 radiance, 1 visibility), y light
 };
 
 struct MaterialData {  // std430, binding 1
@@ -50,16 +53,41 @@ struct LightData {  // std430, binding 2
 std::array<glm::vec3, 9> project_irradiance_sh(const ImageF& equirect);
 
 MaterialData to_gpu(const Material& material);
-// Emissive surfaces as Lambertian patches (the rasterizer's area-light approximation): each
-// emissive triangle split into `subdivisions`^2 pieces, lowered when the total would pass
-// `max_patches`.
-std::vector<LightData> emissive_patches(const Scene& scene, int subdivisions = 3, std::size_t max_patches = 256);
 LightData to_gpu(const Scene::PlacedLight& light);
+
+// What the shadow setup needs to know about each light of the light buffer.
+struct LightInfo {
+    enum class Kind { directional, point, spot, area };
+    Kind kind = Kind::point;
+    glm::vec3 position{0.0f};
+    glm::vec3 direction{0.0f, -1.0f, 0.0f};  // where the light points (area piece: its normal)
+    float outer_cone = 0.0f;                  // spot, radians
+    float size = 0.0f;                        // world units (area piece: sqrt of its area)
+    int own_draw = -1;                        // an area piece's emitter: not drawn into its maps
+    bool double_sided = false;                // an area piece that emits from both sides
+    int first_view = -1, view_count = 0;      // shadow views (layers), set by assign_shadow_views
+};
+
+// The rasterizer's area-light approximation: each emissive draw split into `samples` pieces of
+// about equal area (recursive area-median splits of its triangles, refined into sub-triangles),
+// each a one- or two-sided Lambertian emitter at the piece's centroid.
+struct AreaPiece {
+    glm::vec3 centroid{0.0f};
+    glm::vec3 normal{0.0f, -1.0f, 0.0f};
+    float area = 0.0f;
+    glm::vec3 power_per_sr{0.0f};  // emitted radiance * area (W/sr at normal incidence)
+    bool double_sided = false;
+    int draw = -1;
+};
+
+class GpuScene;
+std::vector<AreaPiece> area_light_pieces(const Scene& scene, const GpuScene& gpu, int samples);
 
 class GpuScene {
 public:
     struct Draw {
         int node;
+        int primitive;           // index in the node's mesh
         int primitive_material;  // index into the material SSBO (default material appended last)
         GLsizei index_count;
         std::size_t first_index;
@@ -82,9 +110,14 @@ public:
     const gl::VertexArray& vertex_array() const { return vao_; }
     const gl::Buffer& materials() const { return materials_; }
     const gl::Buffer& lights() const { return lights_; }
-    // Rebuilds the light buffer: punctual lights plus emissive patches (no-op if unchanged).
-    void update_lights(int area_subdivisions, std::size_t max_patches);
+    // Rebuilds the light buffer: punctual lights, then `area_samples` pieces per emissive draw;
+    // with `shadows`, each light gets its shadow views (directional: `cascades`, spot: 1, point and
+    // area piece: 6 cube faces). No-op if nothing changed.
+    void update_lights(int area_samples, bool shadows, int cascades);
     int light_count() const { return light_count_; }
+    int punctual_light_count() const { return punctual_count_; }
+    const std::vector<LightInfo>& light_infos() const { return light_infos_; }
+    int shadow_view_count() const { return shadow_views_; }
     // Texture for a scene image, created on first use (sRGB or linear view of the same pixels).
     const gl::Texture& texture(int image, bool srgb);
     const gl::Sampler& sampler(const SamplerDesc& desc);
@@ -107,9 +140,9 @@ private:
     gl::Buffer vertices_, indices_, materials_, lights_;
     gl::VertexArray vao_;
     std::vector<Draw> draws_;
-    int light_count_ = 0;
-    int area_subdivisions_ = -1;
-    std::size_t max_patches_ = 0;
+    int light_count_ = 0, punctual_count_ = 0, shadow_views_ = 0;
+    std::tuple<int, bool, int> light_key_{-1, false, 0};
+    std::vector<LightInfo> light_infos_;
     std::map<std::pair<int, bool>, gl::Texture> textures_;
     std::map<std::tuple<int, int, int, int>, gl::Sampler> samplers_;
     gl::Texture white_;

@@ -7,11 +7,7 @@
 namespace candela {
 
 Renderer::Renderer(const ShaderLibrary& shaders, const Scene& scene, GpuScene& gpu, const RenderSettings& settings)
-    : scene_(scene), gpu_(gpu) {
-    programs_.forward = shaders.build_or_throw({"forward", {{ShaderStage::vertex, "forward/forward.vert"},
-                                                            {ShaderStage::fragment, "forward/forward.frag"}}, {}});
-    programs_.sky = shaders.build_or_throw({"sky", {{ShaderStage::vertex, "forward/sky.vert"},
-                                                    {ShaderStage::fragment, "forward/sky.frag"}}, {}});
+    : shaders_(shaders), scene_(scene), gpu_(gpu), scene_bounds_(scene.world_bounds()) {
     programs_.tonemap = shaders.build_or_throw({"tonemap", {{ShaderStage::vertex, "post/fullscreen.vert"},
                                                             {ShaderStage::fragment, "post/tonemap.frag"}}, {}});
     frame_ubo_ = gl::Buffer(sizeof(FrameData), nullptr, GL_DYNAMIC_STORAGE_BIT);
@@ -22,8 +18,64 @@ Renderer::Renderer(const ShaderLibrary& shaders, const Scene& scene, GpuScene& g
 void Renderer::set_settings(const RenderSettings& settings) {
     settings_ = settings;
     features_ = analyze(scene_, settings_);
-    gpu_.update_lights(settings_.area.subdivisions, static_cast<std::size_t>(settings_.area.max_patches));
-    features_.emissive_patches = gpu_.light_count() - features_.punctual_lights;
+    gpu_.update_lights(settings_.arealight.samples, features_.shadows.planned, settings_.shadow.cascades);
+    features_.area_light_pieces = gpu_.light_count() - gpu_.punctual_light_count();
+    // Programs for the planned passes only.
+    auto build = [&](gl::Program& program, const char* name, std::vector<std::pair<ShaderStage, std::string>> stages) {
+        if (program) return;
+        ProgramDesc desc{name, {}, {}};
+        for (auto& [stage, file] : stages) desc.stages.push_back({stage, file});
+        program = shaders_.build_or_throw(desc);
+    };
+    for (const PlannedPass& pass : plan_passes(features_, settings_)) {
+        if (pass.name == "forward_opaque" || pass.name == "depth_prepass" || pass.name == "transparent")
+            build(programs_.forward, "forward", {{ShaderStage::vertex, "forward/forward.vert"}, {ShaderStage::fragment, "forward/forward.frag"}});
+        else if (pass.name == "sky")
+            build(programs_.sky, "sky", {{ShaderStage::vertex, "forward/sky.vert"}, {ShaderStage::fragment, "forward/sky.frag"}});
+        else if (pass.name == "shadow_maps")
+            build(programs_.shadow, "shadow", {{ShaderStage::vertex, "shadow/shadow.vert"}, {ShaderStage::fragment, "shadow/shadow.frag"}});
+        else if (pass.name == "gbuffer")
+            build(programs_.gbuffer, "gbuffer", {{ShaderStage::vertex, "forward/forward.vert"}, {ShaderStage::fragment, "deferred/gbuffer.frag"}});
+        else if (pass.name == "deferred_lighting")
+            build(programs_.deferred_light, "deferred_light", {{ShaderStage::compute, "deferred/light.comp"}});
+    }
+}
+
+void Renderer::prepare_shadows(const Camera& camera, float aspect) {
+    ShadowResources& sr = shadows_;
+    const int res = settings_.shadow.resolution;
+    const int layers = std::max(gpu_.shadow_view_count(), 1);
+    if (sr.resolution != res || sr.layers != layers) {
+        GLuint id = 0;
+        glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &id);
+        glTextureStorage3D(id, 1, GL_DEPTH_COMPONENT32F, res, res, layers);
+        sr.array = gl::Texture::adopt(id, res, res, GL_DEPTH_COMPONENT32F);
+        sr.layer_fbos.clear();
+        for (int layer = 0; layer < layers; ++layer) {
+            gl::Framebuffer fbo = gl::Framebuffer::create();
+            glNamedFramebufferTextureLayer(fbo.id(), GL_DEPTH_ATTACHMENT, id, 0, layer);
+            glNamedFramebufferDrawBuffer(fbo.id(), GL_NONE);
+            fbo.check_complete("shadow map layer");
+            sr.layer_fbos.push_back(std::move(fbo));
+        }
+        sr.resolution = res;
+        sr.layers = layers;
+    }
+    if (!sr.compare) {
+        sr.compare = gl::Sampler::create(GL_LINEAR, GL_LINEAR, GL_CLAMP_TO_EDGE, GL_CLAMP_TO_EDGE);
+        glSamplerParameteri(sr.compare.id(), GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
+        glSamplerParameteri(sr.compare.id(), GL_TEXTURE_COMPARE_FUNC, GL_GEQUAL);  // lit: ref >= stored (reversed-Z)
+        sr.raw = gl::Sampler::create(GL_NEAREST, GL_NEAREST, GL_CLAMP_TO_EDGE, GL_CLAMP_TO_EDGE);
+    }
+    sr.cpu = build_shadow_views(gpu_, scene_bounds_, camera, aspect, settings_.shadow);
+    std::vector<ShadowViewData> views = sr.cpu.views;
+    if (views.empty()) views.push_back({});
+    const auto bytes = static_cast<GLsizeiptr>(views.size() * sizeof(ShadowViewData));
+    if (!sr.views || sr.views_bytes != bytes) {
+        sr.views = gl::Buffer(bytes, nullptr, GL_DYNAMIC_STORAGE_BIT);
+        sr.views_bytes = bytes;
+    }
+    sr.views.update(0, bytes, views.data());
 }
 
 void Renderer::render(const Camera& camera, int width, int height, FrameOutput output, float exposure_ev) {
@@ -45,15 +97,31 @@ void Renderer::render(const Camera& camera, int width, int height, FrameOutput o
     frame.camera_pos = glm::vec4(glm::vec3(camera.world[3]), 1.0f);
     frame.env_radiance = glm::vec4(gpu_.environment_radiance(), gpu_.has_environment_map() ? 1.0f : 0.0f);
     for (int i = 0; i < 9; ++i) frame.env_sh[i] = glm::vec4(gpu_.environment_sh()[static_cast<size_t>(i)], 0.0f);
-    frame.counts = glm::ivec4(gpu_.light_count(), gpu_.environment_mips(), 0, 0);
+    frame.counts = glm::ivec4(gpu_.light_count(), gpu_.environment_mips(), gpu_.punctual_light_count(), 0);
+    const bool shadows_on = features_.shadows.planned;
+    if (shadows_on) {
+        prepare_shadows(camera, aspect);
+        const std::string& f = settings_.shadow.filter;
+        frame.shadow_mode = glm::ivec4(f == "hard" ? 1 : f == "pcf" ? 2 : 3, settings_.shadow.pcf_size,
+                                       settings_.shadow.pcss_blocker_taps, settings_.shadow.pcss_taps);
+        frame.shadow_bias = glm::vec4(settings_.shadow.normal_bias, settings_.shadow.depth_bias,
+                                      static_cast<float>(settings_.shadow.resolution), settings_.shadow.max_radius);
+    }
+    frame.debug = glm::ivec4(settings_.debug.view == "visibility" ? 1 : 0, settings_.debug.light, 0, 0);
     frame_ubo_.update(0, sizeof(FrameData), &frame);
 
-    const PassEnv env{gpu_, settings_, frame, width, height, frame_ubo_, fbos_, programs_, empty_vao_};
+    const PassEnv env{gpu_, settings_, frame, width, height, frame_ubo_, fbos_, programs_, empty_vao_, shadows_, shadows_on};
     FrameGraph graph;
     ForwardTargets targets;
     targets.hdr = graph.import_texture("hdr", output_, {GL_RGBA32F, width, height});
+    if (shadows_on)
+        targets.shadow_maps = graph.import_texture("shadow_maps", shadows_.array,
+                                                   {GL_DEPTH_COMPONENT32F, shadows_.resolution, shadows_.resolution});
     for (const PlannedPass& pass : plan_passes(features_, settings_)) {
-        if (pass.name == "depth_prepass") add_depth_prepass(graph, env, targets);
+        if (pass.name == "shadow_maps") add_shadow_pass(graph, env, targets);
+        else if (pass.name == "gbuffer") add_gbuffer_pass(graph, env, targets, !features_.transparency.planned);
+        else if (pass.name == "deferred_lighting") add_deferred_lighting_pass(graph, env, targets);
+        else if (pass.name == "depth_prepass") add_depth_prepass(graph, env, targets);
         else if (pass.name == "forward_opaque") add_forward_opaque_pass(graph, env, targets, !features_.transparency.planned);
         else if (pass.name == "sky") add_sky_pass(graph, env, targets);
         else if (pass.name == "transparent") add_transparent_pass(graph, env, targets);

@@ -57,12 +57,19 @@ public:
     const gl::Texture& output() const { return output_; }
     const gl::Texture& display() const { return display_; }
     const TexturePool& pool() const { return pool_; }
+    // This frame's shadow views (empty when the shadow pass did not run).
+    const ShadowViews& shadow_views() const { return shadows_.cpu; }
     // Debug: after each pass compare GL's state with the state cache's (stalls).
     void set_verify_state(bool on) { verify_state_ = on; }
 
 private:
+    void prepare_shadows(const Camera& camera, float aspect);
+
+    const ShaderLibrary& shaders_;
     const Scene& scene_;
     GpuScene& gpu_;
+    Bounds scene_bounds_;
+    ShadowResources shadows_;
     RenderSettings settings_;
     Features features_;
     Programs programs_;

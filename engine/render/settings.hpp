@@ -19,16 +19,43 @@ struct RenderSettings {
     bool transparency = true;
     bool reflections = true;
 
+    // Render path (`--path`): forward shades every light per fragment; deferred writes a G-buffer
+    // and shades it in a tiled compute pass; auto picks deferred from `deferred.auto_lights` lights.
+    std::string path = "auto";  // auto|forward|deferred
+
     struct Forward {
         bool depth_prepass = false;  // draw depth first, shade with depth test EQUAL
     } forward;
+    struct Deferred {
+        // Light count from which `--path auto` renders deferred. Measured with
+        // `candela bench frame generated:lights:N --path forward|deferred` (README, issue 5 note).
+        int auto_lights = 8;  // [1, 100000]
+    } deferred;
+    struct Shadows {
+        int resolution = 1024;          // [64, 8192] texels per side of every shadow view
+        std::string filter = "pcss";    // hard|pcf|pcss: one 2x2 hardware PCF tap, pcf_size^2 taps, PCSS
+        int pcf_size = 5;               // [1, 15] taps per side of the PCF kernel
+        int pcss_blocker_taps = 16;     // [1, 128] blocker-search taps
+        int pcss_taps = 32;             // [1, 256] filter taps of PCSS
+        float max_radius = 32.0f;       // [1, 64] texels: the largest PCSS search and filter radius
+        float normal_bias = 1.0f;       // [0, 16] texels at the receiver, along its normal
+        float depth_bias = 0.5f;        // [0, 16] texels at the receiver, towards the light
+        float slope_bias = 1.5f;        // [0, 16] polygon-offset factor of the caster pass
+        int cascades = 1;               // [1, 4] directional-light cascades
+        float split_lambda = 0.7f;      // [0, 1] cascade splits: 0 uniform, 1 logarithmic
+    } shadow;
+    struct AreaLights {
+        // Raster approximation of each emissive mesh: this many Lambertian pieces, each a light at
+        // its piece's centroid with its own shadow map and a PCSS penumbra of the piece's size.
+        int samples = 4;  // [1, 64]
+    } arealight;
+    struct Debug {
+        std::string view = "none";  // none|visibility: the light visibility buffer instead of radiance
+        int light = 0;  // [0, 1e6] visibility of this light; >= the punctual count: all area lights
+    } debug;
     struct Transparency {
         std::string sort = "object";  // object: by bounds centre (triangle sort: transparency issue)
     } transparency_knobs;
-    struct AreaLights {
-        int subdivisions = 3;  // [1, 16] emissive triangle split into n^2 Lambertian patches
-        int max_patches = 256; // [1, 4096] total patches over the scene
-    } area;
     struct AmbientOcclusion {
         float radius = 1.0f;  // (0, 1e9] world units; SSAO and `--raytrace ao` use the same radius
     } ao;

@@ -86,12 +86,13 @@ const char* to_string(Mode mode) {
         case Mode::indirect: return "indirect";
         case Mode::ao: return "ao";
         case Mode::primary: return "primary";
+        case Mode::visibility: return "visibility";
     }
     return "?";
 }
 
 std::optional<Mode> parse_mode(const std::string& name) {
-    for (Mode m : {Mode::whitted, Mode::path, Mode::direct, Mode::indirect, Mode::ao, Mode::primary})
+    for (Mode m : {Mode::whitted, Mode::path, Mode::direct, Mode::indirect, Mode::ao, Mode::primary, Mode::visibility})
         if (name == to_string(m)) return m;
     return std::nullopt;
 }
@@ -114,6 +115,7 @@ RayTracer::RayTracer(const ShaderLibrary& shaders, const Scene& scene, GpuScene&
         case Mode::direct: defines.push_back("MODE_PATH"); break;
         case Mode::indirect: defines.push_back("MODE_INDIRECT"); break;
         case Mode::whitted: defines.push_back("MODE_WHITTED"); break;
+        case Mode::visibility: defines.push_back("MODE_VISIBILITY"); break;
     }
     if (!rt_scene_.geometry().emitters.empty()) defines.push_back("HAS_EMITTERS");
     if (rt_scene_.geometry().has_transmission) defines.push_back("HAS_TRANSMISSION");
@@ -152,7 +154,8 @@ Result RayTracer::render(const Camera& camera, int width, int height) {
                           static_cast<int>(g.emitters.size()), static_cast<int>(scene_.placed_lights().size()));
     f.counts2 = glm::ivec4(static_cast<int>(g.surfaces.size()), env_width_, env_height_, 0);
     f.params = glm::ivec4(options_.max_depth, options_.jitter, options_.indirect_occlusion ? 1 : 0, 0);
-    f.fparams = glm::vec4(options_.ao_radius, options_.whitted_max_roughness, static_cast<float>(g.emitted_power), 0.0f);
+    f.fparams = glm::vec4(options_.ao_radius, options_.whitted_max_roughness, static_cast<float>(g.emitted_power),
+                          static_cast<float>(options_.visibility_light));
 
     glUseProgram(program_.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, gpu_.materials().id());

@@ -11,7 +11,9 @@
 
 namespace candela::rt {
 
-enum class Mode { whitted, path, direct, indirect, ao, primary };
+// visibility: the fraction of one light reaching each visible point (the ground truth of the
+// raster visibility buffer, debug.view=visibility).
+enum class Mode { whitted, path, direct, indirect, ao, primary, visibility };
 const char* to_string(Mode mode);
 std::optional<Mode> parse_mode(const std::string& name);
 
@@ -33,6 +35,8 @@ struct Options {
     // Environment maps: sample directions by the map's luminance and combine with BRDF sampling
     // by MIS (path and direct). Off: BRDF sampling only (for comparison).
     bool env_importance = true;
+    // visibility mode: the light (debug.light); >= the punctual count: all emissive triangles.
+    int visibility_light = 0;
     bool progress = false;      // progress bar with ETA on stderr
     int tile_rows = 64;         // rows per dispatch: short dispatches never trip a GPU watchdog
     bool traversal_stats = false;  // count BVH nodes and primitives per ray (slower; benchmarks)

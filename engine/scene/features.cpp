@@ -40,11 +40,12 @@ SceneFeatures analyze_features(const Scene& scene, float reflection_roughness) {
         feat.needed = on;
         feat.reason = std::move(why);
     };
-    set(f.shadows, !lights.empty() && drawn_primitives >= 2,
-        lights.empty() ? "no punctual lights"
+    const bool any_light = !lights.empty() || emissive > 0;
+    set(f.shadows, any_light && drawn_primitives >= 2,
+        !any_light ? "no punctual or emissive lights"
         : drawn_primitives < 2 ? "fewer than two primitives: nothing can shadow anything"
-                               : std::to_string(lights.size()) + " punctual light(s) over " +
-                                     std::to_string(drawn_primitives) + " primitives");
+                               : std::to_string(lights.size()) + " punctual light(s) and " + std::to_string(emissive) +
+                                     " emissive material(s) over " + std::to_string(drawn_primitives) + " primitives");
     set(f.transparency, blend > 0, blend ? std::to_string(blend) + " BLEND material(s)" : "no BLEND materials");
     set(f.reflections, mirrors + transmissive > 0,
         mirrors + transmissive ? std::to_string(mirrors) + " metallic material(s) with roughness < " +

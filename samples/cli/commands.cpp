@@ -167,7 +167,7 @@ struct SceneSetup {
 };
 
 const std::vector<std::string> kSetupOptions = {"--size", "--backend", "--camera", "--environment", "--effects",
-                                                "--set", "--frames", "--warmup"};
+                                                "--set", "--frames", "--warmup", "--path", "--output-buffer"};
 const std::vector<std::string> kSetupFlags = {"--debug-gl", "--strict", "--verify-state", "--quiet"};
 
 int parse_int(const std::string& option, const std::string& text, int lo, int hi) {
@@ -190,6 +190,13 @@ SceneSetup setup_scene(const Parsed& p, const std::string& scene_path, int defau
     if (p.has("--frames")) s.options.frames = parse_int("--frames", p.get("--frames"), 1, 100000);
     if (p.has("--warmup")) s.options.warmup = parse_int("--warmup", p.get("--warmup"), 0, 100000);
     if (p.has("--effects")) apply_effects(s.options.settings, p.get("--effects"));
+    if (p.has("--path")) apply_knob(s.options.settings, "render.path=" + p.get("--path"));
+    if (p.has("--output-buffer")) {
+        const std::string b = p.get("--output-buffer");
+        if (b != "radiance" && b != "visibility")
+            throw bad_input("--output-buffer '" + b + "' must be radiance or visibility (the light is --set debug.light=K)");
+        s.options.settings.debug.view = b == "radiance" ? "none" : b;
+    }
     for (const std::string& knob : p.all("--set")) apply_knob(s.options.settings, knob);
     s.options.verify_state = p.flags.count("--verify-state") > 0;
     if (p.has("--backend")) {
@@ -230,7 +237,7 @@ int check_gl_errors(const SceneSetup& s) {
 int raytrace(const Parsed& p, const SceneSetup& s, const fs::path& out_path, float exposure) {
     rt::Options o;
     const auto mode = rt::parse_mode(p.get("--raytrace"));
-    if (!mode) throw bad_input("--raytrace '" + p.get("--raytrace") + "' must be whitted, path, direct, indirect, ao or primary");
+    if (!mode) throw bad_input("--raytrace '" + p.get("--raytrace") + "' must be whitted, path, direct, indirect, ao, primary or visibility");
     o.mode = *mode;
     if (p.has("--spp")) o.spp = parse_int("--spp", p.get("--spp"), 1, 1 << 24);
     if (p.has("--max-depth")) o.max_depth = parse_int("--max-depth", p.get("--max-depth"), 0, 64);
@@ -247,6 +254,7 @@ int raytrace(const Parsed& p, const SceneSetup& s, const fs::path& out_path, flo
     o.ao_radius = s.options.settings.ao.radius;
     o.whitted_max_roughness = s.options.settings.rt.whitted_max_roughness;
     o.indirect_occlusion = s.options.settings.rt.indirect_occlusion;
+    o.visibility_light = s.options.settings.debug.light;
     o.env_importance = s.options.settings.rt.env_importance;
     o.jitter = s.options.settings.rt.jitter == "auto" ? -1 : s.options.settings.rt.jitter == "on" ? 1 : 0;
     o.progress = true;

@@ -9,7 +9,13 @@ layout(std140, binding = 0) uniform Frame {
     vec4 camera_pos;       // xyz
     vec4 env_radiance;     // rgb: constant radiance, or the map's scale when w = 1 (a map is bound)
     vec4 env_sh[9];        // irradiance SH of the environment map (rgb), scaled
-    ivec4 counts;          // x = number of punctual lights, y = env map mip count
+    ivec4 counts;          // x = lights in the light buffer (punctual first, then area-light
+                           // pieces), y = env map mip count, z = punctual lights
+    ivec4 shadow_mode;     // x filter (0 off, 1 hard, 2 pcf, 3 pcss), y pcf size, z pcss blocker
+                           // taps, w pcss filter taps
+    vec4 shadow_bias;      // x normal offset, y depth bias (both texels), z map resolution,
+                           // w largest filter radius (texels)
+    ivec4 debug;           // x view (0 radiance, 1 light visibility), y light index
 } frame;
 
 struct MaterialData {

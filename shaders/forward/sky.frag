@@ -7,6 +7,10 @@ layout(location = 0) in vec2 v_ndc;
 layout(location = 0) out vec4 out_radiance;
 
 void main() {
+    if (frame.debug.x != 0) {  // debug views hold surface values; no light reaches the sky
+        out_radiance = vec4(0.0, 0.0, 0.0, 1.0);
+        return;
+    }
     vec4 p = frame.inv_view_proj * vec4(v_ndc, 0.5, 1.0);
     vec3 dir = normalize(p.xyz / p.w - frame.camera_pos.xyz);
     vec3 radiance = frame.env_radiance.rgb;

@@ -25,7 +25,7 @@ constexpr double kMaxFailingFraction = 0.001;
 
 int main(int argc, char** argv) {
     if (argc < 4) {
-        std::fprintf(stderr, "usage: candela_golden SCENE GOLDEN.png OUT_DIR --backend B [--size WxH] [--update]\n");
+        std::fprintf(stderr, "usage: candela_golden SCENE GOLDEN.png OUT_DIR --backend B [--path forward|deferred] [--size WxH] [--update]\n");
         return 2;
     }
     const fs::path scene_path = argv[1], golden = argv[2], out_dir = argv[3];
@@ -38,6 +38,7 @@ int main(int argc, char** argv) {
         if (a == "--update") update = true;
         else if (a == "--backend" && i + 1 < argc) backend = parse_backend(argv[++i]).value_or(Backend::egl);
         else if (a == "--size" && i + 1 < argc) std::sscanf(argv[++i], "%dx%d", &options.width, &options.height);
+        else if (a == "--path" && i + 1 < argc) options.settings.path = argv[++i];  // forward|deferred: one golden for both
         else {
             std::fprintf(stderr, "candela_golden: unknown argument '%s'\n", a.c_str());
             return 2;
@@ -66,7 +67,7 @@ int main(int argc, char** argv) {
             ++failures;
         }
         fs::create_directories(out_dir);
-        const std::string stem = scene_path.stem().string() + "." + to_string(backend);
+        const std::string stem = scene_path.stem().string() + "." + to_string(backend) + "." + options.settings.path;
         const fs::path actual_path = out_dir / (stem + ".actual.png");
         write_display_rgba8(actual_path, result.display, options.width, options.height);
         if (update) {

@@ -142,8 +142,8 @@ TEST(Settings, EffectsParsing) {
 
 TEST(Settings, KnobsAreRangeCheckedAndNamed) {
     RenderSettings s;
-    apply_knob(s, "area.subdivisions=5");
-    EXPECT_EQ(s.area.subdivisions, 5);
+    apply_knob(s, "arealight.samples=5");
+    EXPECT_EQ(s.arealight.samples, 5);
     apply_knob(s, "forward.depth_prepass=on");
     EXPECT_TRUE(s.forward.depth_prepass);
     apply_knob(s, "reflections.max_roughness=0.5");
@@ -157,13 +157,14 @@ TEST(Settings, KnobsAreRangeCheckedAndNamed) {
         }
         return std::string("(accepted)");
     };
-    EXPECT_NE(message("area.subdivisions=0").find("area.subdivisions=0: expected int in [1, 16]"), std::string::npos);
-    EXPECT_NE(message("area.subdivisions=2.5").find("[1, 16]"), std::string::npos);
+    EXPECT_NE(message("arealight.samples=0").find("arealight.samples=0: expected int in [1, 64]"), std::string::npos);
+    EXPECT_NE(message("arealight.samples=2.5").find("[1, 64]"), std::string::npos);
+    EXPECT_NE(message("shadows.filter=blur").find("hard|pcf|pcss"), std::string::npos);
     EXPECT_NE(message("reflections.max_roughness=nan").find("[0, 1]"), std::string::npos);
     EXPECT_NE(message("forward.depth_prepass=maybe").find("bool"), std::string::npos);
     EXPECT_NE(message("ssao.samples=16").find("unknown knob 'ssao.samples'"), std::string::npos);
     EXPECT_NE(message("novalue").find("expected KNOB=VALUE"), std::string::npos);
-    EXPECT_EQ(s.area.subdivisions, 5);  // rejected values change nothing
+    EXPECT_EQ(s.arealight.samples, 5);  // rejected values change nothing
 }
 
 }  // namespace

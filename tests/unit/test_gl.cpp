@@ -182,18 +182,25 @@ std::vector<std::string> pass_names(const StillResult& r) {
 TEST_P(GlTest, ExecutedPassesPerSampleScene) {
     using V = std::vector<std::string>;
     const std::vector<std::tuple<std::string, std::string, V>> expected = {
-        {"cornell_box", "all", V{"forward_opaque"}},
-        {"cornell_point", "all", V{"forward_opaque"}},
+        {"cornell_box", "all", V{"shadow_maps", "forward_opaque"}},
+        {"cornell_point", "all", V{"shadow_maps", "forward_opaque"}},
         {"cornell_point", "none", V{"forward_opaque"}},
-        {"spheres", "all", V{"forward_opaque", "sky"}},
-        {"shadow_test", "all", V{"forward_opaque", "sky"}},
-        {"transparency", "all", V{"forward_opaque", "sky", "transparent"}},
+        {"spheres", "all", V{"shadow_maps", "forward_opaque", "sky"}},
+        {"shadow_test", "all", V{"shadow_maps", "forward_opaque", "sky"}},
+        {"transparency", "all", V{"shadow_maps", "forward_opaque", "sky", "transparent"}},
         {"transparency", "none", V{"forward_opaque", "sky"}},
-        {"reflections", "all", V{"forward_opaque", "sky"}},
+        {"reflections", "all", V{"shadow_maps", "forward_opaque", "sky"}},
+        {"cornell_point", "all --path deferred", V{"shadow_maps", "gbuffer", "deferred_lighting"}},
+        {"transparency", "all --path deferred", V{"shadow_maps", "gbuffer", "deferred_lighting", "sky", "transparent"}},
+        {"cornell_point", "none --path deferred", V{"gbuffer", "deferred_lighting"}},
     };
-    for (const auto& [scene, effects, passes] : expected) {
-        SCOPED_TRACE(scene + " --effects " + effects);
-        const StillResult r = render_sample(scene, effects);
+    for (const auto& [scene, effects_and_path, passes] : expected) {
+        SCOPED_TRACE(scene + " --effects " + effects_and_path);
+        const size_t space = effects_and_path.find(' ');
+        const std::string effects = effects_and_path.substr(0, space);
+        std::vector<std::string> knobs;
+        if (space != std::string::npos) knobs.push_back("render.path=deferred");
+        const StillResult r = render_sample(scene, effects, 48, knobs);
         EXPECT_EQ(pass_names(r), passes);
         // The tonemap pass is declared every frame; for an HDR-only frame nobody reads it.
         ASSERT_EQ(r.report.culled.size(), 1u);
@@ -201,7 +208,7 @@ TEST_P(GlTest, ExecutedPassesPerSampleScene) {
         EXPECT_EQ(count_nonfinite(r.radiance), 0u);
         for (const auto& p : r.report.passes) {
             EXPECT_GE(p.gpu_ms, 0.0) << p.name;  // the timer query answered
-            EXPECT_GT(p.counters.draw_calls, 0) << p.name;
+            EXPECT_GT(p.counters.draw_calls + p.counters.dispatches, 0) << p.name;
         }
     }
 }
@@ -227,14 +234,17 @@ TEST_P(GlTest, GpuTonemapMatchesTheCppTransform) {
 }
 
 TEST_P(GlTest, SwitchingAnUnneededEffectChangesNothing) {
-    // cornell_point needs no transparency, reflections, SSAO (no ambient) or RSM (point light).
+    // cornell_point needs shadows only: no transparency, reflections, SSAO (no ambient) or RSM
+    // (point light).
     const StillResult all = render_sample("cornell_point", "all");
-    for (const char* effects : {"none", "transparency,reflections", "ssao,rsm"}) {
+    for (const char* effects : {"shadows", "shadows,transparency,reflections", "shadows,ssao,rsm"}) {
         SCOPED_TRACE(effects);
         const StillResult other = render_sample("cornell_point", effects);
         EXPECT_EQ(pass_names(other), pass_names(all));
         EXPECT_EQ(other.radiance.pixels, all.radiance.pixels);  // bit-identical
     }
+    // Shadows are needed: switching them off changes the image.
+    EXPECT_NE(render_sample("cornell_point", "none").radiance.pixels, all.radiance.pixels);
     // transparency.gltf does need transparency: switching it off must change the image.
     EXPECT_NE(render_sample("transparency", "none").radiance.pixels, render_sample("transparency", "all").radiance.pixels);
 }
@@ -244,7 +254,7 @@ TEST_P(GlTest, DepthPrepassGivesTheSameImage) {
         SCOPED_TRACE(scene);
         const StillResult plain = render_sample(scene, "all");
         const StillResult prepass = render_sample(scene, "all", 48, {"forward.depth_prepass=1"});
-        EXPECT_EQ(pass_names(prepass).front(), "depth_prepass");
+        EXPECT_EQ(pass_names(prepass).at(1), "depth_prepass");  // after shadow_maps
         const CompareResult c = compare(prepass.radiance, plain.radiance, 1e-6);
         EXPECT_EQ(c.failing_pixels, 0u) << "max difference " << c.max_abs;
     }

@@ -33,18 +33,28 @@ void bind_scene_buffers(const PassEnv& env) {
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, env.scene.lights().id());
     glBindTextureUnit(5, env.scene.environment_map().id());
     glBindSampler(5, 0);
+    if (env.shadows_on) {
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, env.shadows.views.id());
+        glBindTextureUnit(7, env.shadows.array.id());
+        glBindSampler(7, env.shadows.compare.id());
+        glBindTextureUnit(8, env.shadows.array.id());
+        glBindSampler(8, env.shadows.raw.id());
+    }
 }
 
-void draw_item(const PassEnv& env, FrameGraph::Context& ctx, const GpuScene::Draw& d, bool cull, GLenum cull_face) {
+void draw_item(const PassEnv& env, FrameGraph::Context& ctx, const GpuScene::Draw& d, bool cull, GLenum cull_face,
+               GLuint program_id) {
     ctx.state.set_cull(cull, cull_face);
     // A mirroring transform reverses the winding of its triangles.
     ctx.state.set_front_face(d.mirrored ? GL_CW : GL_CCW);
-    const GLuint program = env.programs.forward.id();
+    const GLuint program = program_id ? program_id : env.programs.forward.id();
+    // The shadow program has only the model matrix, the material and the base colour texture.
+    const bool depth_only = program == env.programs.shadow.id();
     glProgramUniformMatrix4fv(program, 0, 1, GL_FALSE, glm::value_ptr(d.model));
-    glProgramUniformMatrix3fv(program, 1, 1, GL_FALSE, glm::value_ptr(d.normal_matrix));
+    if (!depth_only) glProgramUniformMatrix3fv(program, 1, 1, GL_FALSE, glm::value_ptr(d.normal_matrix));
     glProgramUniform1i(program, 2, d.primitive_material);
-    glProgramUniform1i(program, 3, d.mirrored ? 1 : 0);
-    for (int s = 0; s < 5; ++s) {
+    if (!depth_only) glProgramUniform1i(program, 3, d.mirrored ? 1 : 0);
+    for (int s = 0; s < (depth_only ? 1 : 5); ++s) {
         const auto su = static_cast<size_t>(s);
         const gl::Texture& t = d.textures[su] >= 0 ? env.scene.texture(d.textures[su], d.srgb[su]) : env.scene.white_texture();
         glBindTextureUnit(static_cast<GLuint>(s), t.id());

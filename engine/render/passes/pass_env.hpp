@@ -8,6 +8,7 @@
 #include "gl/state.hpp"
 #include "render/frame_graph.hpp"
 #include "render/gpu_scene.hpp"
+#include "render/shadows.hpp"
 #include "render/settings.hpp"
 
 namespace candela {
@@ -26,6 +27,21 @@ struct Programs {
     gl::Program forward;
     gl::Program sky;
     gl::Program tonemap;
+    // Built on first use: a frame that plans no shadow or deferred pass never compiles them.
+    gl::Program shadow;
+    gl::Program gbuffer;
+    gl::Program deferred_light;
+};
+
+// The shadow maps of a frame: one DEPTH32F array layer per shadow view (render/shadows.hpp).
+struct ShadowResources {
+    gl::Texture array;
+    std::vector<gl::Framebuffer> layer_fbos;
+    gl::Buffer views;  // ShadowViewData[]
+    GLsizeiptr views_bytes = 0;
+    ShadowViews cpu;   // this frame's views
+    gl::Sampler compare, raw;
+    int resolution = 0, layers = 0;
 };
 
 struct PassEnv {
@@ -38,6 +54,8 @@ struct PassEnv {
     FramebufferCache& fbos;
     const Programs& programs;
     const gl::VertexArray& empty_vao;
+    ShadowResources& shadows;
+    bool shadows_on;  // the shadow pass runs this frame
 };
 
 // The resources the forward chain passes along.
@@ -45,14 +63,21 @@ struct ForwardTargets {
     FrameGraph::ResourceId hdr = -1;
     FrameGraph::ResourceId depth = -1;
     FrameGraph::ResourceId display = -1;  // RGBA8 display values (tonemap pass)
+    FrameGraph::ResourceId shadow_maps = -1;
+    FrameGraph::ResourceId gbuffer[3] = {-1, -1, -1};  // layout: shaders/lighting/gbuffer.glsl
 };
 
-// Binds the frame UBO, material and light SSBOs and the environment texture.
+// Binds the frame UBO, material and light SSBOs, the environment texture and the shadow maps.
 void bind_scene_buffers(const PassEnv& env);
-// Draws one scene item with the forward program (per-draw uniforms, textures, winding).
-void draw_item(const PassEnv& env, FrameGraph::Context& ctx, const GpuScene::Draw& d, bool cull, GLenum cull_face);
+// Draws one scene item with `program` (default: forward), which has the forward vertex layout and
+// per-draw uniforms (locations 0-3), textures and winding.
+void draw_item(const PassEnv& env, FrameGraph::Context& ctx, const GpuScene::Draw& d, bool cull, GLenum cull_face,
+               GLuint program = 0);
 
 // The passes, in the order the renderer adds them.
+void add_shadow_pass(FrameGraph& graph, const PassEnv& env, ForwardTargets& targets);
+void add_gbuffer_pass(FrameGraph& graph, const PassEnv& env, ForwardTargets& targets, bool blend_as_opaque);
+void add_deferred_lighting_pass(FrameGraph& graph, const PassEnv& env, ForwardTargets& targets);
 void add_depth_prepass(FrameGraph& graph, const PassEnv& env, ForwardTargets& targets);
 void add_forward_opaque_pass(FrameGraph& graph, const PassEnv& env, ForwardTargets& targets, bool blend_as_opaque);
 void add_sky_pass(FrameGraph& graph, const PassEnv& env, ForwardTargets& targets);

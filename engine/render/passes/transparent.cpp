@@ -12,6 +12,7 @@ void add_transparent_pass(FrameGraph& graph, const PassEnv& env, ForwardTargets&
         "transparent",
         [&](FrameGraph::Builder& b) {
             b.read(targets.depth);
+            if (targets.shadow_maps >= 0) b.read(targets.shadow_maps);
             b.write(targets.hdr);
         },
         [&env, &targets](FrameGraph::Context& ctx) {

@@ -1,0 +1,58 @@
+// Lighting of one surface point, shared by the forward pass and the deferred lighting pass (so
+// that both compute the same image): punctual lights and area-light pieces with their shadows,
+// plus the environment's ambient term. `pixel` seeds the shadow filter's tap rotation.
+#include "../common/brdf.glsl"
+#include "shadows.glsl"
+
+layout(binding = 5) uniform sampler2D t_environment;
+
+vec3 environment_specular(vec3 r, float roughness) {
+    if (frame.env_radiance.w < 0.5) return frame.env_radiance.rgb;
+    float lod = roughness * float(max(frame.counts.y - 1, 0));
+    return frame.env_radiance.rgb * textureLod(t_environment, direction_to_equirect(r), lod).rgb;
+}
+
+vec3 environment_irradiance(vec3 n) {
+    if (frame.env_radiance.w < 0.5) return PI * frame.env_radiance.rgb;
+    return max(sh_irradiance(n), vec3(0.0));
+}
+
+// Light i reflected towards v.
+vec3 shade_light(int i, BrdfInput bi, vec3 p, vec3 n, vec3 v, vec2 pixel) {
+    PunctualLight light = lights[i];
+    vec3 l, E;
+    float dist;
+    light_incidence(light, p, l, E, dist);
+    float NdotL = dot(n, l);
+    if (NdotL <= 0.0 || max(E.r, max(E.g, E.b)) <= 0.0) return vec3(0.0);
+    return brdf_eval(bi, n, l, v) * E * NdotL * shadow_factor(light, p, n, l, pixel);
+}
+
+vec3 shade_ambient(BrdfInput bi, vec3 n, vec3 v, float occlusion) {
+    vec3 r = reflect(-v, n);
+    return occlusion * brdf_ambient(bi, n, v, environment_irradiance(n), environment_specular(r, bi.roughness));
+}
+
+// The debug view `visibility` (debug.view): the fraction of light frame.debug.y that reaches p
+// (0 where the surface faces away or the light sends nothing towards p: outside a spot's cone,
+// behind a one-sided emitter). Light indices below the punctual count are punctual lights;
+// any larger index stands for all area-light pieces together, weighted by their power.
+float light_visibility(vec3 p, vec3 n, vec2 pixel) {
+    int first = frame.debug.y, last = frame.debug.y;
+    if (frame.debug.y >= frame.counts.z) {
+        first = frame.counts.z;
+        last = frame.counts.x - 1;
+    }
+    float sum = 0.0, weight = 0.0;
+    for (int i = first; i <= last; ++i) {
+        PunctualLight light = lights[i];
+        vec3 l, E;
+        float dist;
+        light_incidence(light, p, l, E, dist);
+        float w = light.color.r + light.color.g + light.color.b;
+        weight += w;
+        // Reached: facing the light, inside its cone or emitting side, and not shadowed.
+        if (dot(n, l) > 0.0 && max(E.r, max(E.g, E.b)) > 0.0) sum += w * shadow_factor(light, p, n, l, pixel);
+    }
+    return weight > 0.0 ? sum / weight : 0.0;
+}

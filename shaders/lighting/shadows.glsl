@@ -1,0 +1,128 @@
+// Shadow-map lookups shared by the forward and deferred lighting (engine/render/shadows.hpp builds
+// the views). All maps are layers of one depth array, reversed-Z (1 near the light, 0 far):
+// directional lights have one orthographic view per cascade, spot lights one perspective view,
+// point lights and area-light pieces six 90-degree views (+X, -X, +Y, -Y, +Z, -Z).
+// Biases are in shadow-map texels converted to world units at the receiver, so they hold at any
+// scene scale: a normal offset (receiver moved along its normal) and a depth bias (reference moved
+// towards the light); the caster side adds slope-scaled polygon offset.
+
+struct ShadowView {
+    mat4 view_proj;
+    vec4 params;   // x kind (0 ortho, 1 perspective), y texel size (ortho: world units; perspective:
+                   // tangent units, multiply by the distance), z ortho depth range / perspective near,
+                   // w array layer
+    vec4 params2;  // x cascade end (view depth, ortho), y light size (world units; directional:
+                   // angular diameter in radians), zw unused
+};
+
+layout(std430, binding = 3) readonly buffer ShadowViews { ShadowView shadow_views[]; };
+layout(binding = 7) uniform sampler2DArrayShadow t_shadow;  // GEQUAL compare, linear: 2x2 PCF
+layout(binding = 8) uniform sampler2DArray t_shadow_depth;  // raw depths for the blocker search
+
+const int SHADOW_OFF = 0, SHADOW_HARD = 1, SHADOW_PCF = 2, SHADOW_PCSS = 3;
+
+// Which of a light's views covers p.
+int shadow_view_index(PunctualLight light, vec3 p) {
+    int first = int(light.cone.z);
+    int count = int(light.cone.w);
+    if (count == 6) {
+        vec3 d = p - light.position_type.xyz;
+        vec3 a = abs(d);
+        if (a.x >= a.y && a.x >= a.z) return first + (d.x >= 0.0 ? 0 : 1);
+        if (a.y >= a.z) return first + (d.y >= 0.0 ? 2 : 3);
+        return first + (d.z >= 0.0 ? 4 : 5);
+    }
+    if (count > 1) {  // cascades, by view depth
+        float depth = -(frame.view * vec4(p, 1.0)).z;
+        for (int c = 0; c < count - 1; ++c)
+            if (depth <= shadow_views[first + c].params2.x) return first + c;
+        return first + count - 1;
+    }
+    return first;
+}
+
+// Interleaved gradient noise (Jimenez 2014): a per-pixel rotation of the tap pattern.
+float shadow_noise(vec2 pixel) { return fract(52.9829189 * fract(dot(pixel, vec2(0.06711056, 0.00583715)))); }
+
+// Vogel (golden angle) disk: tap i of n, unit radius.
+vec2 vogel_disk(int i, int n, float phi) {
+    float r = sqrt((float(i) + 0.5) / float(n));
+    float theta = float(i) * 2.39996323 + phi;
+    return r * vec2(cos(theta), sin(theta));
+}
+
+// Distance from the light plane (ortho) or point (perspective) of a stored depth.
+float shadow_linear_depth(ShadowView sv, float d) {
+    return sv.params.x < 0.5 ? (1.0 - d) * sv.params.z : sv.params.z / max(d, 1e-30);
+}
+
+// Fraction of the light reaching p (1 lit, 0 shadowed). n: the shading normal, l: towards the light.
+float shadow_factor(PunctualLight light, vec3 p, vec3 n, vec3 l, vec2 pixel) {
+    int mode = frame.shadow_mode.x;
+    if (mode == SHADOW_OFF || light.cone.w < 0.5) return 1.0;
+    ShadowView sv = shadow_views[shadow_view_index(light, p)];
+    bool ortho = sv.params.x < 0.5;
+    vec4 c0 = sv.view_proj * vec4(p, 1.0);
+    float texel_world = ortho ? sv.params.y : sv.params.y * max(c0.w, 0.0);
+    // Normal offset: more where the light grazes the surface.
+    float NdotL = saturate(dot(n, l));
+    vec3 q = p + n * (frame.shadow_bias.x * texel_world * (1.0 - NdotL * NdotL));
+    vec4 c = sv.view_proj * vec4(q, 1.0);
+    if (c.w <= 0.0) return 1.0;
+    vec3 ndc = c.xyz / c.w;
+    vec2 uv = ndc.xy * 0.5 + 0.5;
+    if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) return 1.0;
+    // Depth bias towards the light, converted to the map's depth units at this distance.
+    float bias_world = frame.shadow_bias.y * texel_world;
+    float ref = ndc.z + (ortho ? bias_world / sv.params.z : sv.params.z * bias_world / (c.w * c.w));
+    if (ref >= 1.0) return 1.0;  // nearer to the light than anything in the map
+    float layer = sv.params.w;
+    float res = frame.shadow_bias.z;
+    vec2 texel_uv = vec2(1.0 / res);
+
+    if (mode == SHADOW_HARD) return texture(t_shadow, vec4(uv, layer, ref));
+    if (mode == SHADOW_PCF) {
+        int size = frame.shadow_mode.y;
+        int h = size / 2;
+        float sum = 0.0;
+        for (int y = -h; y <= h; ++y)
+            for (int x = -h; x <= h; ++x) sum += texture(t_shadow, vec4(uv + vec2(x, y) * texel_uv, layer, ref));
+        return sum / float(size * size);
+    }
+    // PCSS (Fernando 2005): blocker search, penumbra estimate, variable-size PCF.
+    float light_size = sv.params2.y;
+    float max_radius = frame.shadow_bias.w;
+    float z_receiver = shadow_linear_depth(sv, ndc.z);
+    float phi = 2.0 * PI * shadow_noise(pixel);
+    float search_texels;
+    if (ortho) {
+        search_texels = 0.5 * light_size * z_receiver / texel_world;
+    } else {
+        float near = sv.params.z;
+        search_texels = 0.5 * light_size * (z_receiver - near) / (z_receiver * near) / sv.params.y;
+    }
+    search_texels = clamp(search_texels, 1.0, max_radius);
+    int blocker_taps = frame.shadow_mode.z;
+    float blocker_sum = 0.0;
+    int blockers = 0;
+    for (int i = 0; i < blocker_taps; ++i) {
+        vec2 o = vogel_disk(i, blocker_taps, phi) * search_texels * texel_uv;
+        float d = textureLod(t_shadow_depth, vec3(uv + o, layer), 0.0).r;
+        if (d > ref) {
+            blocker_sum += shadow_linear_depth(sv, d);
+            ++blockers;
+        }
+    }
+    if (blockers == 0) return 1.0;
+    float z_blocker = blocker_sum / float(blockers);
+    float penumbra_world = ortho ? (z_receiver - z_blocker) * light_size
+                                 : light_size * (z_receiver - z_blocker) / max(z_blocker, 1e-30);
+    float radius = clamp(0.5 * penumbra_world / texel_world, 1.0, max_radius);
+    int taps = frame.shadow_mode.w;
+    float sum = 0.0;
+    for (int i = 0; i < taps; ++i) {
+        vec2 o = vogel_disk(i, taps, phi) * radius * texel_uv;
+        sum += texture(t_shadow, vec4(uv + o, layer, ref));
+    }
+    return sum / float(taps);
+}

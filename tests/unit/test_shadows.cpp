@@ -1,0 +1,286 @@
+// Shadow maps judged against the ray tracer's exact visibility (`debug.view=visibility` against
+// `--raytrace visibility`): no acne at any light elevation, bounded peter-panning, no seams
+// between the faces of a point light's cube map, the same visibility at any scene scale, and the
+// deferred path equal to the forward one.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+
+#include <glm/gtx/quaternion.hpp>
+
+#include "gl_fixture.hpp"
+#include "gltf_builder.hpp"
+#include "render/renderer.hpp"
+#include "render/still.hpp"
+#include "rt/ray_tracer.hpp"
+#include "scene/gltf_loader.hpp"
+
+namespace candela {
+namespace {
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+ShaderLibrary shader_lib() { return ShaderLibrary(fs::path(CANDELA_SOURCE_DIR) / "shaders"); }
+
+json lambert(glm::vec3 c) {
+    return {{"pbrMetallicRoughness", {{"baseColorFactor", {c.r, c.g, c.b, 1}}, {"metallicFactor", 0}, {"roughnessFactor", 1}}}};
+}
+
+// An axis-aligned unit cube [-0.5, 0.5]^3 with outward normals.
+int add_box_mesh(test::GltfBuilder& b, int material) {
+    std::vector<glm::vec3> p, n;
+    std::vector<uint32_t> idx;
+    for (int axis = 0; axis < 3; ++axis)
+        for (int sign = -1; sign <= 1; sign += 2) {
+            glm::vec3 nn(0.0f);
+            nn[axis] = static_cast<float>(sign);
+            const glm::vec3 u = axis == 0 ? glm::vec3(0, 1, 0) : axis == 1 ? glm::vec3(0, 0, 1) : glm::vec3(1, 0, 0);
+            const glm::vec3 v = glm::cross(nn, u);
+            const uint32_t base = static_cast<uint32_t>(p.size());
+            for (int k = 0; k < 4; ++k) {
+                const float a = (k == 1 || k == 2) ? 0.5f : -0.5f, c = k >= 2 ? 0.5f : -0.5f;
+                p.push_back(nn * 0.5f + u * a + v * c);
+                n.push_back(nn);
+            }
+            idx.insert(idx.end(), {base, base + 1, base + 2, base, base + 2, base + 3});
+        }
+    return b.add_mesh({{"POSITION", b.add_positions(p)}, {"NORMAL", b.add_vec3(n)}}, b.add_indices(idx), material);
+}
+
+json quat_json(const glm::quat& q) { return {q.x, q.y, q.z, q.w}; }
+
+// Rotation that turns a node's -Z (where lights and cameras look) towards `dir`.
+glm::quat look_along(glm::vec3 dir) { return glm::rotation(glm::vec3(0, 0, -1), glm::normalize(dir)); }
+
+void add_floor(test::GltfBuilder& b, float half) {
+    b.add_node({{"mesh", b.add_quad_mesh(0)}, {"rotation", {-0.70710678, 0, 0, 0.70710678}}, {"scale", {half, half, half}}});
+}
+
+void add_light(test::GltfBuilder& b, const std::string& type, glm::vec3 pos, glm::vec3 dir) {
+    b.json()["extensions"]["KHR_lights_punctual"]["lights"] = {{{"type", type}, {"intensity", 5.0}}};
+    b.add_node({{"translation", {pos.x, pos.y, pos.z}},
+                {"rotation", quat_json(look_along(dir))},
+                {"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}});
+}
+
+struct Visibility {
+    ImageF image;
+    ShadowViews views;
+};
+
+class ShadowTest : public test::GlContextTest {
+protected:
+    Visibility raster(const Scene& scene, int w, int h, const std::vector<std::string>& knobs = {}, int light = 0) {
+        GpuScene gpu(scene);
+        RenderSettings s;
+        s.debug.view = "visibility";
+        s.debug.light = light;
+        for (const auto& k : knobs) apply_knob(s, k);
+        Renderer renderer(lib_, scene, gpu, s);
+        renderer.render(scene.select_camera("", static_cast<float>(w) / static_cast<float>(h)), w, h);
+        Visibility v{renderer.read_radiance(), renderer.shadow_views()};
+        EXPECT_EQ(count_nonfinite(v.image), 0u);
+        return v;
+    }
+    ImageF traced(const Scene& scene, int w, int h, int spp = 1, int light = 0) {
+        GpuScene gpu(scene);
+        rt::Options o;
+        o.mode = rt::Mode::visibility;
+        o.spp = spp;
+        o.visibility_light = light;
+        rt::RayTracer tracer(lib_, scene, gpu, o);
+        rt::Result r = tracer.render(scene.select_camera("", static_cast<float>(w) / static_cast<float>(h)), w, h);
+        EXPECT_EQ(r.nonfinite_samples, 0u);
+        EXPECT_EQ(count_nonfinite(r.image), 0u);
+        return r.image;
+    }
+    ShaderLibrary lib_ = shader_lib();
+};
+
+// Of the pixels the ray tracer finds lit, the fraction the raster also finds lit.
+double lit_agreement(const ImageF& raster, const ImageF& reference, int* lit_count = nullptr) {
+    int lit = 0, agree = 0;
+    for (int y = 0; y < raster.height; ++y)
+        for (int x = 0; x < raster.width; ++x)
+            if (reference.at(x, y)[0] > 0.5f) {
+                ++lit;
+                agree += raster.at(x, y)[0] > 0.5f;
+            }
+    if (lit_count) *lit_count = lit;
+    return lit ? static_cast<double>(agree) / lit : 0.0;
+}
+
+double mismatch_fraction(const ImageF& a, const ImageF& b) {
+    int differ = 0;
+    for (int y = 0; y < a.height; ++y)
+        for (int x = 0; x < a.width; ++x) differ += (a.at(x, y)[0] > 0.5f) != (b.at(x, y)[0] > 0.5f);
+    return static_cast<double>(differ) / (a.width * a.height);
+}
+
+TEST_P(ShadowTest, NoAcneAtAnyDirectionalElevation) {
+    for (float elevation : {5.0f, 30.0f, 60.0f, 85.0f}) {
+        SCOPED_TRACE("elevation " + std::to_string(elevation));
+        test::GltfBuilder b;
+        b.json()["materials"] = {lambert(glm::vec3(0.8f))};
+        add_floor(b, 10.0f);
+        b.add_node({{"mesh", add_box_mesh(b, 0)}, {"translation", {0, 0.5, 0}}});
+        const float e = glm::radians(elevation);
+        add_light(b, "directional", glm::vec3(0, 5, 0), glm::vec3(0.6f * std::cos(e), -std::sin(e), -0.8f * std::cos(e)));
+        b.json()["cameras"] = {{{"type", "perspective"}, {"perspective", {{"yfov", 0.9}, {"znear", 0.05}}}}};
+        b.add_node({{"camera", 0}, {"translation", {0, 3, 8}}, {"rotation", quat_json(look_along(glm::vec3(0, -3, -8)))}});
+        const Scene scene = load_gltf(b.write(test::test_dir("acne"), "acne"));
+        const ImageF reference = traced(scene, 128, 96);
+        for (const char* filter : {"hard", "pcf", "pcss"}) {
+            SCOPED_TRACE(filter);
+            const Visibility v = raster(scene, 128, 96, {std::string("shadows.filter=") + filter});
+            int lit = 0;
+            const double agreement = lit_agreement(v.image, reference, &lit);
+            EXPECT_GT(lit, 128 * 96 / 4);  // the floor is mostly lit
+            EXPECT_GE(agreement, 0.995) << "lit pixels " << lit;
+            std::printf("elevation %g %s: lit %d agreement %.5f mismatch %.5f\n", elevation, filter, lit, agreement,
+                        mismatch_fraction(v.image, reference));
+            // And the shadow is there: the raster does not pass by lighting everything.
+            EXPECT_LE(lit_agreement(reference, v.image), 1.0);
+            EXPECT_LT(mismatch_fraction(v.image, reference), 0.02);
+        }
+        // The comparison can see acne: without the biases the same setup has plenty.
+        const Visibility unbiased = raster(scene, 128, 96, {"shadows.filter=hard", "shadows.normal_bias=0", "shadows.depth_bias=0",
+                                                            "shadows.slope_bias=0"});
+        std::printf("elevation %g without bias: agreement %.5f\n", elevation, lit_agreement(unbiased.image, reference));
+        EXPECT_LT(lit_agreement(unbiased.image, reference), 0.95);
+    }
+}
+
+TEST_P(ShadowTest, PeterPanningIsBoundedInTexels) {
+    // A unit box on the floor, a directional light at 45 degrees travelling +X: the shadow starts
+    // at the box's +X side (x = 0.5). Seen from straight above, the gap between the base and the
+    // raster shadow, beyond the reference's, must stay within 1.5 shadow texels.
+    test::GltfBuilder b;
+    b.json()["materials"] = {lambert(glm::vec3(0.8f))};
+    add_floor(b, 4.0f);
+    b.add_node({{"mesh", add_box_mesh(b, 0)}, {"translation", {0, 0.5, 0}}});
+    add_light(b, "directional", glm::vec3(0, 5, 0), glm::vec3(1, -1, 0));
+    const float half = 0.6f, cx = 0.9f;
+    b.json()["cameras"] = {{{"type", "orthographic"}, {"orthographic", {{"xmag", half}, {"ymag", half}, {"znear", 0.01}, {"zfar", 10}}}}};
+    b.add_node({{"camera", 0}, {"translation", {cx, 5, 0}}, {"rotation", {-0.70710678, 0, 0, 0.70710678}}});
+    const Scene scene = load_gltf(b.write(test::test_dir("peterpan"), "peterpan"));
+    const int n = 240;
+    const float pixel = 2.0f * half / n;
+    const ImageF reference = traced(scene, n, n);
+    for (const char* filter : {"hard", "pcf", "pcss"}) {
+        SCOPED_TRACE(filter);
+        const Visibility v = raster(scene, n, n, {"shadows.resolution=256", std::string("shadows.filter=") + filter});
+        ASSERT_FALSE(v.views.texel_world.empty());
+        const float texel = v.views.texel_world[0];
+        ASSERT_GT(texel, pixel);  // the image resolves the shadow map's texels
+        double worst = 0.0;
+        int rows = 0;
+        for (int y = n / 2 - 20; y < n / 2 + 20; ++y) {  // rows through the box's middle (|z| < 0.1)
+            auto first_shadowed = [&](const ImageF& img) {
+                for (int x = 0; x < n; ++x) {
+                    const float wx = cx - half + (static_cast<float>(x) + 0.5f) * pixel;
+                    if (wx > 0.5f + pixel && img.at(x, y)[0] < 0.5f) return wx;
+                }
+                return 1e9f;
+            };
+            const float raster_start = first_shadowed(v.image), reference_start = first_shadowed(reference);
+            ASSERT_LT(reference_start, 0.6f);  // the reference shadow touches the box
+            worst = std::max(worst, static_cast<double>(raster_start - reference_start));
+            ++rows;
+        }
+        EXPECT_EQ(rows, 40);
+        EXPECT_LE(worst / texel, 1.5) << "gap " << worst << " world units, texel " << texel;
+        std::printf("peter-panning %s: gap %.3f texels (texel %g, pixel %g)\n", filter, worst / texel, texel, pixel);
+    }
+}
+
+TEST_P(ShadowTest, PointLightCubeHasNoSeams) {
+    // A point light 1 above a floor with posts around it: the cube faces meet along |x| = 1,
+    // |z| = 1 and |x| = |z| on the floor. Along those lines the raster agrees with the ray tracer
+    // as well as anywhere else.
+    test::GltfBuilder b;
+    b.json()["materials"] = {lambert(glm::vec3(0.8f))};
+    add_floor(b, 3.0f);
+    const int box = add_box_mesh(b, 0);
+    for (const glm::vec2 post : {glm::vec2(0.7f, 0.7f), glm::vec2(-0.9f, 0.3f), glm::vec2(0.2f, -0.95f), glm::vec2(-0.6f, -0.6f)})
+        b.add_node({{"mesh", box}, {"translation", {post.x, 0.25, post.y}}, {"scale", {0.15, 0.5, 0.15}}});
+    add_light(b, "point", glm::vec3(0, 1, 0), glm::vec3(0, -1, 0));
+    b.json()["cameras"] = {{{"type", "orthographic"}, {"orthographic", {{"xmag", 3}, {"ymag", 3}, {"znear", 0.01}, {"zfar", 10}}}}};
+    b.add_node({{"camera", 0}, {"translation", {0, 5, 0}}, {"rotation", {-0.70710678, 0, 0, 0.70710678}}});
+    const Scene scene = load_gltf(b.write(test::test_dir("cube"), "cube"));
+    const int n = 200;
+    const ImageF reference = traced(scene, n, n);
+    const Visibility v = raster(scene, n, n);
+    int border = 0, border_differ = 0, other = 0, other_differ = 0;
+    for (int y = 0; y < n; ++y)
+        for (int x = 0; x < n; ++x) {
+            // Pixel to floor point; image top is -Z.
+            const float wx = -3.0f + 6.0f * (static_cast<float>(x) + 0.5f) / n, wz = -3.0f + 6.0f * (static_cast<float>(y) + 0.5f) / n;
+            const glm::vec3 d = glm::abs(glm::vec3(wx, -1.0f, wz));
+            const float major = std::max({d.x, d.y, d.z});
+            const float second = d.x + d.y + d.z - major - std::min({d.x, d.y, d.z});
+            const bool near_border = major - second < 0.03f * major;
+            const bool differ = (v.image.at(x, y)[0] > 0.5f) != (reference.at(x, y)[0] > 0.5f);
+            (near_border ? border : other) += 1;
+            (near_border ? border_differ : other_differ) += differ;
+        }
+    ASSERT_GT(border, 500);
+    const double border_rate = static_cast<double>(border_differ) / border;
+    const double other_rate = static_cast<double>(other_differ) / other;
+    EXPECT_LT(border_rate, 0.01) << border_differ << " of " << border << " border pixels differ";
+    EXPECT_LT(other_rate, 0.01);
+    std::printf("cube seams: border %d pixels, %.5f differ; elsewhere %.5f\n", border, border_rate, other_rate);
+}
+
+// shadow_test.gltf under a root node scaled by `s` (the camera too: the same picture).
+Scene scaled_shadow_test(float s) {
+    const fs::path src = fs::path(CANDELA_SOURCE_DIR) / "samples" / "scenes";
+    json j = json::parse(std::ifstream(src / "shadow_test.gltf"));
+    const fs::path dir = test::test_dir("scaled_" + std::to_string(s));
+    fs::copy_file(src / "shadow_test.bin", dir / "shadow_test.bin");
+    json roots = j["scenes"][0]["nodes"];
+    j["nodes"].push_back({{"name", "scale"}, {"scale", {s, s, s}}, {"children", roots}});
+    j["scenes"][0]["nodes"] = {j["nodes"].size() - 1};
+    std::ofstream(dir / "shadow_test.gltf") << j.dump();
+    return load_gltf(dir / "shadow_test.gltf");
+}
+
+TEST_P(ShadowTest, VisibilityIsTheSameAtAnyScale) {
+    const ImageF unit = raster(scaled_shadow_test(1.0f), 160, 120).image;
+    for (float s : {0.01f, 100.0f}) {
+        SCOPED_TRACE(s);
+        const ImageF scaled = raster(scaled_shadow_test(s), 160, 120).image;
+        EXPECT_LT(mismatch_fraction(scaled, unit), 0.002);
+        std::printf("scale %g: mismatch %.5f\n", s, mismatch_fraction(scaled, unit));
+    }
+}
+
+TEST_P(ShadowTest, ForwardAndDeferredAgreeOnOpaqueScenes) {
+    for (const char* name : {"cornell_box", "cornell_point", "shadow_test", "spheres", "reflections"}) {
+        SCOPED_TRACE(name);
+        const Scene scene = load_gltf(fs::path(CANDELA_SOURCE_DIR) / "samples" / "scenes" / (std::string(name) + ".gltf"));
+        StillOptions o;
+        o.width = o.height = 96;
+        o.output = FrameOutput::display;
+        o.settings.path = "forward";
+        const StillResult fwd = render_still(scene, lib_, o);
+        o.settings.path = "deferred";
+        const StillResult def = render_still(scene, lib_, o);
+        EXPECT_EQ(def.report.passes.at(def.report.passes.size() - 2).name == "deferred_lighting" ||
+                      def.report.passes.at(def.report.passes.size() - 3).name == "deferred_lighting",
+                  true);
+        // The golden tolerance on the display values: at most 0.1% of pixels off by more than 2/255.
+        int off = 0;
+        for (size_t i = 0; i < fwd.display.size(); ++i)
+            if (i % 4 != 3) off += std::abs(static_cast<int>(fwd.display[i]) - static_cast<int>(def.display[i])) > 2;
+        EXPECT_LE(off, static_cast<int>(0.001 * 96 * 96 * 3) + 1);
+        std::printf("forward vs deferred %s: %d channel values off by > 2/255\n", name, off);
+        EXPECT_EQ(count_nonfinite(def.radiance), 0u);
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(Backends, ShadowTest, ::testing::Values(Backend::egl), test::backend_name);
+
+}  // namespace
+}  // namespace candela
