@@ -241,7 +241,7 @@ GpuScene::GpuScene(const Scene& scene) : scene_(scene) {
         }
     }
 
-    update_lights(4, false, 1);
+    update_lights(4, false, 1, 0);
 
     white_ = gl::Texture::create_2d(GL_RGBA8, 1, 1, 1);
     const std::uint8_t white[4] = {255, 255, 255, 255};
@@ -265,8 +265,8 @@ GpuScene::GpuScene(const Scene& scene) : scene_(scene) {
     }
 }
 
-void GpuScene::update_lights(int area_samples, bool shadows, int cascades) {
-    const std::tuple<int, bool, int> key{area_samples, shadows, cascades};
+void GpuScene::update_lights(int area_samples, bool shadows, int cascades, int max_shadowed) {
+    const std::tuple<int, bool, int, int> key{area_samples, shadows, cascades, max_shadowed};
     if (key == light_key_) return;
     light_key_ = key;
     std::vector<LightData> lights;
@@ -299,11 +299,21 @@ void GpuScene::update_lights(int area_samples, bool shadows, int cascades) {
         info.double_sided = piece.double_sided;
         light_infos_.push_back(info);
     }
+    // The shadow budget: directional lights first, then the brightest (rgb sum of the intensity).
+    std::vector<size_t> order(lights.size());
+    for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+    auto priority = [&](size_t i) {
+        if (light_infos_[i].kind == LightInfo::Kind::directional) return 1e30f;
+        return lights[i].color.r + lights[i].color.g + lights[i].color.b;
+    };
+    std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return priority(a) > priority(b); });
+    std::vector<bool> shadowed(lights.size(), false);
+    for (size_t k = 0; k < order.size() && k < static_cast<size_t>(std::max(max_shadowed, 0)); ++k) shadowed[order[k]] = true;
     // Shadow views: consecutive layers of one depth array. cone.z = first view, cone.w = count.
     shadow_views_ = 0;
     for (size_t i = 0; i < lights.size(); ++i) {
         LightInfo& info = light_infos_[i];
-        info.view_count = !shadows ? 0
+        info.view_count = !shadows || !shadowed[i] ? 0
                           : info.kind == LightInfo::Kind::directional ? cascades
                           : info.kind == LightInfo::Kind::spot        ? 1
                                                                       : 6;

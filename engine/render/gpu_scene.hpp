@@ -22,6 +22,7 @@ struct FrameData {  // std140, binding 0
     glm::ivec4 counts;       // x lights in the buffer, y env mips, z punctual lights
     glm::ivec4 shadow_mode;  // x filter (0 off 1 hard 2 pcf 3 pcss), y pcf size, z/w pcss taps
     glm::vec4 shadow_bias;   // x normal, y depth (texels), z resolution, w max radius (texels)
+    glm::vec4 shadow_bias2;  // x receiver-slope bias of filter taps
     glm::ivec4 debug;        // x view (0 radiance, 1 visibility), y light
 };
 
@@ -112,8 +113,9 @@ public:
     const gl::Buffer& lights() const { return lights_; }
     // Rebuilds the light buffer: punctual lights, then `area_samples` pieces per emissive draw;
     // with `shadows`, each light gets its shadow views (directional: `cascades`, spot: 1, point and
-    // area piece: 6 cube faces). No-op if nothing changed.
-    void update_lights(int area_samples, bool shadows, int cascades);
+    // area piece: 6 cube faces) for at most `max_shadowed` lights: directional ones first, then the
+    // brightest. No-op if nothing changed.
+    void update_lights(int area_samples, bool shadows, int cascades, int max_shadowed);
     int light_count() const { return light_count_; }
     int punctual_light_count() const { return punctual_count_; }
     const std::vector<LightInfo>& light_infos() const { return light_infos_; }
@@ -141,7 +143,7 @@ private:
     gl::VertexArray vao_;
     std::vector<Draw> draws_;
     int light_count_ = 0, punctual_count_ = 0, shadow_views_ = 0;
-    std::tuple<int, bool, int> light_key_{-1, false, 0};
+    std::tuple<int, bool, int, int> light_key_{-1, false, 0, 0};
     std::vector<LightInfo> light_infos_;
     std::map<std::pair<int, bool>, gl::Texture> textures_;
     std::map<std::tuple<int, int, int, int>, gl::Sampler> samplers_;

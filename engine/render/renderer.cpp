@@ -18,7 +18,8 @@ Renderer::Renderer(const ShaderLibrary& shaders, const Scene& scene, GpuScene& g
 void Renderer::set_settings(const RenderSettings& settings) {
     settings_ = settings;
     features_ = analyze(scene_, settings_);
-    gpu_.update_lights(settings_.arealight.samples, features_.shadows.planned, settings_.shadow.cascades);
+    gpu_.update_lights(settings_.arealight.samples, features_.shadows.planned, settings_.shadow.cascades,
+                       settings_.shadow.max_lights);
     features_.area_light_pieces = gpu_.light_count() - gpu_.punctual_light_count();
     // Programs for the planned passes only.
     auto build = [&](gl::Program& program, const char* name, std::vector<std::pair<ShaderStage, std::string>> stages) {
@@ -106,6 +107,7 @@ void Renderer::render(const Camera& camera, int width, int height, FrameOutput o
                                        settings_.shadow.pcss_blocker_taps, settings_.shadow.pcss_taps);
         frame.shadow_bias = glm::vec4(settings_.shadow.normal_bias, settings_.shadow.depth_bias,
                                       static_cast<float>(settings_.shadow.resolution), settings_.shadow.max_radius);
+        frame.shadow_bias2 = glm::vec4(settings_.shadow.receiver_slope_bias, 0.0f, 0.0f, 0.0f);
     }
     frame.debug = glm::ivec4(settings_.debug.view == "visibility" ? 1 : 0, settings_.debug.light, 0, 0);
     frame_ubo_.update(0, sizeof(FrameData), &frame);

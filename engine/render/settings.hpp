@@ -41,7 +41,11 @@ struct RenderSettings {
         float normal_bias = 1.0f;       // [0, 16] texels at the receiver, along its normal
         float depth_bias = 0.5f;        // [0, 16] texels at the receiver, towards the light
         float slope_bias = 1.5f;        // [0, 16] polygon-offset factor of the caster pass
+        // [0, 4] filter taps r texels away compare against the receiver's plane: r * tan(theta)
+        // texels deeper, times this factor (wide PCF/PCSS kernels on tilted receivers)
+        float receiver_slope_bias = 1.0f;
         int cascades = 1;               // [1, 4] directional-light cascades
+        int max_lights = 16;            // [0, 4096] lights with shadow maps: directional first, then brightest
         float split_lambda = 0.7f;      // [0, 1] cascade splits: 0 uniform, 1 logarithmic
     } shadow;
     struct AreaLights {

@@ -88,4 +88,99 @@ Scene make_bumpy_sphere_scene(std::size_t triangles) {
     return scene;
 }
 
+namespace {
+
+Primitive box_primitive(glm::vec3 lo, glm::vec3 hi) {
+    Primitive p;
+    p.material = 0;
+    for (int axis = 0; axis < 3; ++axis)
+        for (int sign = 0; sign < 2; ++sign) {
+            glm::vec3 n(0.0f);
+            n[axis] = sign ? 1.0f : -1.0f;
+            const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+            const auto base = static_cast<std::uint32_t>(p.vertices.size());
+            for (int k = 0; k < 4; ++k) {
+                glm::vec3 q;
+                q[axis] = sign ? hi[axis] : lo[axis];
+                q[u] = (k == 1 || k == 2) ? hi[u] : lo[u];
+                q[v] = k >= 2 ? hi[v] : lo[v];
+                Vertex vert;
+                vert.position = q;
+                vert.normal = n;
+                p.vertices.push_back(vert);
+            }
+            // Counter-clockwise seen from outside.
+            const bool flip = (sign == 0);
+            if (!flip) p.indices.insert(p.indices.end(), {base, base + 1, base + 2, base, base + 2, base + 3});
+            else p.indices.insert(p.indices.end(), {base, base + 2, base + 1, base, base + 3, base + 2});
+        }
+    compute_bounds(p);
+    return p;
+}
+
+}  // namespace
+
+Scene make_many_lights_scene(int lights) {
+    Scene scene;
+    scene.source = "generated:lights:" + std::to_string(lights);
+    Material grey;
+    grey.name = "grey";
+    grey.base_color = glm::vec4(0.7f, 0.7f, 0.7f, 1.0f);
+    grey.metallic = 0.0f;
+    grey.roughness = 0.5f;
+    scene.materials.push_back(grey);
+    Primitive floor = box_primitive({-10, -0.1f, -10}, {10, 0, 10});
+    scene.meshes.push_back({"floor", {std::move(floor)}});
+    scene.meshes.push_back({"box", {box_primitive({-0.4f, 0, -0.4f}, {0.4f, 1.2f, 0.4f})}});
+    Node f;
+    f.name = "floor";
+    f.mesh = 0;
+    scene.nodes.push_back(f);
+    scene.roots.push_back(0);
+    for (int i = 0; i < 8; ++i)
+        for (int j = 0; j < 8; ++j) {
+            Node b;
+            b.name = "box";
+            b.mesh = 1;
+            b.local = glm::translate(glm::mat4(1.0f), glm::vec3(-8.75f + 2.5f * static_cast<float>(i), 0.0f, -8.75f + 2.5f * static_cast<float>(j)));
+            scene.roots.push_back(static_cast<int>(scene.nodes.size()));
+            scene.nodes.push_back(b);
+        }
+    // Deterministic scatter: a 2D Halton sequence over the floor, heights and hues from it.
+    auto halton = [](int index, int base) {
+        float f = 1.0f, r = 0.0f;
+        for (int i = index; i > 0; i /= base) {
+            f /= static_cast<float>(base);
+            r += f * static_cast<float>(i % base);
+        }
+        return r;
+    };
+    for (int i = 0; i < lights; ++i) {
+        Light l;
+        l.name = "light" + std::to_string(i);
+        l.type = LightType::point;
+        const float hue = halton(i + 1, 5) * 6.0f;
+        l.color = glm::clamp(glm::vec3(std::abs(hue - 3.0f) - 1.0f, 2.0f - std::abs(hue - 2.0f), 2.0f - std::abs(hue - 4.0f)), 0.0f, 1.0f);
+        l.intensity = 2.0f;
+        l.range = 3.0f;
+        scene.lights.push_back(l);
+        Node n;
+        n.name = l.name;
+        n.light = i;
+        n.local = glm::translate(glm::mat4(1.0f), glm::vec3(-9.5f + 19.0f * halton(i + 1, 2), 0.3f + 1.2f * halton(i + 1, 7),
+                                                           -9.5f + 19.0f * halton(i + 1, 3)));
+        scene.roots.push_back(static_cast<int>(scene.nodes.size()));
+        scene.nodes.push_back(n);
+    }
+    scene.environment.radiance = glm::vec3(0.03f);
+    Camera camera;
+    camera.name = "overview";
+    camera.yfov = 0.9f;
+    camera.znear = 0.05f;
+    camera.world = glm::inverse(glm::lookAt(glm::vec3(0.0f, 7.0f, 13.0f), glm::vec3(0.0f, 0.0f, 1.0f), glm::vec3(0, 1, 0)));
+    scene.cameras.push_back(camera);
+    scene.update_world_transforms();
+    return scene;
+}
+
 }  // namespace candela

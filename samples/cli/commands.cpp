@@ -34,12 +34,13 @@ void print_usage() {
         "                 [--effects all|none|LIST] [--set KNOB=VALUE ...] [--camera N|NAME]\n"
         "                 [--exposure EV] [--environment FILE] [--stats FILE.json] [--frames N] [--warmup N]\n"
         "                 [--debug-gl] [--verify-state] [--timings] [--strict] [--quiet]\n"
-        "                 [--raytrace whitted|path|direct|indirect|ao|primary] [--spp N] [--max-depth N] [--seed N]\n"
+        "                 [--path auto|forward|deferred] [--output-buffer radiance|visibility]\n"
+        "                 [--raytrace whitted|path|direct|indirect|ao|primary|visibility] [--spp N] [--max-depth N] [--seed N]\n"
         "                 [--spp-shard K/N] [--time-limit S]\n"
         "  candela merge OUT.exr SHARD.exr...\n"
         "  candela info SCENE [--effects ...] [--set ...] [--strict]\n"
         "  candela compare A B [--heatmap OUT.png] [--tolerance T] [--max-failing F] [--check]\n"
-        "  candela bench frame SCENE [--effects LIST ...] [--size WxH] [--frames N] [--warmup N] [--json FILE]\n"
+        "  candela bench frame SCENE [--effects LIST ...] [--path P ...] [--size WxH] [--frames N] [--warmup N] [--json FILE]\n"
         "  candela bench rays SCENE|generated:N ... [--size WxH] [--spp N]\n"
         "\n"
         "render   SCENE (.gltf/.glb) to OUT: .exr holds linear radiance; .png is exposure + ACES + sRGB.\n"
@@ -53,6 +54,9 @@ void print_usage() {
         "         debug output and fails on GL errors, --verify-state checks GL state between passes,\n"
         "         --timings prints where the time went, --strict treats loader warnings (missing\n"
         "         texture, skipped primitive, repaired data) as errors (exit 2).\n"
+        "         --path forward|deferred (default auto: deferred from deferred.auto_lights lights),\n"
+        "         --output-buffer visibility writes the fraction of light debug.light reaching each\n"
+        "         pixel (shadow maps), to compare with --raytrace visibility (the exact answer).\n"
         "         --raytrace renders with the compute-shader ray tracer instead: --spp samples per\n"
         "         pixel (default 16), --max-depth bounces (whitted 5, path 8), --seed, --spp-shard K/N\n"
         "         computes the samples s with s %% N == K (alpha holds the sample count) and\n"
@@ -64,7 +68,9 @@ void print_usage() {
         "         0.001 = 0.1 %) of the pixels fail.\n"
         "bench    rays: primary and AO ray rates of the ray tracer (SCENE may be generated:N triangles).\n"
         "         frame: median frame time and per-pass GPU time of each --effects variant (default\n"
-        "         all and none), measured interleaved in one run (default 1280x720, 20 frames, 3 warm-up).\n"
+        "         all and none) or, with several --path values, of each render path, measured\n"
+        "         interleaved in one run (default 1280x720, 20 frames, 3 warm-up). SCENE may be\n"
+        "         generated:lights:N (N point lights over a floor with boxes).\n"
         "\n"
         "exit codes: 0 ok, 1 internal error, 2 bad input (file, option), 3 no usable OpenGL 4.5,\n"
         "            4 compare --check: images differ beyond the tolerance.\n",
@@ -143,6 +149,12 @@ std::string fmt(const char* f, double v) {
 }
 
 Scene load_scene(const std::string& path, bool strict) {
+    if (path.rfind("generated:lights:", 0) == 0) {
+        const std::string n = path.substr(17);
+        if (n.empty() || n.size() > 6 || n.find_first_not_of("0123456789") != std::string::npos || std::stoul(n) < 1)
+            throw bad_input(path + ": expected generated:lights:N with 1 <= N < 1e6 point lights");
+        return make_many_lights_scene(static_cast<int>(std::stoul(n)));
+    }
     if (path.rfind("generated:", 0) == 0) {
         const std::string n = path.substr(10);
         if (n.empty() || n.size() > 9 || n.find_first_not_of("0123456789") != std::string::npos || std::stoul(n) < 2)
@@ -413,6 +425,14 @@ int cmd_bench(const Args& args) {
     // Each --effects value is one variant; the variants are measured interleaved, frame by frame,
     // so that they see the same machine conditions.
     std::vector<std::string> variants = p.all("--effects");
+    const std::vector<std::string> paths = p.all("--path");
+    const bool path_variants = paths.size() >= 2;
+    if (path_variants && variants.size() > 1) throw bad_input("bench frame: several --path values take at most one --effects");
+    if (path_variants) {
+        const std::string effects = variants.empty() ? "all" : variants[0];
+        variants.clear();
+        for (const auto& path : paths) variants.push_back(effects + " --path " + path);
+    }
     if (variants.empty()) variants = {"all", "none"};
     ContextResult ctx = open_context(s);
     if (!ctx.context) return static_cast<int>(ExitCode::no_gl);
@@ -420,7 +440,9 @@ int cmd_bench(const Args& args) {
     std::vector<StillOptions> options(variants.size(), s.options);
     std::vector<std::unique_ptr<FrameLoop>> loops;
     for (size_t v = 0; v < variants.size(); ++v) {
-        apply_effects(options[v].settings, variants[v]);
+        const size_t space = variants[v].find(" --path ");
+        apply_effects(options[v].settings, variants[v].substr(0, space));
+        if (space != std::string::npos) apply_knob(options[v].settings, "render.path=" + variants[v].substr(space + 8));
         for (const std::string& knob : p.all("--set")) apply_knob(options[v].settings, knob);
         loops.push_back(std::make_unique<FrameLoop>(s.scene, shaders, options[v]));
     }
@@ -437,8 +459,8 @@ int cmd_bench(const Args& args) {
         const auto [q1, q3] = quartiles(results[v].frame_ms);
         std::printf("effects=%-12s frame median %8.2f ms  IQR [%.2f, %.2f]  graph %.3f ms  passes:", variants[v].c_str(),
                     results[v].median_frame_ms(), q1, q3, results[v].report.graph_ms);
-        for (const auto& ps : results[v].report.passes) std::printf(" %s", ps.name.c_str());
-        std::printf("\n");
+        for (const auto& ps : results[v].report.passes) std::printf(" %s %.2f", ps.name.c_str(), ps.gpu_ms);
+        std::printf(" (GPU ms, median)\n");
         all.push_back(stats_json({ctx.context->device_string(), to_string(ctx.context->backend()), p.positional[0]},
                                  options[v], results[v]));
     }

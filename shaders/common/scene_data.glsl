@@ -15,6 +15,7 @@ layout(std140, binding = 0) uniform Frame {
                            // taps, w pcss filter taps
     vec4 shadow_bias;      // x normal offset, y depth bias (both texels), z map resolution,
                            // w largest filter radius (texels)
+    vec4 shadow_bias2;     // x receiver-slope bias of filter taps (multiple of tan(theta) per texel)
     ivec4 debug;           // x view (0 radiance, 1 light visibility), y light index
 } frame;
 

@@ -72,18 +72,24 @@ float shadow_factor(PunctualLight light, vec3 p, vec3 n, vec3 l, vec2 pixel) {
     vec3 ndc = c.xyz / c.w;
     vec2 uv = ndc.xy * 0.5 + 0.5;
     if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) return 1.0;
-    // Depth bias towards the light, converted to the map's depth units at this distance.
-    float bias_world = frame.shadow_bias.y * texel_world;
-    float ref = ndc.z + (ortho ? bias_world / sv.params.z : sv.params.z * bias_world / (c.w * c.w));
-    if (ref >= 1.0) return 1.0;  // nearer to the light than anything in the map
+    // Depth bias towards the light, converted to the map's depth units at this distance. A filter
+    // tap r texels away compares against a receiver that, if the surface is tilted against the
+    // light, lies deeper by r * tan(theta) texels: the bias grows with the kernel's radius so that
+    // wide kernels do not shadow the receiver with itself.
+    float tan_theta = min(sqrt(max(1.0 - NdotL * NdotL, 0.0)) / max(NdotL, 0.1), 10.0);
+    float depth_per_world = ortho ? 1.0 / sv.params.z : sv.params.z / (c.w * c.w);
+    float ref0 = ndc.z + frame.shadow_bias.y * texel_world * depth_per_world;
+    float slope_per_texel = frame.shadow_bias2.x * tan_theta * texel_world * depth_per_world;
+    if (ref0 >= 1.0) return 1.0;  // nearer to the light than anything in the map
     float layer = sv.params.w;
     float res = frame.shadow_bias.z;
     vec2 texel_uv = vec2(1.0 / res);
 
-    if (mode == SHADOW_HARD) return texture(t_shadow, vec4(uv, layer, ref));
+    if (mode == SHADOW_HARD) return texture(t_shadow, vec4(uv, layer, ref0 + slope_per_texel));
     if (mode == SHADOW_PCF) {
         int size = frame.shadow_mode.y;
         int h = size / 2;
+        float ref = ref0 + slope_per_texel * float(h + 1);
         float sum = 0.0;
         for (int y = -h; y <= h; ++y)
             for (int x = -h; x <= h; ++x) sum += texture(t_shadow, vec4(uv + vec2(x, y) * texel_uv, layer, ref));
@@ -105,6 +111,7 @@ float shadow_factor(PunctualLight light, vec3 p, vec3 n, vec3 l, vec2 pixel) {
     int blocker_taps = frame.shadow_mode.z;
     float blocker_sum = 0.0;
     int blockers = 0;
+    float ref = ref0 + slope_per_texel * (search_texels + 1.0);
     for (int i = 0; i < blocker_taps; ++i) {
         vec2 o = vogel_disk(i, blocker_taps, phi) * search_texels * texel_uv;
         float d = textureLod(t_shadow_depth, vec3(uv + o, layer), 0.0).r;
@@ -118,6 +125,7 @@ float shadow_factor(PunctualLight light, vec3 p, vec3 n, vec3 l, vec2 pixel) {
     float penumbra_world = ortho ? (z_receiver - z_blocker) * light_size
                                  : light_size * (z_receiver - z_blocker) / max(z_blocker, 1e-30);
     float radius = clamp(0.5 * penumbra_world / texel_world, 1.0, max_radius);
+    ref = ref0 + slope_per_texel * (radius + 1.0);
     int taps = frame.shadow_mode.w;
     float sum = 0.0;
     for (int i = 0; i < taps; ++i) {
