@@ -202,7 +202,12 @@ SceneSetup setup_scene(const Parsed& p, const std::string& scene_path, int defau
     if (p.has("--frames")) s.options.frames = parse_int("--frames", p.get("--frames"), 1, 100000);
     if (p.has("--warmup")) s.options.warmup = parse_int("--warmup", p.get("--warmup"), 0, 100000);
     if (p.has("--effects")) apply_effects(s.options.settings, p.get("--effects"));
-    if (p.has("--path")) apply_knob(s.options.settings, "render.path=" + p.get("--path"));
+    if (p.has("--path")) {
+        const std::string path = p.get("--path");
+        if (path != "auto" && path != "forward" && path != "deferred")
+            throw bad_input("--path '" + path + "' must be auto, forward or deferred");
+        s.options.settings.path = path;
+    }
     if (p.has("--output-buffer")) {
         const std::string b = p.get("--output-buffer");
         if (b != "radiance" && b != "visibility")
@@ -472,7 +477,7 @@ int cmd_bench(const Args& args) {
 }
 
 int cmd_info(const Args& args) {
-    const Parsed p = parse(args, {"--effects", "--set"}, {"--strict", "--knobs"});
+    const Parsed p = parse(args, {"--effects", "--set", "--path"}, {"--strict", "--knobs"});
     if (p.flags.count("--knobs")) {
         for (const KnobInfo& k : knob_infos())
             std::printf("%-28s %-6s %-22s %s\n", k.name.c_str(), k.type.c_str(), k.range.c_str(), k.help.c_str());
@@ -481,6 +486,7 @@ int cmd_info(const Args& args) {
     if (p.positional.size() != 1) throw bad_input("info needs exactly one SCENE");
     RenderSettings settings;
     if (p.has("--effects")) apply_effects(settings, p.get("--effects"));
+    if (p.has("--path")) apply_knob(settings, "render.path=" + p.get("--path"));
     for (const std::string& knob : p.all("--set")) apply_knob(settings, knob);
     const Scene scene = load_scene(p.positional[0], p.flags.count("--strict") > 0);
     int directional = 0, point = 0, spot = 0;
