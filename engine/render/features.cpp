@@ -49,7 +49,7 @@ Features analyze(const Scene& scene, const RenderSettings& s) {
         f.path_reason = "auto: " + std::to_string(light_count) + " light(s) " + (f.deferred ? ">= " : "< ") +
                         std::to_string(s.deferred.auto_lights) + " (deferred.auto_lights)";
     }
-    f.ssao = decide("ssao", s.ssao, f.environment, false,
+    f.ssao = decide("ssao", s.ssao || s.debug.view == "ao", f.environment, true,
                     f.environment ? "ambient/environment light to occlude" : "no ambient or environment light to occlude");
     bool shadowed_light = false;
     for (const auto& pl : scene.placed_lights())
@@ -71,11 +71,22 @@ std::vector<PlannedPass> plan_passes(const Features& f, const RenderSettings& s)
     const std::string what = f.transparency.planned ? "opaque and masked geometry"
                              : f.transparency.needed ? "all geometry (BLEND drawn as opaque: transparency off)"
                                                      : "all geometry";
+    auto add_ssao = [&] {
+        if (!f.ssao.planned) return;
+        plan.push_back({"ssao", f.ssao.reason.substr(4)});
+        if (s.ssao_knobs.blur > 0) {
+            plan.push_back({"ssao_blur_x", "ssao.blur=" + std::to_string(s.ssao_knobs.blur)});
+            plan.push_back({"ssao_blur_y", "ssao.blur=" + std::to_string(s.ssao_knobs.blur)});
+        }
+    };
     if (f.deferred) {
         plan.push_back({"gbuffer", what + "; deferred path, " + f.path_reason});
+        add_ssao();
         plan.push_back({"deferred_lighting", "tiled light culling and shading of the G-buffer"});
     } else {
-        if (s.forward.depth_prepass) plan.push_back({"depth_prepass", "forward.depth_prepass=1"});
+        if (f.ssao.planned) plan.push_back({"depth_normal_prepass", "SSAO needs depth and normals before shading"});
+        else if (s.forward.depth_prepass) plan.push_back({"depth_prepass", "forward.depth_prepass=1"});
+        add_ssao();
         plan.push_back({"forward_opaque", what + "; forward path, " + f.path_reason});
     }
     if (f.environment) plan.push_back({"sky", "the scene has environment light"});

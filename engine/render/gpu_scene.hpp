@@ -23,7 +23,10 @@ struct FrameData {  // std140, binding 0
     glm::ivec4 shadow_mode;  // x filter (0 off 1 hard 2 pcf 3 pcss), y pcf size, z/w pcss taps
     glm::vec4 shadow_bias;   // x normal, y depth (texels), z resolution, w max radius (texels)
     glm::vec4 shadow_bias2;  // x receiver-slope bias of filter taps
-    glm::ivec4 debug;        // x view (0 radiance, 1 visibility), y light
+    glm::ivec4 debug;        // x view (0 radiance, 1 visibility, 2 ssao), y light
+    glm::vec4 viewport;      // w, h, 1/w, 1/h
+    glm::vec4 ssao_params;   // radius, bias (fraction of radius), samples, steps
+    glm::ivec4 ssao_mode;    // x on, y blur radius, z downscale
 };
 
 struct MaterialData {  // std430, binding 1

@@ -1,6 +1,7 @@
 #include "render/renderer.hpp"
 
 #include <chrono>
+#include <cmath>
 
 #include "core/error.hpp"
 
@@ -12,6 +13,22 @@ Renderer::Renderer(const ShaderLibrary& shaders, const Scene& scene, GpuScene& g
                                                             {ShaderStage::fragment, "post/tonemap.frag"}}, {}});
     frame_ubo_ = gl::Buffer(sizeof(FrameData), nullptr, GL_DYNAMIC_STORAGE_BIT);
     empty_vao_ = gl::VertexArray::create();
+    linear_clamp_ = gl::Sampler::create(GL_LINEAR, GL_LINEAR, GL_CLAMP_TO_EDGE, GL_CLAMP_TO_EDGE);
+    // SSAO's 4x4 rotation tile: angles and step offsets on a stratified, shuffled grid (every
+    // pixel of a 4x4 block gets a different rotation; the blur averages the pattern away).
+    ssao_noise_ = gl::Texture::create_2d(GL_RGBA16F, 4, 4, 1);
+    {
+        static const int order[16] = {0, 8, 2, 10, 12, 4, 14, 6, 3, 11, 1, 9, 15, 7, 13, 5};  // Bayer 4x4
+        std::vector<float> texels(64);
+        for (int i = 0; i < 16; ++i) {
+            const float angle = 6.28318531f * (static_cast<float>(order[i]) + 0.5f) / 16.0f;
+            texels[static_cast<size_t>(i * 4 + 0)] = std::cos(angle);
+            texels[static_cast<size_t>(i * 4 + 1)] = std::sin(angle);
+            texels[static_cast<size_t>(i * 4 + 2)] = (static_cast<float>(order[(i * 7) % 16]) + 0.5f) / 16.0f;
+            texels[static_cast<size_t>(i * 4 + 3)] = 0.0f;
+        }
+        glTextureSubImage2D(ssao_noise_.id(), 0, 0, 0, 4, 4, GL_RGBA, GL_FLOAT, texels.data());
+    }
     set_settings(settings);
 }
 
@@ -39,6 +56,12 @@ void Renderer::set_settings(const RenderSettings& settings) {
             build(programs_.gbuffer, "gbuffer", {{ShaderStage::vertex, "forward/forward.vert"}, {ShaderStage::fragment, "deferred/gbuffer.frag"}});
         else if (pass.name == "deferred_lighting")
             build(programs_.deferred_light, "deferred_light", {{ShaderStage::compute, "deferred/light.comp"}});
+        else if (pass.name == "depth_normal_prepass")
+            build(programs_.ssao_normals, "ssao_normals", {{ShaderStage::vertex, "forward/forward.vert"}, {ShaderStage::fragment, "ssao/normals.frag"}});
+        else if (pass.name == "ssao")
+            build(programs_.ssao, "ssao", {{ShaderStage::vertex, "post/fullscreen.vert"}, {ShaderStage::fragment, "ssao/ssao.frag"}});
+        else if (pass.name == "ssao_blur_x" || pass.name == "ssao_blur_y")
+            build(programs_.ssao_blur, "ssao_blur", {{ShaderStage::vertex, "post/fullscreen.vert"}, {ShaderStage::fragment, "ssao/blur.frag"}});
     }
 }
 
@@ -109,10 +132,19 @@ void Renderer::render(const Camera& camera, int width, int height, FrameOutput o
                                       static_cast<float>(settings_.shadow.resolution), settings_.shadow.max_radius);
         frame.shadow_bias2 = glm::vec4(settings_.shadow.receiver_slope_bias, 0.0f, 0.0f, 0.0f);
     }
-    frame.debug = glm::ivec4(settings_.debug.view == "visibility" ? 1 : 0, settings_.debug.light, 0, 0);
+    frame.debug = glm::ivec4(settings_.debug.view == "visibility" ? 1 : settings_.debug.view == "ao" ? 2 : 0,
+                             settings_.debug.light, 0, 0);
+    frame.viewport = glm::vec4(static_cast<float>(width), static_cast<float>(height), 1.0f / static_cast<float>(width),
+                               1.0f / static_cast<float>(height));
+    if (features_.ssao.planned) {
+        const auto& k = settings_.ssao_knobs;
+        frame.ssao_params = glm::vec4(settings_.ao.radius, k.bias, static_cast<float>(k.samples), static_cast<float>(k.steps));
+        frame.ssao_mode = glm::ivec4(1, k.blur, k.resolution == "half" ? 2 : 1, 0);
+    }
     frame_ubo_.update(0, sizeof(FrameData), &frame);
 
-    const PassEnv env{gpu_, settings_, frame, width, height, frame_ubo_, fbos_, programs_, empty_vao_, shadows_, shadows_on};
+    const PassEnv env{gpu_,       settings_, frame,    width,      height,      frame_ubo_, fbos_,
+                      programs_,  empty_vao_, shadows_, shadows_on, ssao_noise_, linear_clamp_};
     FrameGraph graph;
     ForwardTargets targets;
     targets.hdr = graph.import_texture("hdr", output_, {GL_RGBA32F, width, height});
@@ -124,6 +156,10 @@ void Renderer::render(const Camera& camera, int width, int height, FrameOutput o
         else if (pass.name == "gbuffer") add_gbuffer_pass(graph, env, targets, !features_.transparency.planned);
         else if (pass.name == "deferred_lighting") add_deferred_lighting_pass(graph, env, targets);
         else if (pass.name == "depth_prepass") add_depth_prepass(graph, env, targets);
+        else if (pass.name == "depth_normal_prepass") add_depth_normal_prepass(graph, env, targets, !features_.transparency.planned);
+        else if (pass.name == "ssao") add_ssao_pass(graph, env, targets);
+        else if (pass.name == "ssao_blur_x") add_ssao_blur_pass(graph, env, targets, 0);
+        else if (pass.name == "ssao_blur_y") add_ssao_blur_pass(graph, env, targets, 1);
         else if (pass.name == "forward_opaque") add_forward_opaque_pass(graph, env, targets, !features_.transparency.planned);
         else if (pass.name == "sky") add_sky_pass(graph, env, targets);
         else if (pass.name == "transparent") add_transparent_pass(graph, env, targets);

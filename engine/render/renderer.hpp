@@ -70,6 +70,8 @@ private:
     GpuScene& gpu_;
     Bounds scene_bounds_;
     ShadowResources shadows_;
+    gl::Texture ssao_noise_;
+    gl::Sampler linear_clamp_;
     RenderSettings settings_;
     Features features_;
     Programs programs_;

@@ -54,7 +54,7 @@ struct RenderSettings {
         int samples = 4;  // [1, 64]
     } arealight;
     struct Debug {
-        std::string view = "none";  // none|visibility: the light visibility buffer instead of radiance
+        std::string view = "none";  // none|visibility|ao: a debug buffer instead of radiance
         int light = 0;  // [0, 1e6] visibility of this light; >= the punctual count: all area lights
     } debug;
     struct Transparency {
@@ -63,6 +63,13 @@ struct RenderSettings {
     struct AmbientOcclusion {
         float radius = 1.0f;  // (0, 1e9] world units; SSAO and `--raytrace ao` use the same radius
     } ao;
+    struct Ssao {
+        int samples = 16;               // [1, 256] directions per pixel
+        int steps = 4;                  // [1, 32] steps marched along each direction
+        std::string resolution = "full";  // full|half
+        int blur = 4;                   // [0, 16] bilateral blur radius in AO pixels (0: no blur passes)
+        float bias = 0.02f;             // [0, 0.5] start offset and depth tolerance, fraction of the radius
+    } ssao_knobs;
     struct RayTracing {
         std::string jitter = "auto";       // auto|on|off: auto jitters (anti-aliases) path and whitted only
         float whitted_max_roughness = 0.05f;  // [0, 1] smoother surfaces are mirrors in whitted mode

@@ -16,7 +16,10 @@ layout(std140, binding = 0) uniform Frame {
     vec4 shadow_bias;      // x normal offset, y depth bias (both texels), z map resolution,
                            // w largest filter radius (texels)
     vec4 shadow_bias2;     // x receiver-slope bias of filter taps (multiple of tan(theta) per texel)
-    ivec4 debug;           // x view (0 radiance, 1 light visibility), y light index
+    ivec4 debug;           // x view (0 radiance, 1 light visibility, 2 ssao), y light index
+    vec4 viewport;         // width, height, 1/width, 1/height
+    vec4 ssao_params;      // x radius (world), y bias (fraction of the radius), z samples, w steps
+    ivec4 ssao_mode;       // x 1 when the AO buffer is bound, y blur radius, z downscale (1 or 2)
 } frame;
 
 struct MaterialData {

@@ -102,8 +102,9 @@ void main() {
     vec3 p = pw.xyz / pw.w;
     vec3 v = normalize(frame.camera_pos.xyz - p);
     vec2 pixel = vec2(gid) + 0.5;
-    if (frame.debug.x == 1) {
-        imageStore(light_buffer, gid, vec4(vec3(light_visibility(p, n, pixel)), 1.0));
+    if (frame.debug.x != 0) {
+        float value = frame.debug.x == 1 ? light_visibility(p, n, pixel) : ssao_at(pixel);
+        imageStore(light_buffer, gid, vec4(vec3(value), 1.0));
         return;
     }
     vec3 color = imageLoad(light_buffer, gid).rgb;
@@ -119,6 +120,6 @@ void main() {
             }
         }
     }
-    color += shade_ambient(bi, n, v, base_occlusion.a);
+    color += shade_ambient(bi, n, v, base_occlusion.a * ssao_at(pixel));
     imageStore(light_buffer, gid, vec4(color, 1.0));
 }

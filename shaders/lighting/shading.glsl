@@ -5,6 +5,11 @@
 #include "shadows.glsl"
 
 layout(binding = 5) uniform sampler2D t_environment;
+layout(binding = 9) uniform sampler2D t_ssao;  // bound when frame.ssao_mode.x = 1
+
+// Screen-space ambient occlusion at a pixel (1 without the SSAO pass). It scales ambient and
+// environment light only, never direct light.
+float ssao_at(vec2 pixel) { return frame.ssao_mode.x != 0 ? texture(t_ssao, pixel * frame.viewport.zw).r : 1.0; }
 
 vec3 environment_specular(vec3 r, float roughness) {
     if (frame.env_radiance.w < 0.5) return frame.env_radiance.rgb;

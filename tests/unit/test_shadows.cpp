@@ -131,9 +131,21 @@ TEST_P(ShadowTest, NoAcneAtAnyDirectionalElevation) {
         b.add_node({{"camera", 0}, {"translation", {0, 3, 8}}, {"rotation", quat_json(look_along(glm::vec3(0, -3, -8)))}});
         const Scene scene = load_gltf(b.write(test::test_dir("acne"), "acne"));
         const ImageF reference = traced(scene, 128, 96);
-        for (const char* filter : {"hard", "pcf", "pcss"}) {
+        const std::vector<std::pair<std::string, std::vector<std::string>>> variants = {
+            {"hard", {"shadows.filter=hard"}},
+            {"pcf", {"shadows.filter=pcf"}},
+            {"pcss", {"shadows.filter=pcss"}},
+            {"pcss cascades", {"shadows.filter=pcss", "shadows.cascades=3"}},
+        };
+        for (const auto& [name, knobs] : variants) {
+            const char* filter = name.c_str();
             SCOPED_TRACE(filter);
-            const Visibility v = raster(scene, 128, 96, {std::string("shadows.filter=") + filter});
+            const Visibility v = raster(scene, 128, 96, knobs);
+            if (knobs.size() == 2) {
+                ASSERT_EQ(v.views.views.size(), 3u);
+                // Nearer cascades cover less: finer texels.
+                EXPECT_LT(v.views.texel_world[0], v.views.texel_world[2]);
+            }
             int lit = 0;
             const double agreement = lit_agreement(v.image, reference, &lit);
             EXPECT_GT(lit, 128 * 96 / 4);  // the floor is mostly lit
@@ -149,6 +161,21 @@ TEST_P(ShadowTest, NoAcneAtAnyDirectionalElevation) {
                                                             "shadows.slope_bias=0", "shadows.receiver_slope_bias=0"});
         std::printf("elevation %g without bias: agreement %.5f\n", elevation, lit_agreement(unbiased.image, reference));
         EXPECT_LT(lit_agreement(unbiased.image, reference), 0.95);
+    }
+}
+
+TEST(CascadeSplits, BlendLogarithmicAndUniform) {
+    const auto uniform = cascade_splits(1.0f, 100.0f, 4, 0.0f);
+    const auto logarithmic = cascade_splits(1.0f, 100.0f, 4, 1.0f);
+    ASSERT_EQ(uniform.size(), 5u);
+    EXPECT_FLOAT_EQ(uniform[0], 1.0f);
+    EXPECT_FLOAT_EQ(uniform[4], 100.0f);
+    EXPECT_NEAR(uniform[2], 50.5f, 1e-4f);
+    EXPECT_NEAR(logarithmic[2], 10.0f, 1e-4f);  // sqrt(1 * 100)
+    const auto mixed = cascade_splits(1.0f, 100.0f, 4, 0.5f);
+    for (size_t i = 1; i < 4; ++i) {
+        EXPECT_GT(mixed[i], mixed[i - 1]);
+        EXPECT_NEAR(mixed[i], 0.5f * (uniform[i] + logarithmic[i]), 1e-3f);
     }
 }
 

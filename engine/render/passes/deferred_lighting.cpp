@@ -13,10 +13,12 @@ void add_deferred_lighting_pass(FrameGraph& graph, const PassEnv& env, ForwardTa
             for (auto id : targets.gbuffer) b.read(id);
             b.read(targets.depth);
             if (targets.shadow_maps >= 0) b.read(targets.shadow_maps);
+            if (targets.ssao >= 0) b.read(targets.ssao);
             b.write(targets.hdr);
         },
         [&env, &targets](FrameGraph::Context& ctx) {
             bind_scene_buffers(env);
+            bind_ssao(env, ctx, targets);
             for (int i = 0; i < 3; ++i) {
                 glBindTextureUnit(static_cast<GLuint>(i), ctx.texture(targets.gbuffer[i]).id());
                 glBindSampler(static_cast<GLuint>(i), 0);

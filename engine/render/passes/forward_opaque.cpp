@@ -10,6 +10,7 @@ void add_forward_opaque_pass(FrameGraph& graph, const PassEnv& env, ForwardTarge
         [&](FrameGraph::Builder& b) {
             b.write(targets.hdr);
             if (targets.shadow_maps >= 0) b.read(targets.shadow_maps);
+            if (targets.ssao >= 0) b.read(targets.ssao);
             if (prepass) b.read(targets.depth);
             else targets.depth = b.create("depth", {GL_DEPTH_COMPONENT32F, env.width, env.height});
         },
@@ -29,12 +30,13 @@ void add_forward_opaque_pass(FrameGraph& graph, const PassEnv& env, ForwardTarge
                 glClearBufferfv(GL_DEPTH, 0, &clear_depth);
             }
             bind_scene_buffers(env);
+            bind_ssao(env, ctx, targets);
             ctx.state.use_program(env.programs.forward.id());
             ctx.state.bind_vertex_array(env.scene.vertex_array().id());
             for (const auto& d : env.scene.draws()) {
                 // Without the transparency effect, blended materials are drawn as opaque ones
                 // (after a prepass that skipped them they would fail the EQUAL test, so skip).
-                if (d.alpha_mode == AlphaMode::blend && (!blend_as_opaque || prepass)) continue;
+                if (d.alpha_mode == AlphaMode::blend && (!blend_as_opaque || (prepass && !targets.prepass_has_blend))) continue;
                 draw_item(env, ctx, d, !d.double_sided, GL_BACK);
             }
         });

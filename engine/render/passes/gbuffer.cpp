@@ -13,6 +13,7 @@ void add_gbuffer_pass(FrameGraph& graph, const PassEnv& env, ForwardTargets& tar
             targets.gbuffer[0] = b.create("gbuffer_base_occlusion", {GL_RGBA8, env.width, env.height});
             targets.gbuffer[1] = b.create("gbuffer_normal_roughness_metallic", {GL_RGBA16F, env.width, env.height});
             targets.gbuffer[2] = b.create("gbuffer_f0_f90", {GL_RGBA16F, env.width, env.height});
+            targets.normals = targets.gbuffer[1];
         },
         [&env, &targets, blend_as_opaque](FrameGraph::Context& ctx) {
             gl::PipelineState ps;

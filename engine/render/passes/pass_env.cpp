@@ -42,6 +42,12 @@ void bind_scene_buffers(const PassEnv& env) {
     }
 }
 
+void bind_ssao(const PassEnv& env, FrameGraph::Context& ctx, const ForwardTargets& targets) {
+    if (targets.ssao < 0) return;
+    glBindTextureUnit(9, ctx.texture(targets.ssao).id());
+    glBindSampler(9, env.linear_clamp.id());
+}
+
 void draw_item(const PassEnv& env, FrameGraph::Context& ctx, const GpuScene::Draw& d, bool cull, GLenum cull_face,
                GLuint program_id) {
     ctx.state.set_cull(cull, cull_face);

@@ -31,6 +31,9 @@ struct Programs {
     gl::Program shadow;
     gl::Program gbuffer;
     gl::Program deferred_light;
+    gl::Program ssao_normals;
+    gl::Program ssao;
+    gl::Program ssao_blur;
 };
 
 // The shadow maps of a frame: one DEPTH32F array layer per shadow view (render/shadows.hpp).
@@ -56,6 +59,8 @@ struct PassEnv {
     const gl::VertexArray& empty_vao;
     ShadowResources& shadows;
     bool shadows_on;  // the shadow pass runs this frame
+    const gl::Texture& ssao_noise;     // 4x4 rotations for SSAO
+    const gl::Sampler& linear_clamp;   // for screen-space buffers read at other resolutions
 };
 
 // The resources the forward chain passes along.
@@ -65,10 +70,15 @@ struct ForwardTargets {
     FrameGraph::ResourceId display = -1;  // RGBA8 display values (tonemap pass)
     FrameGraph::ResourceId shadow_maps = -1;
     FrameGraph::ResourceId gbuffer[3] = {-1, -1, -1};  // layout: shaders/lighting/gbuffer.glsl
+    FrameGraph::ResourceId normals = -1;  // xy octahedral normal: gbuffer[1] or the prepass's
+    FrameGraph::ResourceId ssao = -1;     // the AO buffer the lighting reads (after any blur)
+    bool prepass_has_blend = false;       // the depth prepass drew BLEND materials as opaque
 };
 
 // Binds the frame UBO, material and light SSBOs, the environment texture and the shadow maps.
 void bind_scene_buffers(const PassEnv& env);
+// Binds the AO buffer (unit 9) when the SSAO pass runs this frame.
+void bind_ssao(const PassEnv& env, FrameGraph::Context& ctx, const ForwardTargets& targets);
 // Draws one scene item with `program` (default: forward), which has the forward vertex layout and
 // per-draw uniforms (locations 0-3), textures and winding.
 void draw_item(const PassEnv& env, FrameGraph::Context& ctx, const GpuScene::Draw& d, bool cull, GLenum cull_face,
@@ -79,6 +89,9 @@ void add_shadow_pass(FrameGraph& graph, const PassEnv& env, ForwardTargets& targ
 void add_gbuffer_pass(FrameGraph& graph, const PassEnv& env, ForwardTargets& targets, bool blend_as_opaque);
 void add_deferred_lighting_pass(FrameGraph& graph, const PassEnv& env, ForwardTargets& targets);
 void add_depth_prepass(FrameGraph& graph, const PassEnv& env, ForwardTargets& targets);
+void add_depth_normal_prepass(FrameGraph& graph, const PassEnv& env, ForwardTargets& targets, bool blend_as_opaque);
+void add_ssao_pass(FrameGraph& graph, const PassEnv& env, ForwardTargets& targets);
+void add_ssao_blur_pass(FrameGraph& graph, const PassEnv& env, ForwardTargets& targets, int axis);
 void add_forward_opaque_pass(FrameGraph& graph, const PassEnv& env, ForwardTargets& targets, bool blend_as_opaque);
 void add_sky_pass(FrameGraph& graph, const PassEnv& env, ForwardTargets& targets);
 void add_transparent_pass(FrameGraph& graph, const PassEnv& env, ForwardTargets& targets);

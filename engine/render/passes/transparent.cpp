@@ -13,6 +13,7 @@ void add_transparent_pass(FrameGraph& graph, const PassEnv& env, ForwardTargets&
         [&](FrameGraph::Builder& b) {
             b.read(targets.depth);
             if (targets.shadow_maps >= 0) b.read(targets.shadow_maps);
+            if (targets.ssao >= 0) b.read(targets.ssao);
             b.write(targets.hdr);
         },
         [&env, &targets](FrameGraph::Context& ctx) {
@@ -35,6 +36,7 @@ void add_transparent_pass(FrameGraph& graph, const PassEnv& env, ForwardTargets&
             ctx.state.bind_framebuffer(env.fbos.get({&ctx.texture(targets.hdr)}, &ctx.texture(targets.depth)));
             ctx.state.viewport(0, 0, env.width, env.height);
             bind_scene_buffers(env);
+            bind_ssao(env, ctx, targets);
             ctx.state.use_program(env.programs.forward.id());
             ctx.state.bind_vertex_array(env.scene.vertex_array().id());
             for (const auto* d : blended) {
