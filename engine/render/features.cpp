@@ -1,5 +1,7 @@
 #include "render/features.hpp"
 
+#include <algorithm>
+
 #include <nlohmann/json.hpp>
 
 namespace candela {
@@ -51,12 +53,13 @@ Features analyze(const Scene& scene, const RenderSettings& s) {
     }
     f.ssao = decide("ssao", s.ssao || s.debug.view == "ao", f.environment, true,
                     f.environment ? "ambient/environment light to occlude" : "no ambient or environment light to occlude");
-    bool shadowed_light = false;
-    for (const auto& pl : scene.placed_lights())
-        shadowed_light = shadowed_light || pl.light->type != LightType::point;
-    const bool rsm_needed = sf.shadows.needed && shadowed_light;
-    f.rsm = decide("rsm", s.rsm, rsm_needed, false,
-                   rsm_needed ? "a shadowed directional or spot light" : "no shadowed directional or spot light");
+    // RSM renders from the lights' shadow views: it needs the shadow pass and a punctual light
+    // with a shadow map (area-light pieces get none).
+    const bool rsm_needed = f.shadows.planned && f.punctual_lights > 0 && s.shadow.max_lights > 0;
+    f.rsm = decide("rsm", s.rsm || s.debug.view == "indirect", rsm_needed, true,
+                   rsm_needed ? std::to_string(std::min(f.punctual_lights, s.rsm_knobs.max_lights)) + " shadowed punctual light(s) to bounce"
+                   : f.punctual_lights == 0 ? "no punctual light (area-light pieces have no RSM)"
+                                           : "no shadow pass for the RSM to reuse the light views of");
     // Debug views show surface values of the nearest surface: blended ones count as opaque there,
     // as they do for the ray tracer's rays.
     f.transparency = decide("transparency", s.transparency && s.debug.view == "none", sf.transparency.needed, true,
@@ -68,9 +71,13 @@ Features analyze(const Scene& scene, const RenderSettings& s) {
 std::vector<PlannedPass> plan_passes(const Features& f, const RenderSettings& s) {
     std::vector<PlannedPass> plan;
     if (f.shadows.planned) plan.push_back({"shadow_maps", f.shadows.reason.substr(4)});
+    if (f.rsm.planned) plan.push_back({"rsm", f.rsm.reason.substr(4)});
     const std::string what = f.transparency.planned ? "opaque and masked geometry"
                              : f.transparency.needed ? "all geometry (BLEND drawn as opaque: transparency off)"
                                                      : "all geometry";
+    auto add_gather = [&] {
+        if (f.rsm.planned) plan.push_back({"rsm_indirect", "gather rsm.samples texels per pixel, rsm.gather=" + s.rsm_knobs.gather});
+    };
     auto add_ssao = [&] {
         if (!f.ssao.planned) return;
         plan.push_back({"ssao", f.ssao.reason.substr(4)});
@@ -82,11 +89,14 @@ std::vector<PlannedPass> plan_passes(const Features& f, const RenderSettings& s)
     if (f.deferred) {
         plan.push_back({"gbuffer", what + "; deferred path, " + f.path_reason});
         add_ssao();
+        add_gather();
         plan.push_back({"deferred_lighting", "tiled light culling and shading of the G-buffer"});
     } else {
-        if (f.ssao.planned) plan.push_back({"depth_normal_prepass", "SSAO needs depth and normals before shading"});
+        if (f.ssao.planned || f.rsm.planned)
+            plan.push_back({"depth_normal_prepass", std::string(f.ssao.planned ? "SSAO" : "RSM") + " needs depth and normals before shading"});
         else if (s.forward.depth_prepass) plan.push_back({"depth_prepass", "forward.depth_prepass=1"});
         add_ssao();
+        add_gather();
         plan.push_back({"forward_opaque", what + "; forward path, " + f.path_reason});
     }
     if (f.environment) plan.push_back({"sky", "the scene has environment light"});

@@ -27,6 +27,7 @@ struct FrameData {  // std140, binding 0
     glm::vec4 viewport;      // w, h, 1/w, 1/h
     glm::vec4 ssao_params;   // radius, bias (fraction of radius), samples, steps
     glm::ivec4 ssao_mode;    // x on, y blur radius, z downscale
+    glm::ivec4 rsm_mode;     // x on
 };
 
 struct MaterialData {  // std430, binding 1

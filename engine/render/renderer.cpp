@@ -60,9 +60,84 @@ void Renderer::set_settings(const RenderSettings& settings) {
             build(programs_.ssao_normals, "ssao_normals", {{ShaderStage::vertex, "forward/forward.vert"}, {ShaderStage::fragment, "ssao/normals.frag"}});
         else if (pass.name == "ssao")
             build(programs_.ssao, "ssao", {{ShaderStage::vertex, "post/fullscreen.vert"}, {ShaderStage::fragment, "ssao/ssao.frag"}});
+        else if (pass.name == "rsm")
+            build(programs_.rsm, "rsm", {{ShaderStage::vertex, "rsm/rsm.vert"}, {ShaderStage::fragment, "rsm/rsm.frag"}});
+        else if (pass.name == "rsm_indirect")
+            build(programs_.rsm_gather, "rsm_gather", {{ShaderStage::vertex, "post/fullscreen.vert"}, {ShaderStage::fragment, "rsm/gather.frag"}});
         else if (pass.name == "ssao_blur_x" || pass.name == "ssao_blur_y")
             build(programs_.ssao_blur, "ssao_blur", {{ShaderStage::vertex, "post/fullscreen.vert"}, {ShaderStage::fragment, "ssao/blur.frag"}});
     }
+}
+
+void Renderer::prepare_rsm() {
+    RsmResources& r = rsm_;
+    const auto& infos = gpu_.light_infos();
+    const auto placed = scene_.placed_lights();
+    // The RSM lights: punctual lights with shadow views, directional first, then the brightest.
+    std::vector<int> chosen;
+    for (int i = 0; i < gpu_.punctual_light_count(); ++i)
+        if (infos[static_cast<size_t>(i)].view_count > 0) chosen.push_back(i);
+    auto priority = [&](int i) {
+        const Light& l = *placed[static_cast<size_t>(i)].light;
+        if (l.type == LightType::directional) return 1e30f;
+        return (l.color.r + l.color.g + l.color.b) * l.intensity;
+    };
+    std::stable_sort(chosen.begin(), chosen.end(), [&](int a, int b) { return priority(a) > priority(b); });
+    if (chosen.size() > static_cast<size_t>(settings_.rsm_knobs.max_lights)) chosen.resize(static_cast<size_t>(settings_.rsm_knobs.max_lights));
+    r.views.clear();
+    r.kind_texel.clear();
+    r.light_first.clear();
+    const float scale = static_cast<float>(settings_.shadow.resolution) / static_cast<float>(settings_.rsm_knobs.resolution);
+    for (int li : chosen) {
+        const LightInfo& info = infos[static_cast<size_t>(li)];
+        // A directional light's last cascade covers everything the camera sees.
+        const bool directional = info.kind == LightInfo::Kind::directional;
+        const int count = directional ? 1 : info.view_count;
+        const int first = static_cast<int>(r.views.size());
+        r.light_first.push_back(first);
+        for (int k = 0; k < count; ++k) {
+            const size_t sv_index = static_cast<size_t>(info.first_view + (directional ? info.view_count - 1 : k));
+            const ShadowViewData& sv = shadows_.cpu.views[sv_index];
+            r.views.push_back({sv.view_proj, glm::vec4(static_cast<float>(li), static_cast<float>(first), static_cast<float>(count), 0.0f)});
+            r.kind_texel.push_back(glm::vec4(sv.params.x, sv.params.y * scale, 0.0f, 0.0f));
+        }
+    }
+    const int res = settings_.rsm_knobs.resolution;
+    const int layers = std::max<int>(1, static_cast<int>(r.views.size()));
+    if (r.resolution != res || r.layers != layers) {
+        auto make = [&](GLenum format) {
+            GLuint id = 0;
+            glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &id);
+            glTextureStorage3D(id, 1, format, res, res, layers);
+            return gl::Texture::adopt(id, res, res, format);
+        };
+        r.position = make(GL_RGBA32F);
+        r.normal = make(GL_RGBA16F);
+        r.flux = make(GL_RGBA16F);
+        r.depth = make(GL_DEPTH_COMPONENT32F);
+        r.layer_fbos.clear();
+        for (int layer = 0; layer < layers; ++layer) {
+            gl::Framebuffer fbo = gl::Framebuffer::create();
+            const GLuint colors[3] = {r.position.id(), r.normal.id(), r.flux.id()};
+            for (int i = 0; i < 3; ++i)
+                glNamedFramebufferTextureLayer(fbo.id(), GL_COLOR_ATTACHMENT0 + static_cast<GLenum>(i), colors[i], 0, layer);
+            glNamedFramebufferTextureLayer(fbo.id(), GL_DEPTH_ATTACHMENT, r.depth.id(), 0, layer);
+            const GLenum buffers[3] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2};
+            glNamedFramebufferDrawBuffers(fbo.id(), 3, buffers);
+            fbo.check_complete("reflective shadow map layer");
+            r.layer_fbos.push_back(std::move(fbo));
+        }
+        r.resolution = res;
+        r.layers = layers;
+    }
+    std::vector<RsmResources::View> views = r.views;
+    if (views.empty()) views.push_back({});
+    const auto bytes = static_cast<GLsizeiptr>(views.size() * sizeof(RsmResources::View));
+    if (!r.views_buffer || r.views_bytes != bytes) {
+        r.views_buffer = gl::Buffer(bytes, nullptr, GL_DYNAMIC_STORAGE_BIT);
+        r.views_bytes = bytes;
+    }
+    r.views_buffer.update(0, bytes, views.data());
 }
 
 void Renderer::prepare_shadows(const Camera& camera, float aspect) {
@@ -136,6 +211,11 @@ void Renderer::render(const Camera& camera, int width, int height, FrameOutput o
                              settings_.debug.light, 0, 0);
     frame.viewport = glm::vec4(static_cast<float>(width), static_cast<float>(height), 1.0f / static_cast<float>(width),
                                1.0f / static_cast<float>(height));
+    if (features_.rsm.planned) {
+        prepare_rsm();
+        frame.rsm_mode = glm::ivec4(1, 0, 0, 0);
+    }
+    if (settings_.debug.view == "indirect") frame.debug.x = 3;
     if (features_.ssao.planned) {
         const auto& k = settings_.ssao_knobs;
         frame.ssao_params = glm::vec4(settings_.ao.radius, k.bias, static_cast<float>(k.samples), static_cast<float>(k.steps));
@@ -144,15 +224,18 @@ void Renderer::render(const Camera& camera, int width, int height, FrameOutput o
     frame_ubo_.update(0, sizeof(FrameData), &frame);
 
     const PassEnv env{gpu_,       settings_, frame,    width,      height,      frame_ubo_, fbos_,
-                      programs_,  empty_vao_, shadows_, shadows_on, ssao_noise_, linear_clamp_};
+                      programs_,  empty_vao_, shadows_, shadows_on, ssao_noise_, linear_clamp_, rsm_};
     FrameGraph graph;
     ForwardTargets targets;
     targets.hdr = graph.import_texture("hdr", output_, {GL_RGBA32F, width, height});
     if (shadows_on)
         targets.shadow_maps = graph.import_texture("shadow_maps", shadows_.array,
                                                    {GL_DEPTH_COMPONENT32F, shadows_.resolution, shadows_.resolution});
+    if (features_.rsm.planned) targets.rsm = graph.import_texture("rsm", rsm_.position, {GL_RGBA32F, rsm_.resolution, rsm_.resolution});
     for (const PlannedPass& pass : plan_passes(features_, settings_)) {
         if (pass.name == "shadow_maps") add_shadow_pass(graph, env, targets);
+        else if (pass.name == "rsm") add_rsm_pass(graph, env, targets);
+        else if (pass.name == "rsm_indirect") add_rsm_gather_pass(graph, env, targets);
         else if (pass.name == "gbuffer") add_gbuffer_pass(graph, env, targets, !features_.transparency.planned);
         else if (pass.name == "deferred_lighting") add_deferred_lighting_pass(graph, env, targets);
         else if (pass.name == "depth_prepass") add_depth_prepass(graph, env, targets);

@@ -64,6 +64,7 @@ public:
 
 private:
     void prepare_shadows(const Camera& camera, float aspect);
+    void prepare_rsm();  // after prepare_shadows: the RSM views are shadow views
 
     const ShaderLibrary& shaders_;
     const Scene& scene_;
@@ -72,6 +73,7 @@ private:
     ShadowResources shadows_;
     gl::Texture ssao_noise_;
     gl::Sampler linear_clamp_;
+    RsmResources rsm_;
     RenderSettings settings_;
     Features features_;
     Programs programs_;

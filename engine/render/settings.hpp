@@ -53,8 +53,15 @@ struct RenderSettings {
         // its piece's centroid with its own shadow map and a PCSS penumbra of the piece's size.
         int samples = 4;  // [1, 64]
     } arealight;
+    struct Rsm {
+        int resolution = 256;            // [16, 4096] texels per side of each light's RSM view
+        int samples = 64;                // [1, 1024] RSM texels gathered per pixel and light
+        std::string gather = "half";     // full|half|quarter: resolution of the gather pass
+        float radius = 0.15f;            // (0, 1] sampling radius, fraction of the RSM's width
+        int max_lights = 4;              // [1, 8] lights with an RSM: directional first, then brightest
+    } rsm_knobs;
     struct Debug {
-        std::string view = "none";  // none|visibility|ao: a debug buffer instead of radiance
+        std::string view = "none";  // none|visibility|ao|indirect: a debug buffer instead of radiance
         int light = 0;  // [0, 1e6] visibility of this light; >= the punctual count: all area lights
     } debug;
     struct Transparency {

@@ -210,8 +210,8 @@ SceneSetup setup_scene(const Parsed& p, const std::string& scene_path, int defau
     }
     if (p.has("--output-buffer")) {
         const std::string b = p.get("--output-buffer");
-        if (b != "radiance" && b != "visibility" && b != "ao")
-            throw bad_input("--output-buffer '" + b + "' must be radiance, visibility (of light --set debug.light=K) or ao");
+        if (b != "radiance" && b != "visibility" && b != "ao" && b != "indirect")
+            throw bad_input("--output-buffer '" + b + "' must be radiance, visibility (of light --set debug.light=K), ao or indirect");
         s.options.settings.debug.view = b == "radiance" ? "none" : b;
     }
     for (const std::string& knob : p.all("--set")) apply_knob(s.options.settings, knob);

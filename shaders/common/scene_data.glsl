@@ -20,6 +20,7 @@ layout(std140, binding = 0) uniform Frame {
     vec4 viewport;         // width, height, 1/width, 1/height
     vec4 ssao_params;      // x radius (world), y bias (fraction of the radius), z samples, w steps
     ivec4 ssao_mode;       // x 1 when the AO buffer is bound, y blur radius, z downscale (1 or 2)
+    ivec4 rsm_mode;        // x 1 when the RSM indirect irradiance is bound
 } frame;
 
 struct MaterialData {

@@ -102,6 +102,10 @@ void main() {
     vec3 p = pw.xyz / pw.w;
     vec3 v = normalize(frame.camera_pos.xyz - p);
     vec2 pixel = vec2(gid) + 0.5;
+    if (frame.debug.x == 3) {
+        imageStore(light_buffer, gid, vec4(rsm_indirect(bi, pixel), 1.0));
+        return;
+    }
     if (frame.debug.x != 0) {
         float value = frame.debug.x == 1 ? light_visibility(p, n, pixel) : ssao_at(pixel);
         imageStore(light_buffer, gid, vec4(vec3(value), 1.0));
@@ -121,5 +125,6 @@ void main() {
         }
     }
     color += shade_ambient(bi, n, v, base_occlusion.a * ssao_at(pixel));
+    color += rsm_indirect(bi, pixel);
     imageStore(light_buffer, gid, vec4(color, 1.0));
 }

@@ -11,6 +11,14 @@ layout(binding = 9) uniform sampler2D t_ssao;  // bound when frame.ssao_mode.x =
 // environment light only, never direct light.
 float ssao_at(vec2 pixel) { return frame.ssao_mode.x != 0 ? texture(t_ssao, pixel * frame.viewport.zw).r : 1.0; }
 
+layout(binding = 10) uniform sampler2D t_rsm_indirect;  // bound when frame.rsm_mode.x = 1
+// One-bounce diffuse light from the reflective shadow maps, reflected by the Lambert part.
+vec3 rsm_indirect(BrdfInput bi, vec2 pixel) {
+    if (frame.rsm_mode.x == 0) return vec3(0.0);
+    vec3 E = texture(t_rsm_indirect, pixel * frame.viewport.zw).rgb;
+    return bi.base_color * (1.0 - bi.metallic) * INV_PI * E;
+}
+
 vec3 environment_specular(vec3 r, float roughness) {
     if (frame.env_radiance.w < 0.5) return frame.env_radiance.rgb;
     float lod = roughness * float(max(frame.counts.y - 1, 0));

@@ -182,17 +182,20 @@ std::vector<std::string> pass_names(const StillResult& r) {
 TEST_P(GlTest, ExecutedPassesPerSampleScene) {
     using V = std::vector<std::string>;
     const std::vector<std::tuple<std::string, std::string, V>> expected = {
+        // cornell_box: area light only (no RSM: its pieces have no reflective shadow map), no ambient.
         {"cornell_box", "all", V{"shadow_maps", "forward_opaque"}},
-        {"cornell_point", "all", V{"shadow_maps", "forward_opaque"}},
+        {"cornell_point", "all", V{"shadow_maps", "rsm", "depth_normal_prepass", "rsm_indirect", "forward_opaque"}},
+        {"cornell_point", "shadows", V{"shadow_maps", "forward_opaque"}},
         {"cornell_point", "none", V{"forward_opaque"}},
-        {"spheres", "all", V{"shadow_maps", "depth_normal_prepass", "ssao", "ssao_blur_x", "ssao_blur_y", "forward_opaque", "sky"}},
-        {"shadow_test", "all", V{"shadow_maps", "depth_normal_prepass", "ssao", "ssao_blur_x", "ssao_blur_y", "forward_opaque", "sky"}},
+        {"spheres", "all", V{"shadow_maps", "rsm", "depth_normal_prepass", "ssao", "ssao_blur_x", "ssao_blur_y", "rsm_indirect", "forward_opaque", "sky"}},
         {"shadow_test", "shadows,ssao", V{"shadow_maps", "depth_normal_prepass", "ssao", "ssao_blur_x", "ssao_blur_y", "forward_opaque", "sky"}},
-        {"transparency", "all", V{"shadow_maps", "depth_normal_prepass", "ssao", "ssao_blur_x", "ssao_blur_y", "forward_opaque", "sky", "transparent"}},
+        {"shadow_test", "shadows,rsm", V{"shadow_maps", "rsm", "depth_normal_prepass", "rsm_indirect", "forward_opaque", "sky"}},
+        {"transparency", "all", V{"shadow_maps", "rsm", "depth_normal_prepass", "ssao", "ssao_blur_x", "ssao_blur_y", "rsm_indirect", "forward_opaque", "sky", "transparent"}},
         {"transparency", "none", V{"forward_opaque", "sky"}},
         {"reflections", "shadows", V{"shadow_maps", "forward_opaque", "sky"}},
-        {"cornell_point", "all --path deferred", V{"shadow_maps", "gbuffer", "deferred_lighting"}},
-        {"transparency", "all --path deferred", V{"shadow_maps", "gbuffer", "ssao", "ssao_blur_x", "ssao_blur_y", "deferred_lighting", "sky", "transparent"}},
+        {"cornell_point", "shadows --path deferred", V{"shadow_maps", "gbuffer", "deferred_lighting"}},
+        {"cornell_point", "shadows,rsm --path deferred", V{"shadow_maps", "rsm", "gbuffer", "rsm_indirect", "deferred_lighting"}},
+        {"transparency", "shadows,ssao,transparency --path deferred", V{"shadow_maps", "gbuffer", "ssao", "ssao_blur_x", "ssao_blur_y", "deferred_lighting", "sky", "transparent"}},
         {"cornell_point", "none --path deferred", V{"gbuffer", "deferred_lighting"}},
     };
     for (const auto& [scene, effects_and_path, passes] : expected) {
@@ -235,17 +238,18 @@ TEST_P(GlTest, GpuTonemapMatchesTheCppTransform) {
 }
 
 TEST_P(GlTest, SwitchingAnUnneededEffectChangesNothing) {
-    // cornell_point needs shadows only: no transparency, reflections, SSAO (no ambient) or RSM
-    // (point light).
+    // cornell_point needs shadows and (when on) RSM: no transparency, reflections or SSAO (no
+    // ambient light).
     const StillResult all = render_sample("cornell_point", "all");
-    for (const char* effects : {"shadows", "shadows,transparency,reflections", "shadows,ssao,rsm"}) {
+    for (const char* effects : {"shadows,rsm", "shadows,rsm,transparency,reflections", "shadows,rsm,ssao"}) {
         SCOPED_TRACE(effects);
         const StillResult other = render_sample("cornell_point", effects);
         EXPECT_EQ(pass_names(other), pass_names(all));
         EXPECT_EQ(other.radiance.pixels, all.radiance.pixels);  // bit-identical
     }
-    // Shadows are needed: switching them off changes the image.
-    EXPECT_NE(render_sample("cornell_point", "none").radiance.pixels, all.radiance.pixels);
+    // Shadows and RSM are needed: switching either off changes the image.
+    EXPECT_NE(render_sample("cornell_point", "rsm").radiance.pixels, all.radiance.pixels);
+    EXPECT_NE(render_sample("cornell_point", "shadows").radiance.pixels, all.radiance.pixels);
     // transparency.gltf does need transparency: switching it off must change the image.
     EXPECT_NE(render_sample("transparency", "none").radiance.pixels, render_sample("transparency", "all").radiance.pixels);
 }

@@ -43,9 +43,14 @@ void bind_scene_buffers(const PassEnv& env) {
 }
 
 void bind_ssao(const PassEnv& env, FrameGraph::Context& ctx, const ForwardTargets& targets) {
-    if (targets.ssao < 0) return;
-    glBindTextureUnit(9, ctx.texture(targets.ssao).id());
-    glBindSampler(9, env.linear_clamp.id());
+    if (targets.ssao >= 0) {
+        glBindTextureUnit(9, ctx.texture(targets.ssao).id());
+        glBindSampler(9, env.linear_clamp.id());
+    }
+    if (targets.rsm_indirect >= 0) {
+        glBindTextureUnit(10, ctx.texture(targets.rsm_indirect).id());
+        glBindSampler(10, env.linear_clamp.id());
+    }
 }
 
 void draw_item(const PassEnv& env, FrameGraph::Context& ctx, const GpuScene::Draw& d, bool cull, GLenum cull_face,

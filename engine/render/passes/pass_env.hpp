@@ -34,6 +34,24 @@ struct Programs {
     gl::Program ssao_normals;
     gl::Program ssao;
     gl::Program ssao_blur;
+    gl::Program rsm;
+    gl::Program rsm_gather;
+};
+
+// Reflective shadow maps: per layer one light view (a shadow view at rsm.resolution).
+struct RsmResources {
+    gl::Texture position, normal, flux, depth;  // 2D arrays, one layer per view
+    std::vector<gl::Framebuffer> layer_fbos;
+    struct View {
+        glm::mat4 view_proj;
+        glm::vec4 params;  // x light, y first layer of the light, z its layer count
+    };
+    std::vector<View> views;
+    std::vector<glm::vec4> kind_texel;  // per layer: x kind (0 ortho), y texel size at rsm.resolution
+    std::vector<int> light_first;       // first layer of each RSM light
+    gl::Buffer views_buffer;
+    GLsizeiptr views_bytes = 0;
+    int resolution = 0, layers = 0;
 };
 
 // The shadow maps of a frame: one DEPTH32F array layer per shadow view (render/shadows.hpp).
@@ -61,6 +79,7 @@ struct PassEnv {
     bool shadows_on;  // the shadow pass runs this frame
     const gl::Texture& ssao_noise;     // 4x4 rotations for SSAO
     const gl::Sampler& linear_clamp;   // for screen-space buffers read at other resolutions
+    RsmResources& rsm;
 };
 
 // The resources the forward chain passes along.
@@ -73,11 +92,13 @@ struct ForwardTargets {
     FrameGraph::ResourceId normals = -1;  // xy octahedral normal: gbuffer[1] or the prepass's
     FrameGraph::ResourceId ssao = -1;     // the AO buffer the lighting reads (after any blur)
     bool prepass_has_blend = false;       // the depth prepass drew BLEND materials as opaque
+    FrameGraph::ResourceId rsm = -1;            // the reflective shadow maps (imported)
+    FrameGraph::ResourceId rsm_indirect = -1;   // one-bounce irradiance from them
 };
 
 // Binds the frame UBO, material and light SSBOs, the environment texture and the shadow maps.
 void bind_scene_buffers(const PassEnv& env);
-// Binds the AO buffer (unit 9) when the SSAO pass runs this frame.
+// Binds the AO buffer (unit 9) and the RSM indirect irradiance (unit 10) when they run.
 void bind_ssao(const PassEnv& env, FrameGraph::Context& ctx, const ForwardTargets& targets);
 // Draws one scene item with `program` (default: forward), which has the forward vertex layout and
 // per-draw uniforms (locations 0-3), textures and winding.
@@ -92,6 +113,8 @@ void add_depth_prepass(FrameGraph& graph, const PassEnv& env, ForwardTargets& ta
 void add_depth_normal_prepass(FrameGraph& graph, const PassEnv& env, ForwardTargets& targets, bool blend_as_opaque);
 void add_ssao_pass(FrameGraph& graph, const PassEnv& env, ForwardTargets& targets);
 void add_ssao_blur_pass(FrameGraph& graph, const PassEnv& env, ForwardTargets& targets, int axis);
+void add_rsm_pass(FrameGraph& graph, const PassEnv& env, ForwardTargets& targets);
+void add_rsm_gather_pass(FrameGraph& graph, const PassEnv& env, ForwardTargets& targets);
 void add_forward_opaque_pass(FrameGraph& graph, const PassEnv& env, ForwardTargets& targets, bool blend_as_opaque);
 void add_sky_pass(FrameGraph& graph, const PassEnv& env, ForwardTargets& targets);
 void add_transparent_pass(FrameGraph& graph, const PassEnv& env, ForwardTargets& targets);

@@ -14,6 +14,7 @@ void add_transparent_pass(FrameGraph& graph, const PassEnv& env, ForwardTargets&
             b.read(targets.depth);
             if (targets.shadow_maps >= 0) b.read(targets.shadow_maps);
             if (targets.ssao >= 0) b.read(targets.ssao);
+            if (targets.rsm_indirect >= 0) b.read(targets.rsm_indirect);
             b.write(targets.hdr);
         },
         [&env, &targets](FrameGraph::Context& ctx) {

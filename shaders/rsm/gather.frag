@@ -1,0 +1,90 @@
+#version 450 core
+// RSM indirect light (Dachsbacher & Stamminger 2005): each pixel gathers rsm.samples texels of
+// every light's reflective shadow map around its own projection into it, in the paper's polar
+// pattern (denser near the centre: r = radius * xi1). Each texel is a small Lambertian emitter of
+// flux phi: irradiance phi / pi * cos_p * cos_x / d^2. The weights are the pattern's exact
+// inverse density (2 pi radius^2 xi1 texels), so the sum estimates all texels within the radius.
+// Output: the one-bounce irradiance E at the pixel; the lighting adds albedo / pi * E. Nothing
+// tests visibility between the texel and the pixel: RSM's known missing occlusion.
+#include "../common/scene_data.glsl"
+#include "../lighting/gbuffer.glsl"
+
+layout(binding = 0) uniform sampler2D t_depth;    // full resolution, reversed-Z
+layout(binding = 1) uniform sampler2D t_normals;  // xy: octahedral normal
+layout(binding = 2) uniform sampler2DArray t_rsm_position;
+layout(binding = 3) uniform sampler2DArray t_rsm_normal;
+layout(binding = 4) uniform sampler2DArray t_rsm_flux;
+
+struct RsmView {
+    mat4 view_proj;
+    vec4 params;  // x light index, y first layer, z layer count (1 or 6), w unused
+};
+layout(std430, binding = 4) readonly buffer RsmViews { RsmView rsm_views[]; };  // per layer
+layout(location = 0) uniform int u_lights;       // RSM lights: rsm_views[first layer of each]
+layout(location = 1) uniform ivec4 u_rsm;        // x resolution, y samples, z downscale
+layout(location = 2) uniform float u_radius;     // sampling radius, fraction of the map width
+layout(location = 3) uniform int u_light_first[8];
+
+layout(location = 0) out vec4 out_irradiance;
+
+float gather_noise(vec2 pixel) { return fract(52.9829189 * fract(dot(pixel, vec2(0.06711056, 0.00583715)))); }
+
+void main() {
+    ivec2 size = textureSize(t_depth, 0);
+    ivec2 full = min(ivec2(gl_FragCoord.xy) * u_rsm.z, size - 1);
+    float depth = texelFetch(t_depth, full, 0).r;
+    if (depth <= 0.0) {
+        out_irradiance = vec4(0.0);
+        return;
+    }
+    vec4 pw = frame.inv_view_proj * vec4((vec2(full) + 0.5) / vec2(size) * 2.0 - 1.0, depth, 1.0);
+    vec3 p = pw.xyz / pw.w;
+    vec3 n = oct_decode(texelFetch(t_normals, full, 0).xy);
+    float res = float(u_rsm.x);
+    int samples = u_rsm.y;
+    float phi0 = 6.28318531 * gather_noise(gl_FragCoord.xy);
+    vec3 E = vec3(0.0);
+    for (int li = 0; li < u_lights; ++li) {
+        int first = u_light_first[li];
+        RsmView v0 = rsm_views[first];
+        // One view (directional, spot): the paper's pattern around the pixel's projection. A cube
+        // (point light): the bounce light comes from every face, so the samples are spread
+        // uniformly over all six (an R2 sequence, shifted per pixel), weighted 6 res^2 / n.
+        bool cube = int(v0.params.z) == 6;
+        vec2 centre = vec2(0.5);
+        if (!cube) {
+            vec4 c = rsm_views[first].view_proj * vec4(p, 1.0);
+            if (c.w <= 0.0) continue;
+            centre = c.xy / c.w * 0.5 + 0.5;
+        }
+        float weight = cube ? 6.0 * res * res / float(samples) : 2.0 * PI * u_radius * u_radius * res * res / float(samples);
+        for (int i = 0; i < samples; ++i) {
+            vec2 uv;
+            float w = weight;
+            int layer = first;
+            if (cube) {
+                layer = first + i % 6;
+                uv = fract(vec2(0.5 + float(i / 6) * 0.7548776662, 0.5 + float(i / 6) * 0.5698402910) + vec2(phi0 * 0.15915494, gather_noise(gl_FragCoord.yx)));
+            } else {
+                // Stratified polar pattern: xi1 from the sample index, xi2 a golden-angle spiral.
+                float xi1 = (float(i) + 0.5) / float(samples);
+                float angle = float(i) * 2.39996323 + phi0;
+                uv = centre + u_radius * xi1 * vec2(cos(angle), sin(angle));
+                w *= xi1;
+            }
+            if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) continue;
+            vec3 tc = vec3(uv, float(layer));
+            vec4 xp = textureLod(t_rsm_position, tc, 0.0);
+            if (xp.w <= 0.0) continue;
+            vec4 flux = textureLod(t_rsm_flux, tc, 0.0);
+            vec3 np = textureLod(t_rsm_normal, tc, 0.0).xyz;
+            vec3 d = p - xp.xyz;
+            // Below the texel's own footprint the point-emitter model breaks down: bound 1/d^2.
+            float d2 = max(dot(d, d), flux.a * flux.a);
+            float cos_p = max(dot(np, d), 0.0);
+            float cos_x = max(dot(n, -d), 0.0);
+            E += flux.rgb * (INV_PI * cos_p * cos_x / (d2 * d2)) * w;
+        }
+    }
+    out_irradiance = vec4(E, 1.0);
+}
