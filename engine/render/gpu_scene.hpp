@@ -27,7 +27,8 @@ struct FrameData {  // std140, binding 0
     glm::vec4 viewport;      // w, h, 1/w, 1/h
     glm::vec4 ssao_params;   // radius, bias (fraction of radius), samples, steps
     glm::ivec4 ssao_mode;    // x on, y blur radius, z downscale
-    glm::ivec4 rsm_mode;     // x on
+    glm::ivec4 rsm_mode;     // x on, y downscale
+    glm::vec4 depth_to_view; // view z of depth d: (x d + y) / (z d + w)
 };
 
 struct MaterialData {  // std430, binding 1

@@ -193,6 +193,10 @@ void Renderer::render(const Camera& camera, int width, int height, FrameOutput o
     frame.proj = projection_matrix(camera, aspect);
     frame.view_proj = frame.proj * frame.view;
     frame.inv_view_proj = glm::inverse(frame.view_proj);
+    {
+        const glm::mat4 ip = glm::inverse(frame.proj);  // column-major: ip[col][row]
+        frame.depth_to_view = glm::vec4(ip[2][2], ip[3][2], ip[2][3], ip[3][3]);
+    }
     frame.camera_pos = glm::vec4(glm::vec3(camera.world[3]), 1.0f);
     frame.env_radiance = glm::vec4(gpu_.environment_radiance(), gpu_.has_environment_map() ? 1.0f : 0.0f);
     for (int i = 0; i < 9; ++i) frame.env_sh[i] = glm::vec4(gpu_.environment_sh()[static_cast<size_t>(i)], 0.0f);

@@ -20,7 +20,8 @@ layout(std140, binding = 0) uniform Frame {
     vec4 viewport;         // width, height, 1/width, 1/height
     vec4 ssao_params;      // x radius (world), y bias (fraction of the radius), z samples, w steps
     ivec4 ssao_mode;       // x 1 when the AO buffer is bound, y blur radius, z downscale (1 or 2)
-    ivec4 rsm_mode;        // x 1 when the RSM indirect irradiance is bound
+    ivec4 rsm_mode;        // x 1 when the RSM indirect irradiance is bound, y its downscale factor
+    vec4 depth_to_view;    // view z of a depth d: (x * d + y) / (z * d + w) (rows of the inverse projection)
 } frame;
 
 struct MaterialData {

@@ -58,7 +58,7 @@ void add_ssao_pass(FrameGraph& graph, const PassEnv& env, ForwardTargets& target
             b.read(targets.depth);
             b.read(targets.normals);
             const int f = ao_downscale(env);
-            targets.ssao = b.create("ssao", {GL_R16F, (env.width + f - 1) / f, (env.height + f - 1) / f});
+            targets.ssao = b.create("ssao", {GL_RG16F, (env.width + f - 1) / f, (env.height + f - 1) / f});
         },
         [&env, &targets](FrameGraph::Context& ctx) {
             glBindBufferBase(GL_UNIFORM_BUFFER, 0, env.frame_ubo.id());
@@ -81,7 +81,6 @@ void add_ssao_blur_pass(FrameGraph& graph, const PassEnv& env, ForwardTargets& t
         name,
         [&, io, name](FrameGraph::Builder& b) {
             io->first = b.read(targets.ssao);
-            b.read(targets.depth);
             io->second = b.create(name, graph.resources()[static_cast<size_t>(io->first)].desc);
             targets.ssao = io->second;
         },
@@ -89,8 +88,6 @@ void add_ssao_blur_pass(FrameGraph& graph, const PassEnv& env, ForwardTargets& t
             glBindBufferBase(GL_UNIFORM_BUFFER, 0, env.frame_ubo.id());
             glBindTextureUnit(0, ctx.texture(io->first).id());
             glBindSampler(0, 0);
-            glBindTextureUnit(1, ctx.texture(targets.depth).id());
-            glBindSampler(1, 0);
             const GLuint program = env.programs.ssao_blur.id();
             glProgramUniform2i(program, 0, axis == 0 ? 1 : 0, axis == 0 ? 0 : 1);
             const TextureDesc& d = ctx.desc(io->second);
