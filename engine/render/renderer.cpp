@@ -217,7 +217,8 @@ void Renderer::render(const Camera& camera, int width, int height, FrameOutput o
                                1.0f / static_cast<float>(height));
     if (features_.rsm.planned) {
         prepare_rsm();
-        frame.rsm_mode = glm::ivec4(1, 0, 0, 0);
+        const std::string& g = settings_.rsm_knobs.gather;
+        frame.rsm_mode = glm::ivec4(1, g == "quarter" ? 4 : g == "half" ? 2 : 1, 0, 0);
     }
     if (settings_.debug.view == "indirect") frame.debug.x = 3;
     if (features_.ssao.planned) {

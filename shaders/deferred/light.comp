@@ -103,7 +103,7 @@ void main() {
     vec3 v = normalize(frame.camera_pos.xyz - p);
     vec2 pixel = vec2(gid) + 0.5;
     if (frame.debug.x == 3) {
-        imageStore(light_buffer, gid, vec4(rsm_indirect(bi, pixel), 1.0));
+        imageStore(light_buffer, gid, vec4(rsm_indirect(bi, pixel, p), 1.0));
         return;
     }
     if (frame.debug.x != 0) {
@@ -125,6 +125,6 @@ void main() {
         }
     }
     color += shade_ambient(bi, n, v, base_occlusion.a * ssao_at(pixel));
-    color += rsm_indirect(bi, pixel);
+    color += rsm_indirect(bi, pixel, p);
     imageStore(light_buffer, gid, vec4(color, 1.0));
 }

@@ -11,7 +11,7 @@ void main() {
     vec3 v = normalize(frame.camera_pos.xyz - v_world_pos);
     vec2 pixel = gl_FragCoord.xy;
     if (frame.debug.x == 3) {
-        out_radiance = vec4(rsm_indirect(s.brdf, pixel), 1.0);
+        out_radiance = vec4(rsm_indirect(s.brdf, pixel, v_world_pos), 1.0);
         return;
     }
     if (frame.debug.x != 0) {
@@ -22,6 +22,6 @@ void main() {
     vec3 color = s.emission;
     for (int i = 0; i < frame.counts.x; ++i) color += shade_light(i, s.brdf, v_world_pos, s.n, v, pixel);
     color += shade_ambient(s.brdf, s.n, v, s.occlusion * ssao_at(pixel));
-    color += rsm_indirect(s.brdf, pixel);
+    color += rsm_indirect(s.brdf, pixel, v_world_pos);
     out_radiance = vec4(color, s.alpha_mode == 2 ? s.alpha : 1.0);
 }

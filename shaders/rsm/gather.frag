@@ -4,7 +4,8 @@
 // pattern (denser near the centre: r = radius * xi1). Each texel is a small Lambertian emitter of
 // flux phi: irradiance phi / pi * cos_p * cos_x / d^2. The weights are the pattern's exact
 // inverse density (2 pi radius^2 xi1 texels), so the sum estimates all texels within the radius.
-// Output: the one-bounce irradiance E at the pixel; the lighting adds albedo / pi * E. Nothing
+// Output: the one-bounce irradiance E at the pixel (rgb) and its view depth (a); the lighting
+// upsamples it geometry-aware and adds albedo / pi * E. Nothing
 // tests visibility between the texel and the pixel: RSM's known missing occlusion.
 #include "../common/scene_data.glsl"
 #include "../lighting/gbuffer.glsl"
@@ -34,7 +35,7 @@ void main() {
     ivec2 full = min(ivec2(gl_FragCoord.xy) * u_rsm.z, size - 1);
     float depth = texelFetch(t_depth, full, 0).r;
     if (depth <= 0.0) {
-        out_irradiance = vec4(0.0);
+        out_irradiance = vec4(0.0, 0.0, 0.0, -6.0e4);  // no surface: (almost) never blended into one
         return;
     }
     vec4 pw = frame.inv_view_proj * vec4((vec2(full) + 0.5) / vec2(size) * 2.0 - 1.0, depth, 1.0);
@@ -86,5 +87,5 @@ void main() {
             E += flux.rgb * (INV_PI * cos_p * cos_x / (d2 * d2)) * w;
         }
     }
-    out_irradiance = vec4(E, 1.0);
+    out_irradiance = vec4(E, (frame.view * vec4(p, 1.0)).z);  // a: view depth, for the upsampling
 }
