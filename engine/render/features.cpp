@@ -100,7 +100,12 @@ std::vector<PlannedPass> plan_passes(const Features& f, const RenderSettings& s)
         plan.push_back({"forward_opaque", what + "; forward path, " + f.path_reason});
     }
     if (f.environment) plan.push_back({"sky", "the scene has environment light"});
-    if (f.transparency.planned) plan.push_back({"transparent", f.transparency.reason.substr(4)});
+    if (f.transparency.planned) {
+        if (s.transparency_knobs.mode == "peeling")
+            plan.push_back({"transparent_peeling", f.transparency.reason.substr(4) + ", " +
+                                                       std::to_string(s.transparency_knobs.layers) + " depth-peeling layers"});
+        else plan.push_back({"transparent", f.transparency.reason.substr(4)});
+    }
     return plan;
 }
 

@@ -46,7 +46,10 @@ void Renderer::set_settings(const RenderSettings& settings) {
         program = shaders_.build_or_throw(desc);
     };
     for (const PlannedPass& pass : plan_passes(features_, settings_)) {
-        if (pass.name == "forward_opaque" || pass.name == "depth_prepass" || pass.name == "transparent")
+        if (pass.name == "transparent_peeling")
+            build(programs_.copy, "copy", {{ShaderStage::vertex, "post/fullscreen.vert"}, {ShaderStage::fragment, "post/copy.frag"}});
+        if (pass.name == "forward_opaque" || pass.name == "depth_prepass" || pass.name == "transparent" ||
+            pass.name == "transparent_peeling")
             build(programs_.forward, "forward", {{ShaderStage::vertex, "forward/forward.vert"}, {ShaderStage::fragment, "forward/forward.frag"}});
         else if (pass.name == "sky")
             build(programs_.sky, "sky", {{ShaderStage::vertex, "forward/sky.vert"}, {ShaderStage::fragment, "forward/sky.frag"}});
@@ -251,6 +254,7 @@ void Renderer::render(const Camera& camera, int width, int height, FrameOutput o
         else if (pass.name == "forward_opaque") add_forward_opaque_pass(graph, env, targets, !features_.transparency.planned);
         else if (pass.name == "sky") add_sky_pass(graph, env, targets);
         else if (pass.name == "transparent") add_transparent_pass(graph, env, targets);
+        else if (pass.name == "transparent_peeling") add_peeling_pass(graph, env, targets);
         else throw Error(ExitCode::internal, "renderer: no pass named '" + pass.name + "'");
     }
     // The tonemap pass is always declared; for an HDR-only frame nobody consumes its output and

@@ -92,7 +92,10 @@ RtGeometry build_rt_geometry(const Scene& scene, int default_material, const Bvh
         s.cdf = static_cast<float>(running_area / total_area);
     }
     if (!g.surfaces.empty()) g.surfaces.back().cdf = 1.0f;
-    for (const Material& m : scene.materials) g.has_transmission = g.has_transmission || m.transmission > 0.0f;
+    for (const Material& m : scene.materials) {
+        g.has_transmission = g.has_transmission || m.transmission > 0.0f;
+        g.has_blend = g.has_blend || m.alpha_mode == AlphaMode::blend;
+    }
 
     std::vector<Aabb> boxes;
     boxes.reserve(g.triangles.size() + g.spheres.size());

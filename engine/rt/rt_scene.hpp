@@ -41,6 +41,7 @@ struct RtGeometry {
     std::vector<EmitterGpu> surfaces;
     double emitted_power = 0.0;  // sum of luminance(emission) * area over emitters
     bool has_transmission = false;
+    bool has_blend = false;  // alphaMode BLEND materials: composited along camera rays
     Bvh bvh;
 };
 

@@ -6,7 +6,20 @@
 
 layout(location = 0) out vec4 out_radiance;
 
+// Depth peeling (transparency.mode=peeling): 1 the first layer, 2 a later one; 0 otherwise. A
+// peeled fragment must lie in front of the opaque depth and behind the previous layer, and is
+// written premultiplied for front-to-back compositing (Everitt 2001; Bavoil & Myers 2008).
+layout(location = 8) uniform int u_peel;
+layout(binding = 11) uniform sampler2D t_opaque_depth;
+layout(binding = 12) uniform sampler2D t_previous_layer;
+
 void main() {
+    if (u_peel != 0) {
+        ivec2 px = ivec2(gl_FragCoord.xy);
+        // Reversed-Z: a larger depth is nearer.
+        if (gl_FragCoord.z <= texelFetch(t_opaque_depth, px, 0).r) discard;
+        if (u_peel == 2 && gl_FragCoord.z >= texelFetch(t_previous_layer, px, 0).r) discard;
+    }
     Surface s = fragment_surface();
     vec3 v = normalize(frame.camera_pos.xyz - v_world_pos);
     vec2 pixel = gl_FragCoord.xy;
@@ -23,5 +36,6 @@ void main() {
     for (int i = 0; i < frame.counts.x; ++i) color += shade_light(i, s.brdf, v_world_pos, s.n, v, pixel);
     color += shade_ambient(s.brdf, s.n, v, s.occlusion * ssao_at(pixel));
     color += rsm_indirect(s.brdf, pixel, v_world_pos);
-    out_radiance = vec4(color, s.alpha_mode == 2 ? s.alpha : 1.0);
+    float alpha = s.alpha_mode == 2 ? s.alpha : 1.0;
+    out_radiance = u_peel != 0 ? vec4(color * alpha, alpha) : vec4(color, alpha);
 }

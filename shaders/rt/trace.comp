@@ -2,7 +2,8 @@
 // The compute-shader ray tracer: one sample per pixel per dispatch, accumulated in `accum`.
 // Modes (one is defined by the host): MODE_AO, MODE_PATH (MODE_DIRECT is MODE_PATH with one
 // bounce), MODE_INDIRECT, MODE_WHITTED. Scene features compiled in only when the scene has them:
-// HAS_EMITTERS (emissive triangles), HAS_TRANSMISSION (KHR_materials_transmission).
+// HAS_EMITTERS (emissive triangles), HAS_TRANSMISSION (KHR_materials_transmission), HAS_BLEND
+// (alphaMode BLEND: layers composited along camera rays).
 #if !defined(MODE_AO) && !defined(MODE_PATH) && !defined(MODE_INDIRECT) && !defined(MODE_WHITTED) && \
     !defined(MODE_PRIMARY) && !defined(MODE_VISIBILITY)
 #define MODE_PATH  // the default when validated without defines
@@ -59,6 +60,18 @@ vec3 surface_emission(SurfaceHit s) {
     return e;
 }
 bool material_double_sided(int mi) { return materials[mi].params.w > 0.5; }
+
+// alphaMode BLEND: the coverage the rasterizer blends with (SRC_ALPHA, ONE_MINUS_SRC_ALPHA); 1 for
+// every other mode. Camera paths composite blended layers with it, in depth order, which is the
+// exact answer sorted blending and depth peeling approximate. Shadow, AO and bounce rays treat
+// blended surfaces as opaque, as the shadow maps do.
+float blend_alpha(SurfaceHit s) {
+    MaterialData m = materials[s.material];
+    if (int(m.params.z) != 2) return 1.0;
+    float a = m.base_color.a;
+    if (m.texcoord.x >= 0) a *= material_texture(m.images.x, material_uv(m, 0, m.texcoord.x, s.uv0, s.uv1)).a;
+    return saturate(a);
+}
 float material_transmission(int mi) { return materials[mi].params2.y; }
 // KHR_materials_volume: thickness 0 is a thin wall (light passes without bending).
 bool material_thin(int mi) { return materials[mi].volume.x <= 0.0; }
@@ -352,6 +365,9 @@ vec3 radiance(Ray ray, inout Rng rng) {
     vec3 throughput = vec3(1.0);
     float last_brdf_pdf = 0.0;  // 0: the last bounce was specular-delta or the camera
     int max_depth = rt.params.x;
+#ifdef HAS_BLEND
+    int layers = 0;
+#endif
     for (int depth = 0; depth <= max_depth; ++depth) {
         Hit hit = trace_closest(ray, 3.0e38);
         if (hit.prim < 0) {
@@ -363,6 +379,16 @@ vec3 radiance(Ray ray, inout Rng rng) {
             break;
         }
         SurfaceHit s = surface_at(ray, hit);
+#ifdef HAS_BLEND
+        // Camera rays pass a blended layer with probability 1 - alpha: in expectation
+        // alpha * (the layer) + (1 - alpha) * (what is behind it), the OVER operator.
+        if (depth == 0 && layers < 32 && rng_next(rng) >= blend_alpha(s)) {
+            ray = make_ray(offset_ray(s.p, -s.ng), ray.dir);
+            ++layers;
+            --depth;
+            continue;
+        }
+#endif
         vec3 Le = emitted(s);
         if (max(Le.r, max(Le.g, Le.b)) > 0.0) {
             float w = 1.0;
@@ -521,6 +547,18 @@ vec3 radiance(Ray primary, inout Rng rng) {
         }
         SurfaceHit s = surface_at(ray, hit);
         vec3 v = -normalize(ray.dir);
+#ifdef HAS_BLEND
+        // A blended layer on the camera ray: alpha of it, 1 - alpha of what is behind (OVER).
+        if (depth == 0) {
+            float a = blend_alpha(s);
+            if (a < 1.0 && n < kMaxStack) {
+                rays[n] = make_ray(offset_ray(s.p, -s.ng), ray.dir);
+                weights[n] = w * (1.0 - a);
+                depths[n++] = 0;
+                w *= a;
+            }
+        }
+#endif
         BrdfInput m = brdf_input(s);
         sum += w * emitted(s);
         bool can_branch = depth < rt.params.x && n + 2 <= kMaxStack;

@@ -36,6 +36,7 @@ struct Programs {
     gl::Program ssao_blur;
     gl::Program rsm;
     gl::Program rsm_gather;
+    gl::Program copy;  // full-screen texel copy, compositing through the blend state
 };
 
 // Reflective shadow maps: per layer one light view (a shadow view at rsm.resolution).
@@ -118,6 +119,7 @@ void add_rsm_gather_pass(FrameGraph& graph, const PassEnv& env, ForwardTargets& 
 void add_forward_opaque_pass(FrameGraph& graph, const PassEnv& env, ForwardTargets& targets, bool blend_as_opaque);
 void add_sky_pass(FrameGraph& graph, const PassEnv& env, ForwardTargets& targets);
 void add_transparent_pass(FrameGraph& graph, const PassEnv& env, ForwardTargets& targets);
+void add_peeling_pass(FrameGraph& graph, const PassEnv& env, ForwardTargets& targets);
 void add_tonemap_pass(FrameGraph& graph, const PassEnv& env, ForwardTargets& targets, const gl::Texture& display,
                       float exposure_ev);
 
