@@ -182,17 +182,26 @@ GpuScene::GpuScene(const Scene& scene) : scene_(scene) {
         }
     vertices_ = gl::Buffer(static_cast<GLsizeiptr>(vertices.size() * sizeof(Vertex)), vertices.data());
     indices_ = gl::Buffer(static_cast<GLsizeiptr>(indices.size() * sizeof(std::uint32_t)), indices.data());
-    vao_ = gl::VertexArray::create();
-    glVertexArrayVertexBuffer(vao_.id(), 0, vertices_.id(), 0, sizeof(Vertex));
-    glVertexArrayElementBuffer(vao_.id(), indices_.id());
-    const struct { GLuint loc; GLint size; GLuint offset; } attribs[] = {
-        {0, 3, offsetof(Vertex, position)}, {1, 3, offsetof(Vertex, normal)}, {2, 4, offsetof(Vertex, tangent)},
-        {3, 2, offsetof(Vertex, uv0)},      {4, 2, offsetof(Vertex, uv1)},    {5, 4, offsetof(Vertex, color)}};
-    for (const auto& a : attribs) {
-        glEnableVertexArrayAttrib(vao_.id(), a.loc);
-        glVertexArrayAttribFormat(vao_.id(), a.loc, a.size, GL_FLOAT, GL_FALSE, a.offset);
-        glVertexArrayAttribBinding(vao_.id(), a.loc, 0);
-    }
+    auto make_vao = [&](const gl::Buffer& elements) {
+        gl::VertexArray vao = gl::VertexArray::create();
+        glVertexArrayVertexBuffer(vao.id(), 0, vertices_.id(), 0, sizeof(Vertex));
+        glVertexArrayElementBuffer(vao.id(), elements.id());
+        const struct { GLuint loc; GLint size; GLuint offset; } attribs[] = {
+            {0, 3, offsetof(Vertex, position)}, {1, 3, offsetof(Vertex, normal)}, {2, 4, offsetof(Vertex, tangent)},
+            {3, 2, offsetof(Vertex, uv0)},      {4, 2, offsetof(Vertex, uv1)},    {5, 4, offsetof(Vertex, color)}};
+        for (const auto& a : attribs) {
+            glEnableVertexArrayAttrib(vao.id(), a.loc);
+            glVertexArrayAttribFormat(vao.id(), a.loc, a.size, GL_FLOAT, GL_FALSE, a.offset);
+            glVertexArrayAttribBinding(vao.id(), a.loc, 0);
+        }
+        return vao;
+    };
+    vao_ = make_vao(indices_);
+    // A second index buffer for per-frame triangle orders (transparency.sort=triangle), as large
+    // as all indices, with its own vertex array over the same vertices.
+    sorted_indices_ = gl::Buffer(static_cast<GLsizeiptr>(std::max<size_t>(indices.size(), 1) * sizeof(std::uint32_t)), nullptr,
+                                 GL_DYNAMIC_STORAGE_BIT);
+    sorted_vao_ = make_vao(sorted_indices_);
 
     std::vector<MaterialData> mats;
     for (const Material& m : scene.materials) mats.push_back(to_gpu(m));

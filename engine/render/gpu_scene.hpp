@@ -113,7 +113,14 @@ public:
     explicit GpuScene(const Scene& scene);
 
     const std::vector<Draw>& draws() const { return draws_; }
+    const Scene& scene() const { return scene_; }
     const gl::VertexArray& vertex_array() const { return vao_; }
+    // The same vertices with a per-frame index buffer (triangle-sorted blending): write the
+    // indices with upload_sorted_indices(), draw with first_index counted in that buffer.
+    const gl::VertexArray& sorted_vertex_array() const { return sorted_vao_; }
+    void upload_sorted_indices(const std::vector<std::uint32_t>& indices) {
+        sorted_indices_.update(0, static_cast<GLsizeiptr>(indices.size() * sizeof(std::uint32_t)), indices.data());
+    }
     const gl::Buffer& materials() const { return materials_; }
     const gl::Buffer& lights() const { return lights_; }
     // Rebuilds the light buffer: punctual lights, then `area_samples` pieces per emissive draw;
@@ -144,8 +151,8 @@ public:
 
 private:
     const Scene& scene_;
-    gl::Buffer vertices_, indices_, materials_, lights_;
-    gl::VertexArray vao_;
+    gl::Buffer vertices_, indices_, materials_, lights_, sorted_indices_;
+    gl::VertexArray vao_, sorted_vao_;
     std::vector<Draw> draws_;
     int light_count_ = 0, punctual_count_ = 0, shadow_views_ = 0;
     std::tuple<int, bool, int, int> light_key_{-1, false, 0, 0};

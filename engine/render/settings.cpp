@@ -95,8 +95,8 @@ const std::vector<Knob>& knobs() {
     static const std::vector<Knob> all = {
         make_bool("forward.depth_prepass", [](RenderSettings& s) -> bool& { return s.forward.depth_prepass; },
                   "draw depth first, then shade each pixel once"),
-        make_choice("transparency.sort", {"object"}, [](RenderSettings& s) -> std::string& { return s.transparency_knobs.sort; },
-                    "back-to-front order of blended draws"),
+        make_choice("transparency.sort", {"object", "triangle"}, [](RenderSettings& s) -> std::string& { return s.transparency_knobs.sort; },
+                    "back-to-front order of blended draws; triangle also orders each mesh's triangles (CPU, per frame)"),
         make_choice("transparency.mode", {"sorted", "peeling"}, [](RenderSettings& s) -> std::string& { return s.transparency_knobs.mode; },
                     "sorted blending, or depth peeling (exact per pixel up to transparency.layers layers)"),
         make_int("transparency.layers", 1, 64, [](RenderSettings& s) -> int& { return s.transparency_knobs.layers; },

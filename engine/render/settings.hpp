@@ -65,7 +65,9 @@ struct RenderSettings {
         int light = 0;  // [0, 1e6] visibility of this light; >= the punctual count: all area lights
     } debug;
     struct Transparency {
-        std::string sort = "object";    // object: draws back to front by their bounds' centres
+        std::string sort = "object";    // object|triangle: draws back to front by their bounds'
+                                        // centres; triangle also sorts each mesh's triangles by
+                                        // their centroids, on the CPU every frame
         std::string mode = "sorted";    // sorted|peeling: sorted blending, or exact depth peeling
         int layers = 8;                 // [1, 64] depth-peeling layers
     } transparency_knobs;

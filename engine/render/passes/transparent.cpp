@@ -41,10 +41,38 @@ void add_transparent_pass(FrameGraph& graph, const PassEnv& env, ForwardTargets&
             bind_scene_buffers(env);
             bind_ssao(env, ctx, targets);
             ctx.state.use_program(env.programs.forward.id());
-            ctx.state.bind_vertex_array(env.scene.vertex_array().id());
-            for (const auto* d : blended) {
-                if (d->double_sided) draw_item(env, ctx, *d, true, GL_FRONT);
-                draw_item(env, ctx, *d, true, GL_BACK);
+            std::vector<GpuScene::Draw> draws;
+            for (const auto* d : blended) draws.push_back(*d);
+            if (env.settings.transparency_knobs.sort == "triangle") {
+                // Each mesh's triangles back to front by the view depth of their centroids, into
+                // the per-frame index buffer (CPU: a few thousand blended triangles at most here).
+                std::vector<std::uint32_t> indices;
+                const Scene& scene = env.scene.scene();
+                for (GpuScene::Draw& d : draws) {
+                    const Node& node = scene.nodes[static_cast<size_t>(d.node)];
+                    const Primitive& p = scene.meshes[static_cast<size_t>(node.mesh)].primitives[static_cast<size_t>(d.primitive)];
+                    const glm::mat4 model_view = env.frame.view * d.model;
+                    std::vector<std::pair<float, std::uint32_t>> order;
+                    for (std::uint32_t t = 0; t < static_cast<std::uint32_t>(p.indices.size() / 3); ++t) {
+                        glm::vec3 c(0.0f);
+                        for (int k = 0; k < 3; ++k) c += p.vertices[p.indices[t * 3 + static_cast<std::uint32_t>(k)]].position;
+                        order.emplace_back((model_view * glm::vec4(c / 3.0f, 1.0f)).z, t);
+                    }
+                    std::stable_sort(order.begin(), order.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+                    d.first_index = indices.size();
+                    for (const auto& [z, t] : order)
+                        for (int k = 0; k < 3; ++k) indices.push_back(p.indices[t * 3 + static_cast<std::uint32_t>(k)]);
+                }
+                env.scene.upload_sorted_indices(indices);
+                ctx.state.bind_vertex_array(env.scene.sorted_vertex_array().id());
+                // Sorted triangles are drawn in their order whichever way they face.
+                for (const auto& d : draws) draw_item(env, ctx, d, !d.double_sided, GL_BACK);
+            } else {
+                ctx.state.bind_vertex_array(env.scene.vertex_array().id());
+                for (const auto& d : draws) {
+                    if (d.double_sided) draw_item(env, ctx, d, true, GL_FRONT);
+                    draw_item(env, ctx, d, true, GL_BACK);
+                }
             }
         });
 }
