@@ -87,12 +87,13 @@ const char* to_string(Mode mode) {
         case Mode::ao: return "ao";
         case Mode::primary: return "primary";
         case Mode::visibility: return "visibility";
+        case Mode::bounce: return "bounce";
     }
     return "?";
 }
 
 std::optional<Mode> parse_mode(const std::string& name) {
-    for (Mode m : {Mode::whitted, Mode::path, Mode::direct, Mode::indirect, Mode::ao, Mode::primary, Mode::visibility})
+    for (Mode m : {Mode::whitted, Mode::path, Mode::direct, Mode::indirect, Mode::ao, Mode::primary, Mode::visibility, Mode::bounce})
         if (name == to_string(m)) return m;
     return std::nullopt;
 }
@@ -116,6 +117,7 @@ RayTracer::RayTracer(const ShaderLibrary& shaders, const Scene& scene, GpuScene&
         case Mode::indirect: defines.push_back("MODE_INDIRECT"); break;
         case Mode::whitted: defines.push_back("MODE_WHITTED"); break;
         case Mode::visibility: defines.push_back("MODE_VISIBILITY"); break;
+        case Mode::bounce: defines.push_back("MODE_BOUNCE"); break;
     }
     if (!rt_scene_.geometry().emitters.empty()) defines.push_back("HAS_EMITTERS");
     if (rt_scene_.geometry().has_transmission) defines.push_back("HAS_TRANSMISSION");

@@ -13,7 +13,8 @@ namespace candela::rt {
 
 // visibility: the fraction of one light reaching each visible point (the ground truth of the
 // raster visibility buffer, debug.view=visibility).
-enum class Mode { whitted, path, direct, indirect, ao, primary, visibility };
+// bounce: camera rays plus one cosine-distributed closest-hit ray (ray-rate benchmark).
+enum class Mode { whitted, path, direct, indirect, ao, primary, visibility, bounce };
 const char* to_string(Mode mode);
 std::optional<Mode> parse_mode(const std::string& name);
 

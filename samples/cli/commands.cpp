@@ -66,7 +66,8 @@ void print_usage() {
         "compare  RMSE, relative MSE, PSNR, max difference and the pixels beyond --tolerance\n"
         "         (default 2/255) of A against B; --check exits 4 if more than --max-failing (default\n"
         "         0.001 = 0.1 %) of the pixels fail.\n"
-        "bench    rays: primary and AO ray rates of the ray tracer (SCENE may be generated:N triangles).\n"
+        "bench    rays: primary, AO and diffuse-bounce ray rates of the ray tracer (SCENE may be\n"
+        "         generated:N triangles).\n"
         "         frame: median frame time and per-pass GPU time of each --effects variant (default\n"
         "         all and none) or, with several --path values, of each render path, measured\n"
         "         interleaved in one run (default 1280x720, 20 frames, 3 warm-up). SCENE may be\n"
@@ -375,18 +376,18 @@ int bench_rays(const Args& args) {
     const ShaderLibrary shaders(ShaderLibrary::default_root());
     std::printf("device: %s (%s); %dx%d, %d spp per mode, after one warm-up sample\n", ctx.context->device_string().c_str(),
                 to_string(ctx.context->backend()), w, h, spp);
-    std::printf("%-28s %10s %10s %10s %12s %12s %10s %10s\n", "scene", "triangles", "bvh ms", "SAH", "primary Mr/s", "AO Mr/s",
-                "nodes/ray", "prims/ray");
+    std::printf("%-28s %10s %10s %10s %12s %12s %12s %10s %10s\n", "scene", "triangles", "bvh ms", "SAH", "primary Mr/s",
+                "AO Mr/s", "bounce Mr/s", "nodes/ray", "prims/ray");
     for (const std::string& name : p.positional) {
         const Scene scene = load_scene(name, false);
         GpuScene gpu(scene);
         const Camera camera = scene.select_camera("", static_cast<float>(w) / static_cast<float>(h));
-        double ms[2] = {0, 0};
+        double ms[3] = {0, 0, 0};
         rt::BvhStats stats{};
         size_t tris = 0;
-        for (int m = 0; m < 2; ++m) {
+        for (int m = 0; m < 3; ++m) {
             rt::Options o;
-            o.mode = m == 0 ? rt::Mode::primary : rt::Mode::ao;
+            o.mode = m == 0 ? rt::Mode::primary : m == 1 ? rt::Mode::ao : rt::Mode::bounce;
             o.ao_radius = 1e30f;  // AO rays as long as shadow rays to a directional light
             o.spp = 1;
             rt::RayTracer tracer(shaders, scene, gpu, o);
@@ -407,9 +408,11 @@ int bench_rays(const Args& args) {
         const double primary = rays / (ms[0] * 1e3);
         // An AO sample is one camera ray plus one any-hit ray: the difference prices the latter.
         const double ao = ms[1] > ms[0] ? rays / ((ms[1] - ms[0]) * 1e3) : 0.0;
-        std::printf("%-28s %10zu %10.1f %10.2f %12.2f %12.2f %10.1f %10.1f\n",
+        // Likewise a bounce sample: one camera ray plus one incoherent closest-hit ray.
+        const double bounce = ms[2] > ms[0] ? rays / ((ms[2] - ms[0]) * 1e3) : 0.0;
+        std::printf("%-28s %10zu %10.1f %10.2f %12.2f %12.2f %12.2f %10.1f %10.1f\n",
                     name.substr(name.size() > 28 ? name.size() - 28 : 0).c_str(), tris, stats.build_ms, stats.sah_cost, primary,
-                    ao, counted.nodes_per_ray, counted.primitives_per_ray);
+                    ao, bounce, counted.nodes_per_ray, counted.primitives_per_ray);
     }
     return 0;
 }
