@@ -132,6 +132,7 @@ std::vector<AreaPiece> area_light_pieces(const Scene& scene, const GpuScene& gpu
             glm::vec3 p[3];
             for (int c = 0; c < 3; ++c)
                 p[c] = glm::vec3(d.model * glm::vec4(prim->vertices[prim->indices[t * 3 + static_cast<size_t>(c)]].position, 1.0f));
+            if (d.mirrored) std::swap(p[1], p[2]);  // a mirroring transform reverses the winding
             const glm::vec3 cr = glm::cross(p[1] - p[0], p[2] - p[0]);
             const float area2 = glm::length(cr);
             if (!(area2 > 0.0f) || !std::isfinite(area2)) continue;

@@ -93,16 +93,20 @@ void Renderer::prepare_rsm() {
     const float scale = static_cast<float>(settings_.shadow.resolution) / static_cast<float>(settings_.rsm_knobs.resolution);
     for (int li : chosen) {
         const LightInfo& info = infos[static_cast<size_t>(li)];
-        // A directional light's last cascade covers everything the camera sees.
+        // A directional light's RSM covers the whole scene (bounce surfaces outside the view
+        // light what is in it); spot and point lights reuse their shadow views.
         const bool directional = info.kind == LightInfo::Kind::directional;
         const int count = directional ? 1 : info.view_count;
         const int first = static_cast<int>(r.views.size());
         r.light_first.push_back(first);
         for (int k = 0; k < count; ++k) {
-            const size_t sv_index = static_cast<size_t>(info.first_view + (directional ? info.view_count - 1 : k));
-            const ShadowViewData& sv = shadows_.cpu.views[sv_index];
-            r.views.push_back({sv.view_proj, glm::vec4(static_cast<float>(li), static_cast<float>(first), static_cast<float>(count), 0.0f)});
-            r.kind_texel.push_back(glm::vec4(sv.params.x, sv.params.y * scale, 0.0f, 0.0f));
+            const ShadowViewData sv =
+                directional ? directional_scene_view(info.direction, scene_bounds_, settings_.rsm_knobs.resolution)
+                            : shadows_.cpu.views[static_cast<size_t>(info.first_view + k)];
+            // Cube faces: their tangent half-width (a guard band beyond 90 degrees), for the gather.
+            const float half_width = count == 6 ? sv.params.y * static_cast<float>(settings_.shadow.resolution) * 0.5f : 1.0f;
+            r.views.push_back({sv.view_proj, glm::vec4(static_cast<float>(li), static_cast<float>(first), static_cast<float>(count), half_width)});
+            r.kind_texel.push_back(glm::vec4(sv.params.x, directional ? sv.params.y : sv.params.y * scale, 0.0f, 0.0f));
         }
     }
     const int res = settings_.rsm_knobs.resolution;

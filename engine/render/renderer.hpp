@@ -38,7 +38,8 @@ enum class FrameOutput { hdr, display };
 
 class Renderer {
 public:
-    // Throws candela::Error (internal) if a shader does not build.
+    // Throws candela::Error (internal) if a shader does not build. `shaders` must outlive the
+    // renderer (programs for newly planned passes are built from it on set_settings).
     Renderer(const ShaderLibrary& shaders, const Scene& scene, GpuScene& gpu, const RenderSettings& settings);
 
     void set_settings(const RenderSettings& settings);

@@ -52,6 +52,20 @@ float perspective_near(const glm::vec3& pos, const Bounds& bounds) {
 
 }  // namespace
 
+ShadowViewData directional_scene_view(const glm::vec3& direction, const Bounds& bounds, int resolution) {
+    const glm::vec3 dir = glm::normalize(direction);
+    const glm::mat4 light_view = glm::lookAt(glm::vec3(0.0f), dir, any_perpendicular_up(dir));
+    Bounds ls;
+    for (const glm::vec3& c : bounds_corners(bounds)) ls.extend(glm::vec3(light_view * glm::vec4(c, 1.0f)));
+    const float size = std::max({ls.max.x - ls.min.x, ls.max.y - ls.min.y, 1e-30f});
+    const glm::vec2 centre = (glm::vec2(ls.min) + glm::vec2(ls.max)) * 0.5f;
+    const float margin = (ls.max.z - ls.min.z) * 0.01f + 1e-30f;
+    const float n = -ls.max.z - margin, f = -ls.min.z + margin;
+    const glm::mat4 proj = ortho_reversed(centre.x - size * 0.5f, centre.x + size * 0.5f, centre.y - size * 0.5f,
+                                          centre.y + size * 0.5f, n, f);
+    return {proj * light_view, glm::vec4(0.0f, size / static_cast<float>(resolution), f - n, 0.0f), glm::vec4(0.0f)};
+}
+
 std::vector<float> cascade_splits(float near, float far, int cascades, float lambda) {
     std::vector<float> s(static_cast<size_t>(cascades) + 1);
     for (int i = 0; i <= cascades; ++i) {
@@ -102,7 +116,8 @@ ShadowViews build_shadow_views(const GpuScene& gpu, const Bounds& bounds, const 
             for (const glm::vec3& c : corners)
                 scene_far = std::max(scene_far, glm::dot(c - cam_pos, fwd / cam_scale) / cam_scale);
             cam_far = cam_far > 0.0f ? std::min(cam_far, scene_far) : scene_far;
-            const float cam_near = camera.znear;
+            // (An orthographic glTF camera may have znear 0: keep the logarithmic splits finite.)
+            const float cam_near = std::max(camera.znear, 1e-4f * scene_far);
             cam_far = std::max(cam_far, cam_near * 2.0f);
             const std::vector<float> splits = cascade_splits(cam_near, cam_far, info.view_count, settings.split_lambda);
             for (int k = 0; k < info.view_count; ++k) {

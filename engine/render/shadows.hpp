@@ -35,6 +35,10 @@ struct ShadowViews {
 ShadowViews build_shadow_views(const GpuScene& gpu, const Bounds& scene_bounds, const Camera& camera, float aspect,
                                const RenderSettings::Shadows& settings);
 
+// An orthographic view of a directional light over the whole scene (what a reflective shadow map
+// needs: bounce surfaces outside the camera's view light what is in it).
+ShadowViewData directional_scene_view(const glm::vec3& direction, const Bounds& scene_bounds, int resolution);
+
 // Cascade split depths (Zhang et al. 2006, practical split scheme): cascades+1 values from near
 // to far, lambda blending logarithmic (1) and uniform (0) splits.
 std::vector<float> cascade_splits(float near, float far, int cascades, float lambda);

@@ -17,6 +17,10 @@ layout(location = 2) out vec4 v_tangent;
 layout(location = 3) out vec4 v_uv;
 layout(location = 4) out vec4 v_color;
 
+// The depth prepasses and the shading pass are different programs; depth test EQUAL needs the
+// same gl_Position from each.
+invariant gl_Position;
+
 void main() {
     vec4 world = u_model * vec4(in_position, 1.0);
     v_world_pos = world.xyz;

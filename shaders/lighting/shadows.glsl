@@ -87,12 +87,13 @@ float shadow_factor(PunctualLight light, vec3 p, vec3 n, vec3 l, vec2 pixel) {
 
     if (mode == SHADOW_HARD) return texture(t_shadow, vec4(uv, layer, ref0 + slope_per_texel));
     if (mode == SHADOW_PCF) {
+        // size x size taps one texel apart, centred (half-texel offsets for an even size).
         int size = frame.shadow_mode.y;
-        int h = size / 2;
-        float ref = ref0 + slope_per_texel * float(h + 1);
+        float h = 0.5 * float(size - 1);
+        float ref = ref0 + slope_per_texel * (h + 1.0);
         float sum = 0.0;
-        for (int y = -h; y <= h; ++y)
-            for (int x = -h; x <= h; ++x) sum += texture(t_shadow, vec4(uv + vec2(x, y) * texel_uv, layer, ref));
+        for (int y = 0; y < size; ++y)
+            for (int x = 0; x < size; ++x) sum += texture(t_shadow, vec4(uv + (vec2(x, y) - h) * texel_uv, layer, ref));
         return sum / float(size * size);
     }
     // PCSS (Fernando 2005): blocker search, penumbra estimate, variable-size PCF.

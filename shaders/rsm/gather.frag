@@ -18,7 +18,8 @@ layout(binding = 4) uniform sampler2DArray t_rsm_flux;
 
 struct RsmView {
     mat4 view_proj;
-    vec4 params;  // x light index, y first layer, z layer count (1 or 6), w unused
+    vec4 params;  // x light index, y first layer, z layer count (1 or 6), w cube: the face's
+                  // tangent half-width (> 1: a guard band beyond the 90 degrees)
 };
 layout(std430, binding = 4) readonly buffer RsmViews { RsmView rsm_views[]; };  // per layer
 layout(location = 0) uniform int u_lights;       // RSM lights: rsm_views[first layer of each]
@@ -66,6 +67,9 @@ void main() {
             if (cube) {
                 layer = first + i % 6;
                 uv = fract(vec2(0.5 + float(i / 6) * 0.7548776662, 0.5 + float(i / 6) * 0.5698402910) + vec2(phi0 * 0.15915494, gather_noise(gl_FragCoord.yx)));
+                // The guard band belongs to the neighbouring face: counting it here too would
+                // add its light twice. (Same weight: the estimate sums the faces' 90-degree parts.)
+                if (any(greaterThan(abs(uv * 2.0 - 1.0), vec2(1.0 / v0.params.w)))) continue;
             } else {
                 // Stratified polar pattern: xi1 from the sample index, xi2 a golden-angle spiral.
                 float xi1 = (float(i) + 0.5) / float(samples);

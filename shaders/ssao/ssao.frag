@@ -33,7 +33,7 @@ void main() {
     float bias = frame.ssao_params.y * radius;
     int samples = int(frame.ssao_params.z);
     int steps = int(frame.ssao_params.w);
-    vec4 noise = texelFetch(t_noise, full & 3, 0);
+    vec4 noise = texelFetch(t_noise, ivec2(gl_FragCoord.xy) & 3, 0);  // per AO pixel: all 16 rotations
     vec3 t = normalize(abs(n.x) > 0.5 ? cross(n, vec3(0, 1, 0)) : cross(n, vec3(1, 0, 0)));
     vec3 b = cross(n, t);
     vec3 origin = p + n * bias;

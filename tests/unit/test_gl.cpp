@@ -286,7 +286,8 @@ TEST_P(GlTest, StateCacheSkipsRedundantCallsAndDetectsBypass) {
 TEST_P(GlTest, TexturePoolKeepsTexturesAcrossFrames) {
     const Scene scene = load_gltf(kSceneDir / "transparency.gltf");
     GpuScene gpu(scene);
-    Renderer renderer(shaders(), scene, gpu, RenderSettings{});
+    const ShaderLibrary lib = shaders();  // the renderer keeps a reference
+    Renderer renderer(lib, scene, gpu, RenderSettings{});
     const Camera camera = scene.select_camera("", 1.0f);
     renderer.render(camera, 32, 32);
     const int after_first = renderer.pool().allocations();

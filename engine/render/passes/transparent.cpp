@@ -149,6 +149,9 @@ void add_peeling_pass(FrameGraph& graph, const PassEnv& env, ForwardTargets& tar
                 fullscreen(ctx.texture(color).id());
             }
             glProgramUniform1i(forward, 8, 0);
+            // The pool may attach these depth textures next frame: leave no sampler on them.
+            glBindTextureUnit(11, 0);
+            glBindTextureUnit(12, 0);
             // hdr = accum + (1 - accum.a) * hdr: OVER the opaque image; hdr's alpha stays.
             gl::PipelineState over;
             over.blend = true;
