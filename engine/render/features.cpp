@@ -31,17 +31,7 @@ Features analyze(const Scene& scene, const RenderSettings& s) {
     const SceneFeatures& sf = f.scene;
     f.shadows = decide("shadows", s.shadows, sf.shadows.needed, true, sf.shadows.reason);
     // Area-light pieces: arealight.samples per emissive primitive drawn.
-    int emissive_primitives = 0;
-    std::vector<int> stack(scene.roots.begin(), scene.roots.end());
-    while (!stack.empty()) {
-        const Node& node = scene.nodes[static_cast<size_t>(stack.back())];
-        stack.pop_back();
-        stack.insert(stack.end(), node.children.begin(), node.children.end());
-        if (node.mesh < 0) continue;
-        for (const Primitive& p : scene.meshes[static_cast<size_t>(node.mesh)].primitives)
-            emissive_primitives += scene.material(p.material).is_emissive() && !p.indices.empty();
-    }
-    f.area_light_pieces = emissive_primitives * s.arealight.samples;
+    f.area_light_pieces = sf.emissive_primitives * s.arealight.samples;
     const int light_count = f.punctual_lights + f.area_light_pieces;
     if (s.path == "forward" || s.path == "deferred") {
         f.deferred = s.path == "deferred";

@@ -25,6 +25,7 @@ SceneFeatures analyze_features(const Scene& scene, float reflection_roughness) {
         for (const Primitive& p : scene.meshes[static_cast<size_t>(node.mesh)].primitives) {
             used.insert(p.material);
             ++drawn_primitives;
+            f.emissive_primitives += scene.material(p.material).is_emissive() && !p.indices.empty();
         }
     }
     int blend = 0, mirrors = 0, transmissive = 0, emissive = 0;

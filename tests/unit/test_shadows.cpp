@@ -9,19 +9,15 @@
 
 #include <glm/gtx/quaternion.hpp>
 
-#include "gl_fixture.hpp"
 #include "gltf_builder.hpp"
-#include "render/renderer.hpp"
+#include "reference_fixture.hpp"
 #include "render/still.hpp"
-#include "rt/ray_tracer.hpp"
 #include "scene/gltf_loader.hpp"
 
 namespace candela {
 namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
-
-ShaderLibrary shader_lib() { return ShaderLibrary(fs::path(CANDELA_SOURCE_DIR) / "shaders"); }
 
 json lambert(glm::vec3 c) {
     return {{"pbrMetallicRoughness", {{"baseColorFactor", {c.r, c.g, c.b, 1}}, {"metallicFactor", 0}, {"roughnessFactor", 1}}}};
@@ -69,33 +65,20 @@ struct Visibility {
     ShadowViews views;
 };
 
-class ShadowTest : public test::GlContextTest {
+class ShadowTest : public test::ReferenceTest {
 protected:
-    Visibility raster(const Scene& scene, int w, int h, const std::vector<std::string>& knobs = {}, int light = 0) {
-        GpuScene gpu(scene);
-        RenderSettings s;
-        s.debug.view = "visibility";
-        s.debug.light = light;
-        for (const auto& k : knobs) apply_knob(s, k);
-        Renderer renderer(lib_, scene, gpu, s);
-        renderer.render(scene.select_camera("", static_cast<float>(w) / static_cast<float>(h)), w, h);
-        Visibility v{renderer.read_radiance(), renderer.shadow_views()};
-        EXPECT_EQ(count_nonfinite(v.image), 0u);
-        return v;
+    // Light 0's visibility buffer and the frame's shadow views.
+    Visibility visibility(const Scene& scene, int w, int h, std::vector<std::string> knobs = {}) {
+        knobs.insert(knobs.begin(), "debug.view=visibility");
+        ImageF img = raster(scene, w, h, settings("", knobs));
+        return {std::move(img), last_views_};
     }
-    ImageF traced(const Scene& scene, int w, int h, int spp = 1, int light = 0) {
-        GpuScene gpu(scene);
+    ImageF traced_visibility(const Scene& scene, int w, int h) {
         rt::Options o;
         o.mode = rt::Mode::visibility;
-        o.spp = spp;
-        o.visibility_light = light;
-        rt::RayTracer tracer(lib_, scene, gpu, o);
-        rt::Result r = tracer.render(scene.select_camera("", static_cast<float>(w) / static_cast<float>(h)), w, h);
-        EXPECT_EQ(r.nonfinite_samples, 0u);
-        EXPECT_EQ(count_nonfinite(r.image), 0u);
-        return r.image;
+        o.spp = 1;
+        return traced(scene, w, h, o).image;
     }
-    ShaderLibrary lib_ = shader_lib();
 };
 
 // Of the pixels the ray tracer finds lit, the fraction the raster also finds lit.
@@ -130,7 +113,7 @@ TEST_P(ShadowTest, NoAcneAtAnyDirectionalElevation) {
         b.json()["cameras"] = {{{"type", "perspective"}, {"perspective", {{"yfov", 0.9}, {"znear", 0.05}}}}};
         b.add_node({{"camera", 0}, {"translation", {0, 3, 8}}, {"rotation", quat_json(look_along(glm::vec3(0, -3, -8)))}});
         const Scene scene = load_gltf(b.write(test::test_dir("acne"), "acne"));
-        const ImageF reference = traced(scene, 128, 96);
+        const ImageF reference = traced_visibility(scene, 128, 96);
         const std::vector<std::pair<std::string, std::vector<std::string>>> variants = {
             {"hard", {"shadows.filter=hard"}},
             {"pcf", {"shadows.filter=pcf"}},
@@ -140,7 +123,7 @@ TEST_P(ShadowTest, NoAcneAtAnyDirectionalElevation) {
         for (const auto& [name, knobs] : variants) {
             const char* filter = name.c_str();
             SCOPED_TRACE(filter);
-            const Visibility v = raster(scene, 128, 96, knobs);
+            const Visibility v = visibility(scene, 128, 96, knobs);
             if (knobs.size() == 2) {
                 ASSERT_EQ(v.views.views.size(), 3u);
                 // Nearer cascades cover less: finer texels.
@@ -157,7 +140,7 @@ TEST_P(ShadowTest, NoAcneAtAnyDirectionalElevation) {
             EXPECT_LT(mismatch_fraction(v.image, reference), 0.02);
         }
         // The comparison can see acne: without the biases the same setup has plenty.
-        const Visibility unbiased = raster(scene, 128, 96, {"shadows.filter=hard", "shadows.normal_bias=0", "shadows.depth_bias=0",
+        const Visibility unbiased = visibility(scene, 128, 96, {"shadows.filter=hard", "shadows.normal_bias=0", "shadows.depth_bias=0",
                                                             "shadows.slope_bias=0", "shadows.receiver_slope_bias=0"});
         std::printf("elevation %g without bias: agreement %.5f\n", elevation, lit_agreement(unbiased.image, reference));
         EXPECT_LT(lit_agreement(unbiased.image, reference), 0.95);
@@ -194,10 +177,10 @@ TEST_P(ShadowTest, PeterPanningIsBoundedInTexels) {
     const Scene scene = load_gltf(b.write(test::test_dir("peterpan"), "peterpan"));
     const int n = 240;
     const float pixel = 2.0f * half / n;
-    const ImageF reference = traced(scene, n, n);
+    const ImageF reference = traced_visibility(scene, n, n);
     for (const char* filter : {"hard", "pcf", "pcss"}) {
         SCOPED_TRACE(filter);
-        const Visibility v = raster(scene, n, n, {"shadows.resolution=256", std::string("shadows.filter=") + filter});
+        const Visibility v = visibility(scene, n, n, {"shadows.resolution=256", std::string("shadows.filter=") + filter});
         ASSERT_FALSE(v.views.texel_world.empty());
         const float texel = v.views.texel_world[0];
         ASSERT_GT(texel, pixel);  // the image resolves the shadow map's texels
@@ -237,8 +220,8 @@ TEST_P(ShadowTest, PointLightCubeHasNoSeams) {
     b.add_node({{"camera", 0}, {"translation", {0, 5, 0}}, {"rotation", {-0.70710678, 0, 0, 0.70710678}}});
     const Scene scene = load_gltf(b.write(test::test_dir("cube"), "cube"));
     const int n = 200;
-    const ImageF reference = traced(scene, n, n);
-    const Visibility v = raster(scene, n, n);
+    const ImageF reference = traced_visibility(scene, n, n);
+    const Visibility v = visibility(scene, n, n);
     int border = 0, border_differ = 0, other = 0, other_differ = 0;
     for (int y = 0; y < n; ++y)
         for (int x = 0; x < n; ++x) {
@@ -274,10 +257,10 @@ Scene scaled_shadow_test(float s) {
 }
 
 TEST_P(ShadowTest, VisibilityIsTheSameAtAnyScale) {
-    const ImageF unit = raster(scaled_shadow_test(1.0f), 160, 120).image;
+    const ImageF unit = visibility(scaled_shadow_test(1.0f), 160, 120).image;
     for (float s : {0.01f, 100.0f}) {
         SCOPED_TRACE(s);
-        const ImageF scaled = raster(scaled_shadow_test(s), 160, 120).image;
+        const ImageF scaled = visibility(scaled_shadow_test(s), 160, 120).image;
         EXPECT_LT(mismatch_fraction(scaled, unit), 0.002);
         std::printf("scale %g: mismatch %.5f\n", s, mismatch_fraction(scaled, unit));
     }

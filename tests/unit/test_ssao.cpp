@@ -5,10 +5,8 @@
 
 #include <cmath>
 
-#include "gl_fixture.hpp"
 #include "gltf_builder.hpp"
-#include "render/renderer.hpp"
-#include "rt/ray_tracer.hpp"
+#include "reference_fixture.hpp"
 #include "scene/gltf_loader.hpp"
 
 namespace candela {
@@ -16,31 +14,19 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-class SsaoTest : public test::GlContextTest {
+class SsaoTest : public test::ReferenceTest {
 protected:
-    ImageF ao_buffer(const Scene& scene, int w, int h, const std::vector<std::string>& knobs = {}) {
-        GpuScene gpu(scene);
-        RenderSettings s;
-        s.debug.view = "ao";
-        for (const auto& k : knobs) apply_knob(s, k);
-        Renderer renderer(lib_, scene, gpu, s);
-        renderer.render(scene.select_camera("", static_cast<float>(w) / static_cast<float>(h)), w, h);
-        ImageF img = renderer.read_radiance();
-        EXPECT_EQ(count_nonfinite(img), 0u);
-        return img;
+    ImageF ao_buffer(const Scene& scene, int w, int h, std::vector<std::string> knobs = {}) {
+        knobs.insert(knobs.begin(), "debug.view=ao");
+        return raster(scene, w, h, settings("", knobs));
     }
     ImageF traced_ao(const Scene& scene, int w, int h, int spp, float radius) {
-        GpuScene gpu(scene);
         rt::Options o;
         o.mode = rt::Mode::ao;
         o.spp = spp;
         o.ao_radius = radius;
-        rt::RayTracer tracer(lib_, scene, gpu, o);
-        rt::Result r = tracer.render(scene.select_camera("", static_cast<float>(w) / static_cast<float>(h)), w, h);
-        EXPECT_EQ(count_nonfinite(r.image), 0u);
-        return r.image;
+        return traced(scene, w, h, o).image;
     }
-    ShaderLibrary lib_{fs::path(CANDELA_SOURCE_DIR) / "shaders"};
 };
 
 double rmse(const ImageF& a, const ImageF& b) {

@@ -6,10 +6,8 @@
 
 #include <cmath>
 
-#include "gl_fixture.hpp"
 #include "gltf_builder.hpp"
-#include "render/renderer.hpp"
-#include "rt/ray_tracer.hpp"
+#include "reference_fixture.hpp"
 #include "scene/gltf_loader.hpp"
 
 namespace candela {
@@ -46,19 +44,9 @@ Scene crossing_panes() {
 
 glm::vec3 over(glm::vec3 front, float a, glm::vec3 behind) { return a * front + (1.0f - a) * behind; }
 
-class TransparencyTest : public test::GlContextTest {
+class TransparencyTest : public test::ReferenceTest {
 protected:
-    ImageF raster(const Scene& scene, int n, const std::vector<std::string>& knobs) {
-        GpuScene gpu(scene);
-        RenderSettings s;
-        for (const auto& k : knobs) apply_knob(s, k);
-        Renderer renderer(lib_, scene, gpu, s);
-        renderer.render(scene.select_camera("", 1.0f), n, n);
-        ImageF img = renderer.read_radiance();
-        EXPECT_EQ(count_nonfinite(img), 0u);
-        return img;
-    }
-    ShaderLibrary lib_{fs::path(CANDELA_SOURCE_DIR) / "shaders"};
+    ImageF render(const Scene& scene, int n, const std::vector<std::string>& knobs) { return raster(scene, n, n, settings("", knobs)); }
 };
 
 struct Errors {
@@ -103,7 +91,7 @@ TEST_P(TransparencyTest, ObjectSortingErrsByTheClosedFormAndPeelingIsExact) {
     const int n = 96;
     // Both panes have the same bounds centre: object sorting draws them in one fixed order, which
     // is right on one side of the crossing and wrong on the other.
-    const Errors sorted = against_exact(raster(scene, n, {"transparency.mode=sorted"}), n);
+    const Errors sorted = against_exact(render(scene, n, {"transparency.mode=sorted"}), n);
     ASSERT_GT(sorted.pixels, 1000);
     const bool wrong_where_1_in_front = sorted.front1_side > sorted.front2_side;
     EXPECT_LT(std::min(sorted.front1_side, sorted.front2_side), 2e-3);  // the right side is exact
@@ -113,11 +101,11 @@ TEST_P(TransparencyTest, ObjectSortingErrsByTheClosedFormAndPeelingIsExact) {
     std::printf("object sort, wrong side: |error| %.4f %.4f %.4f, closed form %.4f %.4f %.4f\n", wrong.x, wrong.y, wrong.z,
                 closed_form.x, closed_form.y, closed_form.z);
     // Depth peeling resolves the order per pixel.
-    const Errors peeled = against_exact(raster(scene, n, {"transparency.mode=peeling", "transparency.layers=4"}), n);
+    const Errors peeled = against_exact(render(scene, n, {"transparency.mode=peeling", "transparency.layers=4"}), n);
     EXPECT_LT(peeled.front2_side, 2e-3);
     EXPECT_LT(peeled.front1_side, 2e-3);
     // One layer is not enough: the nearest pane only, over the background.
-    const Errors one_layer = against_exact(raster(scene, n, {"transparency.mode=peeling", "transparency.layers=1"}), n);
+    const Errors one_layer = against_exact(render(scene, n, {"transparency.mode=peeling", "transparency.layers=1"}), n);
     EXPECT_GT(one_layer.front1_side, 0.05);
 }
 
@@ -126,14 +114,11 @@ TEST_P(TransparencyTest, RayTracerCompositesLayersInDepthOrder) {
     const int n = 48;
     for (rt::Mode mode : {rt::Mode::whitted, rt::Mode::direct}) {
         SCOPED_TRACE(rt::to_string(mode));
-        GpuScene gpu(scene);
         rt::Options o;
         o.mode = mode;
         o.jitter = 0;
         o.spp = mode == rt::Mode::whitted ? 1 : 2048;  // direct picks a layer stochastically
-        rt::RayTracer tracer(lib_, scene, gpu, o);
-        const rt::Result r = tracer.render(scene.select_camera("", 1.0f), n, n);
-        EXPECT_EQ(r.nonfinite_samples, 0u);
+        const rt::Result r = traced(scene, n, n, o);
         const Errors e = against_exact(r.image, n);
         if (mode == rt::Mode::whitted) {  // deterministic: exact
             EXPECT_LT(e.front2_side, 2e-3);
@@ -178,7 +163,7 @@ TEST_P(TransparencyTest, TriangleSortOrdersASelfOverlappingMesh) {
     const glm::vec3 red(1, 0, 0), blue(0, 0, 1), background(1.0f);
     const glm::vec3 exact = over(red, 0.5f, over(blue, 0.5f, background));
     auto centre = [&](const std::vector<std::string>& knobs) {
-        const ImageF img = raster(scene, 32, knobs);
+        const ImageF img = render(scene, 32, knobs);
         return glm::vec3(img.at(16, 16)[0], img.at(16, 16)[1], img.at(16, 16)[2]);
     };
     const glm::vec3 by_object = centre({"transparency.sort=object"});
