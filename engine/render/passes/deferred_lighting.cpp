@@ -12,9 +12,7 @@ void add_deferred_lighting_pass(FrameGraph& graph, const PassEnv& env, ForwardTa
         [&](FrameGraph::Builder& b) {
             for (auto id : targets.gbuffer) b.read(id);
             b.read(targets.depth);
-            if (targets.shadow_maps >= 0) b.read(targets.shadow_maps);
-            if (targets.ssao >= 0) b.read(targets.ssao);
-            if (targets.rsm_indirect >= 0) b.read(targets.rsm_indirect);
+            read_lighting_inputs(b, targets);
             b.write(targets.hdr);
         },
         [&env, &targets](FrameGraph::Context& ctx) {

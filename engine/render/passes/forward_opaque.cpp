@@ -9,9 +9,7 @@ void add_forward_opaque_pass(FrameGraph& graph, const PassEnv& env, ForwardTarge
         "forward_opaque",
         [&](FrameGraph::Builder& b) {
             b.write(targets.hdr);
-            if (targets.shadow_maps >= 0) b.read(targets.shadow_maps);
-            if (targets.ssao >= 0) b.read(targets.ssao);
-            if (targets.rsm_indirect >= 0) b.read(targets.rsm_indirect);
+            read_lighting_inputs(b, targets);
             if (prepass) b.read(targets.depth);
             else targets.depth = b.create("depth", {GL_DEPTH_COMPONENT32F, env.width, env.height});
         },

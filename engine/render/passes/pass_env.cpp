@@ -42,6 +42,11 @@ void bind_scene_buffers(const PassEnv& env) {
     }
 }
 
+void read_lighting_inputs(FrameGraph::Builder& b, const ForwardTargets& targets) {
+    for (const FrameGraph::ResourceId id : {targets.shadow_maps, targets.ssao, targets.rsm_indirect})
+        if (id >= 0) b.read(id);
+}
+
 void bind_ssao(const PassEnv& env, FrameGraph::Context& ctx, const ForwardTargets& targets) {
     if (targets.ssao >= 0) {
         glBindTextureUnit(9, ctx.texture(targets.ssao).id());

@@ -99,6 +99,9 @@ struct ForwardTargets {
 
 // Binds the frame UBO, material and light SSBOs, the environment texture and the shadow maps.
 void bind_scene_buffers(const PassEnv& env);
+// Declares the reads of every shading pass: shadow maps, AO buffer, RSM indirect light (those
+// that run this frame).
+void read_lighting_inputs(FrameGraph::Builder& b, const ForwardTargets& targets);
 // Binds the AO buffer (unit 9) and the RSM indirect irradiance (unit 10) when they run.
 void bind_ssao(const PassEnv& env, FrameGraph::Context& ctx, const ForwardTargets& targets);
 // Draws one scene item with `program` (default: forward), which has the forward vertex layout and

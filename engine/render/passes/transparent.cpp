@@ -14,9 +14,7 @@ void add_transparent_pass(FrameGraph& graph, const PassEnv& env, ForwardTargets&
         "transparent",
         [&](FrameGraph::Builder& b) {
             b.read(targets.depth);
-            if (targets.shadow_maps >= 0) b.read(targets.shadow_maps);
-            if (targets.ssao >= 0) b.read(targets.ssao);
-            if (targets.rsm_indirect >= 0) b.read(targets.rsm_indirect);
+            read_lighting_inputs(b, targets);
             b.write(targets.hdr);
         },
         [&env, &targets](FrameGraph::Context& ctx) {
@@ -92,9 +90,7 @@ void add_peeling_pass(FrameGraph& graph, const PassEnv& env, ForwardTargets& tar
         "transparent_peeling",
         [&, ids](FrameGraph::Builder& b) {
             b.read(targets.depth);
-            if (targets.shadow_maps >= 0) b.read(targets.shadow_maps);
-            if (targets.ssao >= 0) b.read(targets.ssao);
-            if (targets.rsm_indirect >= 0) b.read(targets.rsm_indirect);
+            read_lighting_inputs(b, targets);
             b.write(targets.hdr);
             (*ids)[0] = b.create("peel_color", {GL_RGBA16F, env.width, env.height});
             (*ids)[1] = b.create("peel_depth_a", {GL_DEPTH_COMPONENT32F, env.width, env.height});
