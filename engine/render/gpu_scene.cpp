@@ -59,7 +59,12 @@ MaterialData to_gpu(const Material& m) {
     d.texcoord = glm::ivec4(tc[0], tc[1], tc[2], tc[3]);
     d.texcoord2 = glm::ivec4(tc[4], -1, -1, -1);
     d.images = glm::ivec4(slots[0]->image, slots[1]->image, slots[2]->image, slots[3]->image);
-    d.images2 = glm::ivec4(slots[4]->image, -1, -1, -1);
+    // Wrap modes for the ray tracer (it samples one repeating texture array): 4 bits per slot.
+    auto wrap_code = [](int gl_wrap) { return gl_wrap == 33071 ? 1 : gl_wrap == 33648 ? 2 : 0; };  // CLAMP_TO_EDGE, MIRRORED_REPEAT
+    int wraps = 0;
+    for (int s = 0; s < 5; ++s)
+        wraps |= (wrap_code(slots[s]->sampler.wrap_s) | (wrap_code(slots[s]->sampler.wrap_t) << 2)) << (4 * s);
+    d.images2 = glm::ivec4(slots[4]->image, wraps, -1, -1);
     d.volume = glm::vec4(m.thickness, m.attenuation_color);
     d.volume2 = glm::vec4(std::isfinite(m.attenuation_distance) ? m.attenuation_distance : 0.0f, 0.0f, 0.0f, 0.0f);
     return d;

@@ -58,9 +58,26 @@ layout(std140, binding = 8) uniform RtFrame {
 // Scene images as array layers (layer = image index; GpuScene::image_array).
 layout(binding = 6) uniform sampler2DArray t_images;
 
+// The glTF sampler's wrap mode per axis (images2.y: 4 bits per slot, s then t; 0 repeat,
+// 1 clamp to edge, 2 mirrored repeat), applied by hand: the image array itself repeats.
+float wrap_coordinate(float x, int mode, float size) {
+    if (mode == 1) return clamp(x, 0.5 / size, 1.0 - 0.5 / size);
+    if (mode == 2) {
+        float m = mod(x, 2.0);
+        return clamp(m > 1.0 ? 2.0 - m : m, 0.5 / size, 1.0 - 0.5 / size);
+    }
+    return x;
+}
+
 vec2 material_uv(MaterialData m, int slot, int set, vec2 uv0, vec2 uv1) {
     vec3 uv = vec3(set == 1 ? uv1 : uv0, 1.0);
-    return vec2(dot(m.uv_transform[slot * 2].xyz, uv), dot(m.uv_transform[slot * 2 + 1].xyz, uv));
+    vec2 r = vec2(dot(m.uv_transform[slot * 2].xyz, uv), dot(m.uv_transform[slot * 2 + 1].xyz, uv));
+    int wrap = (m.images2.y >> (4 * slot)) & 15;
+    if (wrap != 0) {
+        vec2 size = vec2(textureSize(t_images, 0).xy);
+        r = vec2(wrap_coordinate(r.x, wrap & 3, size.x), wrap_coordinate(r.y, wrap >> 2, size.y));
+    }
+    return r;
 }
 vec4 material_texture(int image, vec2 uv) { return textureLod(t_images, vec3(uv, float(image)), 0.0); }
 

@@ -525,3 +525,53 @@ TEST_P(RtMaterialTest, NormalMapsAgreeBetweenRasterAndTracerAlsoWhenMirrored) {
 
 }  // namespace
 }  // namespace candela
+
+namespace candela {
+namespace {
+
+TEST_P(RtMaterialTest, TextureWrapModesMatchTheRasterizer) {
+    // An emissive quad whose texture (a black and a white texel) is stretched over uv -1..2 by
+    // KHR_texture_transform: with CLAMP_TO_EDGE and MIRRORED_REPEAT the ray tracer (one
+    // repeating texture array) must show what the rasterizer's samplers show.
+    const auto dir = test::test_dir("wrap");
+    const std::vector<unsigned char> rgba = {0, 0, 0, 255, 255, 255, 255, 255};
+    write_display_rgba8(dir / "two.png", rgba, 2, 1);
+    for (const int wrap : {33071, 33648}) {
+        SCOPED_TRACE(wrap);
+        test::GltfBuilder b;
+        b.json()["images"] = {{{"uri", "two.png"}}};
+        b.json()["samplers"] = {{{"magFilter", 9728}, {"minFilter", 9728}, {"wrapS", wrap}, {"wrapT", wrap}}};
+        b.json()["textures"] = {{{"source", 0}, {"sampler", 0}}};
+        json m = lambert(glm::vec3(0.0f));
+        m["emissiveFactor"] = {1, 1, 1};
+        const json transform = {{"offset", {-1, 0}}, {"scale", {3, 1}}};
+        m["emissiveTexture"] = {{"index", 0}, {"extensions", {{"KHR_texture_transform", transform}}}};
+        b.json()["materials"] = {m};
+        b.add_node({{"mesh", b.add_quad_mesh(0)}});
+        ortho_camera(b, {0, 0, 5}, {0, 0, 0, 1}, 1.0f);
+        const Scene scene = load_gltf(b.write(dir, wrap == 33071 ? "clamp" : "mirror"));
+        rt::Options o;
+        o.mode = rt::Mode::whitted;
+        o.jitter = 0;
+        o.spp = 1;
+        GpuScene gpu(scene);
+        const int n = 60;
+        const rt::Result traced = rt::RayTracer(shader_lib(), scene, gpu, o).render(scene.select_camera("", 1.0f), n, n);
+        StillOptions so;
+        so.width = so.height = n;
+        so.settings.ssao = false;
+        const StillResult raster = render_still(scene, shader_lib(), so);
+        int agree = 0;
+        for (int x = 0; x < n; ++x) agree += (traced.image.at(x, n / 2)[0] > 0.5f) == (raster.radiance.at(x, n / 2)[0] > 0.5f);
+        // The tracer filters bilinearly whatever the sampler says, so near each of the (up to
+        // three) texel borders in this row two pixels may differ.
+        EXPECT_GE(agree, n - 6);
+        // u = 0.75 -> uv 1.25: white when clamped or mirrored (black if it repeated).
+        EXPECT_GT(traced.image.at(n * 3 / 4, n / 2)[0], 0.5f);
+        // u = 0.1 -> uv -0.7: black when clamped, white when mirrored.
+        EXPECT_EQ(traced.image.at(n / 10, n / 2)[0] > 0.5f, wrap == 33648);
+    }
+}
+
+}  // namespace
+}  // namespace candela
