@@ -51,7 +51,6 @@ BrdfInput brdf_input(SurfaceHit s) {
     b.specular_color = m.specular.rgb;
     return b;
 }
-vec3 material_emission(int mi) { return materials[mi].emission_metallic.rgb; }
 vec3 surface_emission(SurfaceHit s) {
     MaterialData m = materials[s.material];
     vec3 e = m.emission_metallic.rgb;
@@ -244,6 +243,17 @@ vec3 direct_emitters(SurfaceHit s, BrdfInput m, vec3 v, inout Rng rng, bool use_
     vec3 q = (1.0 - su) * tri.p0.xyz + su * (1.0 - u2) * tri.p1.xyz + su * u2 * tri.p2.xyz;
     vec3 nl = normalize(cross(tri.p1.xyz - tri.p0.xyz, tri.p2.xyz - tri.p0.xyz));
     int mat = floatBitsToInt(tri.p0.w);
+    // The emission at the sampled point, with the emissive texture, as a BRDF ray would see it
+    // (the emitter was chosen by its untextured power: still unbiased where the texture is > 0).
+    vec3 Le = materials[mat].emission_metallic.rgb;
+    if (materials[mat].texcoord2.x >= 0) {
+        vec2 b = vec2(su * (1.0 - u2), su * u2);
+        float w0 = 1.0 - b.x - b.y;
+        vec2 uv0 = tri.uv_a.xy * w0 + tri.uv_a.zw * b.x + tri.uv_b.xy * b.y;
+        vec2 uv1 = tri.uv_b.zw * w0 + tri.uv_c.xy * b.x + tri.uv_c.zw * b.y;
+        MaterialData me = materials[mat];
+        Le *= srgb_to_linear(material_texture(me.images2.x, material_uv(me, 4, me.texcoord2.x, uv0, uv1)).rgb);
+    }
     vec3 d = q - s.p;
     float dist2 = dot(d, d);
     if (dist2 <= 0.0) return vec3(0.0);
@@ -257,7 +267,7 @@ vec3 direct_emitters(SurfaceHit s, BrdfInput m, vec3 v, inout Rng rng, bool use_
     vec3 target = offset_ray(q, dot(nl, -l) > 0.0 ? nl : -nl);
     vec3 visible = shadow_visibility(make_ray(origin, target - origin), 1.0);
     float w = use_mis ? power_heuristic(pdf, brdf_pdf(m, s.ns, v, l)) : 1.0;
-    return brdf_eval(m, s.ns, l, v) * material_emission(mat) * NdotL * w * visible / pdf;
+    return brdf_eval(m, s.ns, l, v) * Le * NdotL * w * visible / pdf;
 }
 
 // Solid-angle pdf with which direct_emitters would have chosen the point the BRDF ray hit.

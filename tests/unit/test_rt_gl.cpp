@@ -575,3 +575,59 @@ TEST_P(RtMaterialTest, TextureWrapModesMatchTheRasterizer) {
 
 }  // namespace
 }  // namespace candela
+
+namespace candela {
+namespace {
+
+TEST_P(RtMaterialTest, EmissiveTexturesLightThroughNextEventEstimation) {
+    // An area light whose emissive texture is black on one half and white on the other must light
+    // the floor like an untextured light covering only the white half: next-event estimation
+    // reads the texture at the point it samples, as BRDF rays hitting the light do.
+    const auto dir = test::test_dir("emissive_texture");
+    // 64 texels wide, so that the tracer's bilinear filtering (it ignores NEAREST) blurs only
+    // 1/64 of the light across the black/white border.
+    std::vector<unsigned char> rgba(64 * 4, 255);
+    for (int x = 0; x < 32; ++x) rgba[static_cast<size_t>(x * 4)] = rgba[static_cast<size_t>(x * 4 + 1)] = rgba[static_cast<size_t>(x * 4 + 2)] = 0;
+    write_display_rgba8(dir / "half.png", rgba, 64, 1);
+    auto render = [&](bool textured) {
+        test::GltfBuilder b;
+        json light = lambert(glm::vec3(0.0f));
+        light["emissiveFactor"] = {4, 4, 4};
+        if (textured) {
+            b.json()["images"] = {{{"uri", "half.png"}}};
+            b.json()["samplers"] = {{{"magFilter", 9728}, {"minFilter", 9728}, {"wrapS", 33071}, {"wrapT", 33071}}};
+            b.json()["textures"] = {{{"source", 0}, {"sampler", 0}}};
+            light["emissiveTexture"] = {{"index", 0}};
+        }
+        b.json()["materials"] = {lambert(glm::vec3(1.0f)), light};
+        b.add_node({{"mesh", b.add_quad_mesh(0)}, {"rotation", {-0.70710678, 0, 0, 0.70710678}}, {"scale", {6, 6, 6}}});
+        // The light faces down at height 1, beside the camera's view; untextured: only its
+        // white half (local x in [0, 1]).
+        json quad = {{"mesh", b.add_quad_mesh(1)}, {"rotation", {0.70710678, 0, 0, 0.70710678}}};
+        if (textured) {
+            quad["translation"] = {2.5, 1, 0};
+        } else {
+            quad["translation"] = {3.0, 1, 0};
+            quad["scale"] = {0.5, 1, 1};
+        }
+        b.add_node(quad);
+        ortho_camera(b, {0, 5, 0}, kLookDown, 1.0f);
+        const Scene scene = load_gltf(b.write(dir, textured ? "textured" : "half"));
+        rt::Options o;
+        o.mode = rt::Mode::direct;
+        o.spp = 256;
+        GpuScene gpu(scene);
+        const rt::Result r = rt::RayTracer(shader_lib(), scene, gpu, o).render(scene.select_camera("", 1.0f), 16, 16);
+        EXPECT_EQ(r.nonfinite_samples, 0u);
+        double sum = 0.0;
+        for (int y = 0; y < 16; ++y)
+            for (int x = 0; x < 16; ++x) sum += r.image.at(x, y)[0];
+        return sum / 256.0;
+    };
+    const double textured = render(true), half = render(false);
+    ASSERT_GT(half, 0.01);
+    EXPECT_NEAR(textured, half, 0.03 * half);
+}
+
+}  // namespace
+}  // namespace candela
