@@ -374,6 +374,7 @@ TEST_P(RtIndirectTest, WithoutOccludersBothIndirectVariantsAgree) {
         rt::RayTracer tracer(shader_lib(), scene, gpu, o);
         const rt::Result r = tracer.render(scene.select_camera("", 1.0f), 16, 16);
         EXPECT_EQ(r.nonfinite_samples, 0u);
+        EXPECT_EQ(count_nonfinite(r.image), 0u);
         double sum = 0.0;
         for (int i = 0; i < 16 * 16; ++i) sum += r.image.pixels[static_cast<size_t>(i) * 4];
         return sum / (16 * 16);
@@ -561,6 +562,8 @@ TEST_P(RtMaterialTest, TextureWrapModesMatchTheRasterizer) {
         so.width = so.height = n;
         so.settings.ssao = false;
         const StillResult raster = render_still(scene, shader_lib(), so);
+        EXPECT_EQ(count_nonfinite(traced.image), 0u);
+        EXPECT_EQ(count_nonfinite(raster.radiance), 0u);
         int agree = 0;
         for (int x = 0; x < n; ++x) agree += (traced.image.at(x, n / 2)[0] > 0.5f) == (raster.radiance.at(x, n / 2)[0] > 0.5f);
         // The tracer filters bilinearly whatever the sampler says, so near each of the (up to
@@ -619,6 +622,7 @@ TEST_P(RtMaterialTest, EmissiveTexturesLightThroughNextEventEstimation) {
         GpuScene gpu(scene);
         const rt::Result r = rt::RayTracer(shader_lib(), scene, gpu, o).render(scene.select_camera("", 1.0f), 16, 16);
         EXPECT_EQ(r.nonfinite_samples, 0u);
+        EXPECT_EQ(count_nonfinite(r.image), 0u);
         double sum = 0.0;
         for (int y = 0; y < 16; ++y)
             for (int x = 0; x < 16; ++x) sum += r.image.at(x, y)[0];
