@@ -54,13 +54,16 @@ Features analyze(const Scene& scene, const RenderSettings& s) {
     // as they do for the ray tracer's rays.
     f.transparency = decide("transparency", s.transparency && s.debug.view == "none", sf.transparency.needed, true,
                             sf.transparency.reason);
-    f.reflections = decide("reflections", s.reflections, sf.reflections.needed, false, sf.reflections.reason);
+    f.reflections = decide("reflections", s.reflections, sf.reflections.needed, true, sf.reflections.reason);
     return f;
 }
 
 std::vector<PlannedPass> plan_passes(const Features& f, const RenderSettings& s) {
     std::vector<PlannedPass> plan;
     if (f.shadows.planned) plan.push_back({"shadow_maps", f.shadows.reason.substr(4)});
+    if (f.reflections.planned)
+        plan.push_back({"env_probe", f.reflections.reason.substr(4) + "; probe.update=" + s.probe.update +
+                                         (s.probe.update == "once" ? " (captured when the scene or settings change)" : "")});
     if (f.rsm.planned) plan.push_back({"rsm", f.rsm.reason.substr(4)});
     const std::string what = f.transparency.planned ? "opaque and masked geometry"
                              : f.transparency.needed ? "all geometry (BLEND drawn as opaque: transparency off)"
@@ -81,6 +84,8 @@ std::vector<PlannedPass> plan_passes(const Features& f, const RenderSettings& s)
         add_ssao();
         add_gather();
         plan.push_back({"deferred_lighting", "tiled light culling and shading of the G-buffer"});
+        if (f.reflections.planned && f.scene.transmission.needed)
+            plan.push_back({"transmissive", "transmissive surfaces refract through the probes (forward shading, depth EQUAL)"});
     } else {
         if (f.ssao.planned || f.rsm.planned)
             plan.push_back({"depth_normal_prepass", std::string(f.ssao.planned ? "SSAO" : "RSM") + " needs depth and normals before shading"});

@@ -29,6 +29,7 @@ struct FrameData {  // std140, binding 0
     glm::ivec4 ssao_mode;    // x on, y blur radius, z downscale
     glm::ivec4 rsm_mode;     // x on, y downscale
     glm::vec4 depth_to_view; // view z of depth d: (x d + y) / (z d + w)
+    glm::ivec4 probe_mode;   // x probes bound, y their levels, z refraction on, w static env cube bound
 };
 
 struct MaterialData {  // std430, binding 1

@@ -60,12 +60,19 @@ public:
     const TexturePool& pool() const { return pool_; }
     // This frame's shadow views (empty when the shadow pass did not run).
     const ShadowViews& shadow_views() const { return shadows_.cpu; }
+    // Reflection probes of this scene and settings (empty when the reflections effect is off).
+    const std::vector<ProbePlacement>& probes() const { return probes_.placements; }
+    // Probes re-capture on the next frame (probe.update=once): call after changing the scene.
+    void invalidate_probes() { probes_.valid = false; }
+    const ImageBasedLighting& ibl() const { return ibl_; }
+    const gl::Texture& environment_cube() const { return env_cube_; }
     // Debug: after each pass compare GL's state with the state cache's (stalls).
     void set_verify_state(bool on) { verify_state_ = on; }
 
 private:
     void prepare_shadows(const Camera& camera, float aspect);
     void prepare_rsm();  // after prepare_shadows: the RSM views are shadow views
+    void prepare_probes(const FrameData& frame);  // textures, and per-face frames when capturing
 
     const ShaderLibrary& shaders_;
     const Scene& scene_;
@@ -75,6 +82,10 @@ private:
     gl::Texture ssao_noise_;
     gl::Sampler linear_clamp_;
     RsmResources rsm_;
+    ImageBasedLighting ibl_;
+    gl::Texture env_cube_;   // static environment map, prefiltered (empty without a map)
+    int env_cube_size_ = 0, env_cube_levels_ = 1;
+    ProbeResources probes_;
     RenderSettings settings_;
     Features features_;
     Programs programs_;

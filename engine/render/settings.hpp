@@ -90,6 +90,13 @@ struct RenderSettings {
     struct Reflections {
         float max_roughness = 0.3f;  // [0, 1] metallic surfaces rougher than this need no reflection pass
     } reflections_knobs;
+    struct Probes {
+        int resolution = 128;              // [16, 1024] face size of each reflection probe
+        std::string update = "once";       // once|every_frame: once re-captures when the scene or settings change
+        std::string placement = "scene";   // scene|auto: scene uses extras.reflection_probe nodes (auto if none)
+        int samples = 32;                  // [1, 1024] GGX samples per texel of the prefiltered levels
+        int environment_resolution = 128;  // [16, 1024] face size of the static environment cube
+    } probe;
 };
 
 // The effect names of `--effects` (shared/DESIGN.md section 4).

@@ -3,6 +3,7 @@
 #include <tiny_gltf.h>
 
 #include <cmath>
+#include <limits>
 #include <cstring>
 #include <fstream>
 #include <map>
@@ -505,6 +506,30 @@ void Loader::build_nodes(Scene& scene) {
             const double r = number(src.extras.Get("sphere"), "radius", -1.0);
             if (!(r > 0.0) || !std::isfinite(r)) fail(path + ".extras.sphere.radius", "must be a positive number");
             node.sphere_radius = static_cast<float>(r);
+        }
+        if (src.extras.IsObject() && src.extras.Has("reflection_probe")) {
+            const Value& e = src.extras.Get("reflection_probe");
+            const std::string where = path + ".extras.reflection_probe";
+            if (!e.IsObject()) fail(where, "must be an object {position, extent, center}");
+            ReflectionProbe probe;
+            const glm::vec3 bad(std::numeric_limits<float>::quiet_NaN());
+            auto finite3 = [&](const char* key, glm::vec3 fallback) {
+                const glm::vec3 v = vec<3>(e, key, bad);
+                if (!e.Has(key)) return fallback;
+                if (glm::any(glm::isnan(v)) || glm::any(glm::isinf(v))) fail(where + "." + key, "must be an array of 3 finite numbers");
+                return v;
+            };
+            probe.position = finite3("position", glm::vec3(0.0f));
+            probe.center = finite3("center", probe.position);
+            if (e.Has("extent")) {
+                probe.extent = finite3("extent", glm::vec3(0.0f));
+                if (glm::any(glm::lessThanEqual(probe.extent, glm::vec3(0.0f))))
+                    fail(where + ".extent", "half sizes must be positive");
+                probe.has_extent = true;
+                if (glm::any(glm::greaterThan(glm::abs(probe.position - probe.center), probe.extent)))
+                    fail(where, "the position lies outside the box center +- extent");
+            }
+            node.reflection_probe = probe;
         }
         for (int c : src.children) {
             if (c < 0 || static_cast<size_t>(c) >= n) fail(path + ".children", "node " + std::to_string(c) + " does not exist");

@@ -131,6 +131,17 @@ struct Camera {
     glm::mat4 world{1.0f};  // camera-to-world
 };
 
+// A reflection probe declared on a node (`extras.reflection_probe`): captured at `position`; with
+// an extent, lookups are box-projected (parallax-corrected) onto the axis-aligned box
+// `center` +- `extent`. Position and center are in the node's space; extent is half sizes in
+// world units along the world axes.
+struct ReflectionProbe {
+    glm::vec3 position{0.0f};
+    glm::vec3 center{0.0f};
+    glm::vec3 extent{0.0f};
+    bool has_extent = false;
+};
+
 struct Node {
     std::string name;
     int parent = -1;
@@ -141,6 +152,7 @@ struct Node {
     int camera = -1;
     int light = -1;
     std::optional<float> sphere_radius;  // extras.sphere.radius: exact sphere for the ray tracer
+    std::optional<ReflectionProbe> reflection_probe;  // extras.reflection_probe
     bool mirrored() const { return glm::determinant(glm::mat3(world)) < 0.0f; }
 };
 

@@ -13,7 +13,7 @@ buffer per scene, plus fence.png for the transparency scene):
 
 Conventions (see DESIGN.md section 3): right-handed, +Y up, meters, linear RGB; light
 intensities are radiometric (point/spot W/sr, directional W/m^2); constant environment radiance
-goes in scenes[0].extras.environment_radiance; sphere nodes carry extras.sphere.radius (world
+goes in scenes[0].extras.environment_radiance; the spheres of reflections.gltf carry extras.reflection_probe; sphere nodes carry extras.sphere.radius (world
 radius, the node has no scale) so a ray tracer can intersect the exact sphere.
 
 Every mesh primitive is an indexed triangle list (UNSIGNED_INT indices) with POSITION (with
@@ -342,10 +342,10 @@ class GltfBuilder:
             fields["extras"] = extras
         return self.node(name, translation, rotation, **fields)
 
-    def sphere_node(self, name, center, radius, material):
+    def sphere_node(self, name, center, radius, material, extras=None):
         return self.mesh_node(name, sphere_geometry(radius), material, translation=center,
                               key=("sphere", radius),
-                              extras={"sphere": {"radius": radius}})
+                              extras={"sphere": {"radius": radius}, **(extras or {})})
 
     def box_node(self, name, size, material, center, yaw_degrees=0.0):
         return self.mesh_node(name, box_geometry(size), material, translation=center,
@@ -584,14 +584,25 @@ def scene_reflections():
                 quad_geometry((2.0, 1.5, 0.0), (-1.0, 0.0, 0.0), z_axis, 2.0, 1.5),
                 g.material("wall_light_green", (0.6, 0.78, 0.58), roughness=0.9))
 
-    g.sphere_node("mirror_sphere", (-0.8, 0.55, -0.7), 0.55,
-                  g.material("mirror_chrome", (0.95, 0.95, 0.95), metallic=1.0, roughness=0.02))
+    # Each sphere carries a reflection probe at its centre whose box is the room, so lookups are
+    # parallax-corrected (box-projected) onto the walls (center is in the node's space).
+    def room_probe(center):
+        room_center, room_half = (0.0, 1.5, 0.0), (2.0, 1.5, 2.0)
+        return {"reflection_probe": {"position": [0.0, 0.0, 0.0],
+                                     "center": [r - c for r, c in zip(room_center, center)],
+                                     "extent": list(room_half)}}
+    mirror_center = (-0.8, 0.55, -0.7)
+    g.sphere_node("mirror_sphere", mirror_center, 0.55,
+                  g.material("mirror_chrome", (0.95, 0.95, 0.95), metallic=1.0, roughness=0.02),
+                  extras=room_probe(mirror_center))
     glass_radius = 0.4
-    g.sphere_node("glass_sphere", (0.55, glass_radius, 0.35), glass_radius, g.material(
+    glass_center = (0.55, glass_radius, 0.35)
+    g.sphere_node("glass_sphere", glass_center, glass_radius, g.material(
         "glass_clear", (1.0, 1.0, 1.0), metallic=0.0, roughness=0.0, extensions={
             "KHR_materials_transmission": {"transmissionFactor": 1.0},
             "KHR_materials_ior": {"ior": 1.5},
-            "KHR_materials_volume": {"thicknessFactor": 2.0 * glass_radius}}))
+            "KHR_materials_volume": {"thicknessFactor": 2.0 * glass_radius}}),
+        extras=room_probe(glass_center))
     g.box_node("orange_box", (0.5, 0.5, 0.5),
                g.material("box_orange", (0.85, 0.3, 0.08), roughness=0.5),
                (1.05, 0.25, -0.85), 25.0)

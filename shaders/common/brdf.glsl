@@ -40,8 +40,10 @@ vec3 dielectric_f0(BrdfInput m) {
 }
 float dielectric_f90(BrdfInput m) { return m.specular_factor; }
 
-// BRDF value f(l, v) (without the cosine). n, l, v normalized, l and v pointing away.
-vec3 brdf_eval(BrdfInput m, vec3 n, vec3 l, vec3 v) {
+// BRDF value f(l, v) (without the cosine), with the dielectric's diffuse lobe scaled by
+// `diffuse_weight` (1 - transmission for a transmissive raster surface). n, l, v normalized, l
+// and v pointing away.
+vec3 brdf_eval_weighted(BrdfInput m, vec3 n, vec3 l, vec3 v, float diffuse_weight) {
     float NdotL = dot(n, l);
     float NdotV = dot(n, v);
     if (NdotL <= 0.0 || NdotV <= 0.0) return vec3(0.0);
@@ -50,33 +52,24 @@ vec3 brdf_eval(BrdfInput m, vec3 n, vec3 l, vec3 v) {
     float VdotH = saturate(dot(v, h));
     float alpha = brdf_alpha(m.roughness);
     float spec = D_GGX(NdotH, alpha) * V_SmithGGXCorrelated(NdotL, NdotV, alpha);
-    vec3 diffuse = m.base_color * INV_PI;
+    vec3 diffuse = m.base_color * INV_PI * diffuse_weight;
     vec3 Fd = F_Schlick(dielectric_f0(m), vec3(dielectric_f90(m)), VdotH);
     vec3 dielectric = (1.0 - Fd) * diffuse + Fd * spec;
     vec3 metal = F_Schlick(m.base_color, vec3(1.0), VdotH) * spec;
     return mix(dielectric, metal, m.metallic);
 }
+vec3 brdf_eval(BrdfInput m, vec3 n, vec3 l, vec3 v) { return brdf_eval_weighted(m, n, l, v, 1.0); }
 
-// Directional albedo of the specular lobe, split into F0 and F90 scales: Karis' analytic fit to
-// the split-sum LUT ("Physically Based Shading on Mobile", 2014). Used for constant-environment
-// ambient until the prefiltered LUT (reflections issue) replaces it.
-vec2 env_brdf_approx(float roughness, float NdotV) {
-    const vec4 c0 = vec4(-1.0, -0.0275, -0.572, 0.022);
-    const vec4 c1 = vec4(1.0, 0.0425, 1.04, -0.04);
-    vec4 r = roughness * c0 + c1;
-    float a004 = min(r.x * r.x, exp2(-9.28 * NdotV)) * r.x + r.y;
-    return vec2(-1.04, 1.04) * a004 + r.zw;
-}
-
-// Light reflected towards v from incident radiance that is `irradiance_diffuse / PI` (diffuse
-// lobe) and `radiance_specular` (prefiltered along the reflection vector).
-vec3 brdf_ambient(BrdfInput m, vec3 n, vec3 v, vec3 irradiance, vec3 specular_radiance) {
-    float NdotV = saturate(dot(n, v));
-    vec2 ab = env_brdf_approx(m.roughness, NdotV);
+// Light reflected towards v from environment light (split sum, Karis 2013): `ab` the BRDF LUT's
+// (A, B) at this roughness and NdotV, `irradiance` for the Lambert lobe, `specular_radiance`
+// prefiltered along the reflection vector; a transmissive dielectric replaces `transmission` of
+// its Lambert lobe by `transmitted_radiance` tinted by the base colour (KHR_materials_transmission).
+vec3 brdf_ambient(BrdfInput m, vec2 ab, vec3 irradiance, vec3 specular_radiance, float transmission,
+                  vec3 transmitted_radiance) {
     vec3 spec_dielectric = dielectric_f0(m) * ab.x + dielectric_f90(m) * ab.y;
     vec3 spec_metal = m.base_color * ab.x + ab.y;
-    vec3 diffuse = m.base_color * INV_PI * irradiance;
-    vec3 dielectric = (1.0 - spec_dielectric) * diffuse + spec_dielectric * specular_radiance;
+    vec3 base = mix(m.base_color * INV_PI * irradiance, m.base_color * transmitted_radiance, transmission);
+    vec3 dielectric = (1.0 - spec_dielectric) * base + spec_dielectric * specular_radiance;
     vec3 metal = spec_metal * specular_radiance;
     return mix(dielectric, metal, m.metallic);
 }

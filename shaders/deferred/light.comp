@@ -124,7 +124,7 @@ void main() {
             }
         }
     }
-    color += shade_ambient(bi, n, v, base_occlusion.a * ssao_at(pixel));
+    color += shade_ambient(bi, p, n, v, base_occlusion.a * ssao_at(pixel));
     color += rsm_indirect(bi, pixel, p);
     imageStore(light_buffer, gid, vec4(color, 1.0));
 }

@@ -33,8 +33,11 @@ void main() {
         return;
     }
     vec3 color = s.emission;
-    for (int i = 0; i < frame.counts.x; ++i) color += shade_light(i, s.brdf, v_world_pos, s.n, v, pixel);
-    color += shade_ambient(s.brdf, s.n, v, s.occlusion * ssao_at(pixel));
+    // Transmission needs the refraction lookup (reflections effect); without it the surface is
+    // an opaque dielectric.
+    float transmission = frame.probe_mode.z != 0 ? s.transmission : 0.0;
+    for (int i = 0; i < frame.counts.x; ++i) color += shade_light(i, s.brdf, v_world_pos, s.n, v, pixel, transmission);
+    color += shade_ambient(s.brdf, v_world_pos, s.n, v, s.occlusion * ssao_at(pixel), transmission, s.thin);
     color += rsm_indirect(s.brdf, pixel, v_world_pos);
     float alpha = s.alpha_mode == 2 ? s.alpha : 1.0;
     out_radiance = u_peel != 0 ? vec4(color * alpha, alpha) : vec4(color, alpha);

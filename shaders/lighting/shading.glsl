@@ -4,7 +4,6 @@
 #include "../common/brdf.glsl"
 #include "shadows.glsl"
 
-layout(binding = 5) uniform sampler2D t_environment;
 layout(binding = 9) uniform sampler2D t_ssao;  // bound when frame.ssao_mode.x = 1
 
 // Screen-space ambient occlusion at a pixel (1 without the SSAO pass). It scales ambient and
@@ -49,10 +48,66 @@ vec3 rsm_indirect(BrdfInput bi, vec2 pixel, vec3 p) {
     return bi.base_color * (1.0 - bi.metallic) * INV_PI * E;
 }
 
-vec3 environment_specular(vec3 r, float roughness) {
+// Image-based lighting (render/environment.hpp): the static environment as a GGX-prefiltered
+// cube (frame.counts.y levels, roughness = level / (levels - 1)), reflection probes captured by
+// the env_probe pass and prefiltered the same way, and the split-sum BRDF LUT.
+layout(binding = 6) uniform samplerCubeArray t_env_cube;  // bound when frame.probe_mode.w = 1
+layout(binding = 13) uniform sampler2D t_brdf_lut;
+layout(binding = 14) uniform samplerCubeArray t_probes;   // bound when frame.probe_mode.x > 0
+struct ProbeData {
+    vec4 position_radius;  // capture point; influence radius when there is no box
+    vec4 box_min;          // w = 1: box-projected lookups inside [box_min, box_max]
+    vec4 box_max;          // w >= 0: lights only reflective surfaces (metallic with roughness
+                           // below w, or transmissive); w < 0: every surface in range
+};
+layout(std430, binding = 5) readonly buffer Probes { ProbeData probes[]; };
+
+// The split sum's second factor: (A, B) with specular albedo = F0 A + F90 B.
+vec2 env_brdf(float roughness, float NdotV) {
+    vec2 size = vec2(textureSize(t_brdf_lut, 0));
+    vec2 uv = (clamp(vec2(NdotV, roughness), 0.0, 1.0) * (size - 1.0) + 0.5) / size;
+    return textureLod(t_brdf_lut, uv, 0.0).rg;
+}
+
+// The probe that lights p on a surface with these properties: of those whose box (or radius)
+// contains p and that light such a surface, the nearest; -1 if none.
+int probe_at(vec3 p, BrdfInput bi, float transmission) {
+    int best = -1;
+    float best_d = 3.0e38;
+    for (int k = 0; k < frame.probe_mode.x; ++k) {
+        ProbeData pr = probes[k];
+        if (pr.box_max.w >= 0.0 && transmission <= 0.0 && !(bi.metallic > 0.5 && bi.roughness < pr.box_max.w)) continue;
+        float d = distance(p, pr.position_radius.xyz);
+        bool inside = pr.box_min.w > 0.5
+            ? all(greaterThanEqual(p, pr.box_min.xyz - 1e-4)) && all(lessThanEqual(p, pr.box_max.xyz + 1e-4))
+            : d <= pr.position_radius.w;
+        if (inside && d < best_d) {
+            best = k;
+            best_d = d;
+        }
+    }
+    return best;
+}
+
+// Lagarde & Zanuttini 2012, "Local image-based lighting with parallax-corrected cubemaps": the
+// ray p + t r leaves the probe's box at the point the probe saw in direction (hit - position).
+vec3 probe_direction(ProbeData pr, vec3 p, vec3 r) {
+    if (pr.box_min.w < 0.5) return r;
+    vec3 rs = mix(r, mix(vec3(1e-8), vec3(-1e-8), lessThan(r, vec3(0.0))), lessThan(abs(r), vec3(1e-8)));
+    vec3 far_t = max((pr.box_max.xyz - p) / rs, (pr.box_min.xyz - p) / rs);
+    float t = max(min(min(far_t.x, far_t.y), far_t.z), 0.0);
+    vec3 d = p + r * t - pr.position_radius.xyz;
+    return dot(d, d) > 1e-12 ? d : r;
+}
+
+// Radiance arriving at p from direction r, prefiltered for `roughness`: probe k (probe_at), or
+// the static environment when k < 0.
+vec3 environment_specular(vec3 p, vec3 r, float roughness, int k) {
+    if (k >= 0)
+        return textureLod(t_probes, vec4(probe_direction(probes[k], p, r), float(k)),
+                          roughness * float(max(frame.probe_mode.y - 1, 0))).rgb;
     if (frame.env_radiance.w < 0.5) return frame.env_radiance.rgb;
-    float lod = roughness * float(max(frame.counts.y - 1, 0));
-    return frame.env_radiance.rgb * textureLod(t_environment, direction_to_equirect(r), lod).rgb;
+    return frame.env_radiance.rgb * textureLod(t_env_cube, vec4(r, 0.0), roughness * float(max(frame.counts.y - 1, 0))).rgb;
 }
 
 vec3 environment_irradiance(vec3 n) {
@@ -60,20 +115,37 @@ vec3 environment_irradiance(vec3 n) {
     return max(sh_irradiance(n), vec3(0.0));
 }
 
-// Light i reflected towards v.
-vec3 shade_light(int i, BrdfInput bi, vec3 p, vec3 n, vec3 v, vec2 pixel) {
+// Light i reflected towards v. A transmissive surface (KHR_materials_transmission) keeps its
+// specular lobe and trades `transmission` of its diffuse lobe for transmitted light.
+vec3 shade_light(int i, BrdfInput bi, vec3 p, vec3 n, vec3 v, vec2 pixel, float transmission) {
     PunctualLight light = lights[i];
     vec3 l, E;
     float dist;
     light_incidence(light, p, l, E, dist);
     float NdotL = dot(n, l);
     if (NdotL <= 0.0 || max(E.r, max(E.g, E.b)) <= 0.0) return vec3(0.0);
-    return brdf_eval(bi, n, l, v) * E * NdotL * shadow_factor(light, p, n, l, pixel);
+    return brdf_eval_weighted(bi, n, l, v, 1.0 - transmission) * E * NdotL * shadow_factor(light, p, n, l, pixel);
 }
+vec3 shade_light(int i, BrdfInput bi, vec3 p, vec3 n, vec3 v, vec2 pixel) { return shade_light(i, bi, p, n, v, pixel, 0.0); }
 
-vec3 shade_ambient(BrdfInput bi, vec3 n, vec3 v, float occlusion) {
-    vec3 r = reflect(-v, n);
-    return occlusion * brdf_ambient(bi, n, v, environment_irradiance(n), environment_specular(r, bi.roughness));
+// Environment light reflected towards v (split sum), and for a transmissive surface the light
+// refracted through it: one lookup along the direction after the first interface (a thin wall
+// does not bend it), the seeds' "first direction change only".
+vec3 shade_ambient(BrdfInput bi, vec3 p, vec3 n, vec3 v, float occlusion, float transmission, bool thin) {
+    float NdotV = saturate(dot(n, v));
+    vec2 ab = env_brdf(bi.roughness, NdotV);
+    int probe = probe_at(p, bi, transmission);
+    vec3 specular = environment_specular(p, reflect(-v, n), bi.roughness, probe);
+    vec3 transmitted = vec3(0.0);
+    if (transmission > 0.0) {
+        vec3 t = thin ? -v : refract(-v, n, 1.0 / max(bi.ior, 1.0));
+        if (dot(t, t) < 1e-12) t = -v;
+        transmitted = environment_specular(p, normalize(t), bi.roughness, probe);
+    }
+    return occlusion * brdf_ambient(bi, ab, environment_irradiance(n), specular, transmission, transmitted);
+}
+vec3 shade_ambient(BrdfInput bi, vec3 p, vec3 n, vec3 v, float occlusion) {
+    return shade_ambient(bi, p, n, v, occlusion, 0.0, false);
 }
 
 // The debug view `visibility` (debug.view): the fraction of light frame.debug.y that reaches p

@@ -25,6 +25,8 @@ struct Surface {
     vec3 emission;
     float alpha;
     int alpha_mode;  // 0 opaque, 1 mask, 2 blend
+    float transmission;  // KHR_materials_transmission factor
+    bool thin;           // thin-walled (KHR_materials_volume thickness 0)
 };
 
 vec2 slot_uv(MaterialData m, int slot, int set) {
@@ -88,6 +90,8 @@ Surface fragment_surface() {
     s.brdf.ior = m.params2.x;
     s.brdf.specular_factor = m.specular.a;
     s.brdf.specular_color = m.specular.rgb;
+    s.transmission = m.params2.y;
+    s.thin = m.volume.x <= 0.0;
 
     // Shading normals facing away from the viewer are bent back to the horizon.
     vec3 v = normalize(frame.camera_pos.xyz - v_world_pos);

@@ -33,6 +33,17 @@ void bind_scene_buffers(const PassEnv& env) {
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, env.scene.lights().id());
     glBindTextureUnit(5, env.scene.environment_map().id());
     glBindSampler(5, 0);
+    if (env.env_cube) {
+        glBindTextureUnit(6, env.env_cube.id());
+        glBindSampler(6, 0);
+    }
+    glBindTextureUnit(13, env.ibl.brdf_lut().id());
+    glBindSampler(13, 0);
+    if (env.probes_on) {
+        glBindTextureUnit(14, env.probes.filtered.id());
+        glBindSampler(14, 0);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, env.probes.data.id());
+    }
     if (env.shadows_on) {
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, env.shadows.views.id());
         glBindTextureUnit(7, env.shadows.array.id());
@@ -43,7 +54,7 @@ void bind_scene_buffers(const PassEnv& env) {
 }
 
 void read_lighting_inputs(FrameGraph::Builder& b, const ForwardTargets& targets) {
-    for (const FrameGraph::ResourceId id : {targets.shadow_maps, targets.ssao, targets.rsm_indirect})
+    for (const FrameGraph::ResourceId id : {targets.shadow_maps, targets.ssao, targets.rsm_indirect, targets.probes})
         if (id >= 0) b.read(id);
 }
 

@@ -1,0 +1,40 @@
+#pragma once
+// Image-based lighting built at start-up (Karis 2013, "Real Shading in Unreal Engine 4"): the
+// split-sum BRDF LUT, and the static environment map as a cube map whose mip levels are
+// GGX-prefiltered for rising roughness. The same prefilter turns captured reflection probes
+// into rough reflections (render/passes/env_probe.cpp).
+#include "gl/handles.hpp"
+#include "shader/shader_library.hpp"
+
+namespace candela {
+
+// Mip levels of a prefiltered cube of face size `size`: down to 4x4 faces (roughness 1 there).
+int prefiltered_levels(int size);
+
+class ImageBasedLighting {
+public:
+    // Builds the LUT; throws candela::Error (internal) if a shader does not build.
+    explicit ImageBasedLighting(const ShaderLibrary& shaders);
+
+    // size x size RG32F: x = NdotV, y = roughness, texel i at i / (size - 1); r = A, g = B.
+    const gl::Texture& brdf_lut() const { return lut_; }
+    static constexpr int kLutSize = 32;
+    static constexpr int kLutSamples = 1024;
+
+    // A cube-map array (1 cube) with prefiltered_levels(size) levels from an equirectangular
+    // map (a texture with a full mip chain), prefiltered with `samples` GGX samples per texel.
+    gl::Texture cube_from_equirect(const gl::Texture& equirect, int size, int samples) const;
+    // Fills levels 1.. of `dst` (a cube-map array with `cubes` cubes and `levels` levels) from
+    // `source` (same size, a full mip chain whose level 0 is the capture); level 0 is copied.
+    void prefilter(const gl::Texture& source, const gl::Texture& dst, int size, int levels, int cubes, int samples) const;
+    // An RGBA32F cube-map array of `cubes` cubes, `levels` levels (0: full chain), linear filtering.
+    static gl::Texture create_cube_array(int size, int cubes, int levels);
+
+private:
+    const ShaderLibrary& shaders_;
+    gl::Program lut_program_;
+    mutable gl::Program to_cube_program_, prefilter_program_;  // built on first use
+    gl::Texture lut_;
+};
+
+}  // namespace candela
