@@ -14,10 +14,13 @@ bool GpuTimer::collect(Frame& f, bool wait) {
         }
     }
     Results r;
+    // Every pass of the frame ran between its start and now.
+    const double wall_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - f.started).count();
     for (int i = 0; i < f.used; ++i) {
         GLuint64 ns = 0;
         glGetQueryObjectui64v(f.queries[static_cast<size_t>(i)].id(), GL_QUERY_RESULT, &ns);
-        r.emplace_back(f.names[static_cast<size_t>(i)], static_cast<double>(ns) * 1e-6);
+        const double ms = static_cast<double>(ns) * 1e-6;
+        r.emplace_back(f.names[static_cast<size_t>(i)], ms <= wall_ms + 1.0 ? ms : -1.0);
     }
     latest_ = std::move(r);
     f.pending = false;
@@ -36,6 +39,7 @@ void GpuTimer::begin_frame() {
     f.used = 0;
     f.names.clear();
     f.pending = true;
+    f.started = std::chrono::steady_clock::now();
 }
 
 void GpuTimer::begin(const std::string& name) {

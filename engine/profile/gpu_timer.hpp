@@ -1,6 +1,7 @@
 #pragma once
 // GPU time per pass with GL_TIME_ELAPSED queries, double-buffered across frames so that reading
 // results never stalls the pipeline in a frame loop; stills ask for the current frame at once.
+#include <chrono>
 #include <string>
 #include <utility>
 #include <vector>
@@ -17,7 +18,10 @@ public:
     void begin(const std::string& name);  // not nestable (GL_TIME_ELAPSED)
     void end();
 
-    using Results = std::vector<std::pair<std::string, double>>;  // pass name, ms
+    // Pass name, ms; -1 where the driver's answer cannot be right: longer than the wall-clock
+    // time from the frame's start to its collection (llvmpipe can answer with its absolute
+    // clock, hours: see Renderer::render).
+    using Results = std::vector<std::pair<std::string, double>>;
     // Results of the newest frame whose queries are ready without waiting (may be empty).
     const Results& latest() const { return latest_; }
     // Waits for the current frame's queries (after glFinish they are ready) and returns them.
@@ -29,6 +33,7 @@ private:
         std::vector<std::string> names;
         int used = 0;
         bool pending = false;
+        std::chrono::steady_clock::time_point started;
     };
     bool collect(Frame& frame, bool wait);
     std::vector<Frame> frames_;

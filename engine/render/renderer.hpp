@@ -100,6 +100,7 @@ private:
     GpuTimer timer_;
     FrameReport report_;
     bool verify_state_ = false;
+    bool timer_warmed_ = false;
 };
 
 }  // namespace candela

@@ -54,13 +54,14 @@ double FrameLoop::measure_frame() {
     const double ms = ms_since(t0);
     result_.frame_ms.push_back(ms);
     renderer_->resolve_gpu_times();
-    for (const auto& p : renderer_->last_frame().passes) gpu_ms_[p.name].push_back(p.gpu_ms);
+    for (const auto& p : renderer_->last_frame().passes)
+        if (p.gpu_ms >= 0.0) gpu_ms_[p.name].push_back(p.gpu_ms);  // -1: the driver's answer was impossible
     return ms;
 }
 
 StillResult FrameLoop::finish() {
     result_.report = renderer_->last_frame();
-    for (auto& p : result_.report.passes) p.gpu_ms = median(gpu_ms_[p.name]);
+    for (auto& p : result_.report.passes) p.gpu_ms = gpu_ms_[p.name].empty() ? -1.0 : median(gpu_ms_[p.name]);
     const auto t0 = std::chrono::steady_clock::now();
     result_.radiance = renderer_->read_radiance();
     if (options_.output == FrameOutput::display) result_.display = renderer_->read_display();
