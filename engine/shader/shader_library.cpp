@@ -44,7 +44,7 @@ struct Expander {
     int file_id(const fs::path& p) {
         for (size_t i = 0; i < out.files.size(); ++i)
             if (out.files[i] == p) return static_cast<int>(i);
-        out.files.push_back(p);
+        out.files.push_back(p.lexically_normal());
         return static_cast<int>(out.files.size()) - 1;
     }
 
@@ -154,7 +154,11 @@ ShaderLibrary::BuildResult ShaderLibrary::build(const ProgramDesc& desc) const {
         if (!status) {
             std::string log(static_cast<size_t>(std::max(length, 1)), '\0');
             glGetShaderInfoLog(shader.id(), length, nullptr, log.data());
-            result.log += src.map_log(log.c_str());
+            // Mesa reports source string 0 for semantic errors in included files (right line,
+            // wrong file); glslang keeps the #line source numbers, so its messages lead.
+            const std::string glslang = validate_with_glslang(src, stage);
+            if (!glslang.empty()) result.log += glslang + "(driver: " + src.map_log(log.c_str()) + ")\n";
+            else result.log += src.map_log(log.c_str());
             ok = false;
         }
         shaders.push_back(std::move(shader));
