@@ -12,7 +12,9 @@ template <void (*Destroy)(GLuint)>
 class Handle {
 public:
     Handle() = default;
-    explicit Handle(GLuint id) : id_(id) {}
+    explicit Handle(GLuint id) : id_(id) {
+        if (id_) ++live_;
+    }
     ~Handle() { reset(); }
     Handle(Handle&& other) noexcept : id_(std::exchange(other.id_, 0)) {}
     Handle& operator=(Handle&& other) noexcept {
@@ -28,12 +30,18 @@ public:
     GLuint id() const { return id_; }
     explicit operator bool() const { return id_ != 0; }
     void reset() {
-        if (id_) Destroy(id_);
+        if (id_) {
+            Destroy(id_);
+            --live_;
+        }
         id_ = 0;
     }
+    // Objects of this kind alive now (leak checks in tests).
+    static int live() { return live_; }
 
 private:
     GLuint id_ = 0;
+    static inline int live_ = 0;
 };
 
 namespace detail {

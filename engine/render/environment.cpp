@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "shader/program_catalog.hpp"
+
 namespace candela {
 
 int prefiltered_levels(int size) {
@@ -25,7 +27,7 @@ gl::Texture ImageBasedLighting::create_cube_array(int size, int cubes, int level
 }
 
 ImageBasedLighting::ImageBasedLighting(const ShaderLibrary& shaders) : shaders_(shaders) {
-    lut_program_ = shaders.build_or_throw({"brdf_lut", {{ShaderStage::compute, "env/brdf_lut.comp"}}, {}});
+    lut_program_ = shaders.build_or_throw(program_desc("brdf_lut"));
     lut_ = gl::Texture::create_2d(GL_RG32F, kLutSize, kLutSize, 1);
     glTextureParameteri(lut_.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
     glTextureParameteri(lut_.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
@@ -44,7 +46,7 @@ ImageBasedLighting::ImageBasedLighting(const ShaderLibrary& shaders) : shaders_(
 gl::Texture ImageBasedLighting::cube_from_equirect(const gl::Texture& equirect, int size, int samples) const {
     // Built on first use: scenes without an environment map never compile it.
     if (!to_cube_program_)
-        to_cube_program_ = shaders_.build_or_throw({"equirect_to_cube", {{ShaderStage::compute, "env/equirect_to_cube.comp"}}, {}});
+        to_cube_program_ = shaders_.build_or_throw(program_desc("equirect_to_cube"));
     const int levels = prefiltered_levels(size);
     gl::Texture source = create_cube_array(size, 1, 0);
     glUseProgram(to_cube_program_.id());
@@ -64,7 +66,7 @@ gl::Texture ImageBasedLighting::cube_from_equirect(const gl::Texture& equirect, 
 void ImageBasedLighting::prefilter(const gl::Texture& source, const gl::Texture& dst, int size, int levels, int cubes,
                                    int samples) const {
     if (!prefilter_program_)
-        prefilter_program_ = shaders_.build_or_throw({"prefilter", {{ShaderStage::compute, "env/prefilter.comp"}}, {}});
+        prefilter_program_ = shaders_.build_or_throw(program_desc("prefilter"));
     const GLuint p = prefilter_program_.id();
     glUseProgram(p);
     glBindTextureUnit(0, source.id());

@@ -5,8 +5,10 @@
 
 #include "core/error.hpp"
 #include "core/log.hpp"
+#include "shader/program_catalog.hpp"
 
 #include <cstring>
+#include <set>
 
 #include <glm/gtc/constants.hpp>
 #include <glm/gtc/matrix_transform.hpp>
@@ -19,8 +21,7 @@ constexpr int kEnvironmentSamples = 128;
 
 Renderer::Renderer(const ShaderLibrary& shaders, const Scene& scene, GpuScene& gpu, const RenderSettings& settings)
     : shaders_(shaders), scene_(scene), gpu_(gpu), scene_bounds_(scene.world_bounds()), ibl_(shaders) {
-    programs_.tonemap = shaders.build_or_throw({"tonemap", {{ShaderStage::vertex, "post/fullscreen.vert"},
-                                                            {ShaderStage::fragment, "post/tonemap.frag"}}, {}});
+    build_program(programs_.tonemap, "tonemap");
     frame_ubo_ = gl::Buffer(sizeof(FrameData), nullptr, GL_DYNAMIC_STORAGE_BIT);
     empty_vao_ = gl::VertexArray::create();
     linear_clamp_ = gl::Sampler::create(GL_LINEAR, GL_LINEAR, GL_CLAMP_TO_EDGE, GL_CLAMP_TO_EDGE);
@@ -66,39 +67,66 @@ void Renderer::set_settings(const RenderSettings& settings) {
         }
     }
     // Programs for the planned passes only.
-    auto build = [&](gl::Program& program, const char* name, std::vector<std::pair<ShaderStage, std::string>> stages) {
-        if (program) return;
-        ProgramDesc desc{name, {}, {}};
-        for (auto& [stage, file] : stages) desc.stages.push_back({stage, file});
-        program = shaders_.build_or_throw(desc);
+    auto build = [&](gl::Program& program, const char* name) {
+        if (!program) build_program(program, name);
     };
     for (const PlannedPass& pass : plan_passes(features_, settings_)) {
         if (pass.name == "transparent_peeling")
-            build(programs_.copy, "copy", {{ShaderStage::vertex, "post/fullscreen.vert"}, {ShaderStage::fragment, "post/copy.frag"}});
+            build(programs_.copy, "copy");
         if (pass.name == "env_probe" && features_.environment)
-            build(programs_.sky, "sky", {{ShaderStage::vertex, "forward/sky.vert"}, {ShaderStage::fragment, "forward/sky.frag"}});
+            build(programs_.sky, "sky");
         if (pass.name == "forward_opaque" || pass.name == "depth_prepass" || pass.name == "transparent" ||
             pass.name == "transparent_peeling" || pass.name == "env_probe" || pass.name == "transmissive")
-            build(programs_.forward, "forward", {{ShaderStage::vertex, "forward/forward.vert"}, {ShaderStage::fragment, "forward/forward.frag"}});
+            build(programs_.forward, "forward");
         else if (pass.name == "sky")
-            build(programs_.sky, "sky", {{ShaderStage::vertex, "forward/sky.vert"}, {ShaderStage::fragment, "forward/sky.frag"}});
+            build(programs_.sky, "sky");
         else if (pass.name == "shadow_maps")
-            build(programs_.shadow, "shadow", {{ShaderStage::vertex, "shadow/shadow.vert"}, {ShaderStage::fragment, "shadow/shadow.frag"}});
+            build(programs_.shadow, "shadow");
         else if (pass.name == "gbuffer")
-            build(programs_.gbuffer, "gbuffer", {{ShaderStage::vertex, "forward/forward.vert"}, {ShaderStage::fragment, "deferred/gbuffer.frag"}});
+            build(programs_.gbuffer, "gbuffer");
         else if (pass.name == "deferred_lighting")
-            build(programs_.deferred_light, "deferred_light", {{ShaderStage::compute, "deferred/light.comp"}});
+            build(programs_.deferred_light, "deferred_light");
         else if (pass.name == "depth_normal_prepass")
-            build(programs_.ssao_normals, "ssao_normals", {{ShaderStage::vertex, "forward/forward.vert"}, {ShaderStage::fragment, "ssao/normals.frag"}});
+            build(programs_.ssao_normals, "ssao_normals");
         else if (pass.name == "ssao")
-            build(programs_.ssao, "ssao", {{ShaderStage::vertex, "post/fullscreen.vert"}, {ShaderStage::fragment, "ssao/ssao.frag"}});
+            build(programs_.ssao, "ssao");
         else if (pass.name == "rsm")
-            build(programs_.rsm, "rsm", {{ShaderStage::vertex, "rsm/rsm.vert"}, {ShaderStage::fragment, "rsm/rsm.frag"}});
+            build(programs_.rsm, "rsm");
         else if (pass.name == "rsm_indirect")
-            build(programs_.rsm_gather, "rsm_gather", {{ShaderStage::vertex, "post/fullscreen.vert"}, {ShaderStage::fragment, "rsm/gather.frag"}});
+            build(programs_.rsm_gather, "rsm_gather");
         else if (pass.name == "ssao_blur_x" || pass.name == "ssao_blur_y")
-            build(programs_.ssao_blur, "ssao_blur", {{ShaderStage::vertex, "post/fullscreen.vert"}, {ShaderStage::fragment, "ssao/blur.frag"}});
+            build(programs_.ssao_blur, "ssao_blur");
     }
+}
+
+void Renderer::build_program(gl::Program& slot, const std::string& name) {
+    const ProgramDesc& desc = program_desc(name);
+    ShaderLibrary::BuildResult r = shaders_.build(desc);
+    if (!r.ok()) throw Error(ExitCode::internal, "shader program '" + desc.name + "' failed to build:\n" + r.log);
+    slot = std::move(r.program);
+    ProgramSource source{&slot, name, {}};
+    for (const auto& f : r.files) source.files.insert(std::filesystem::absolute(f).lexically_normal());
+    sources_.push_back(std::move(source));
+}
+
+ShaderReload Renderer::reload_shaders(const std::vector<std::filesystem::path>& changed) {
+    ShaderReload report;
+    std::set<std::filesystem::path> files;
+    for (const auto& f : changed) files.insert(std::filesystem::absolute(f).lexically_normal());
+    for (ProgramSource& source : sources_) {
+        if (std::none_of(source.files.begin(), source.files.end(), [&](const auto& f) { return files.count(f) > 0; })) continue;
+        ShaderLibrary::BuildResult r = shaders_.build(program_desc(source.name));
+        for (const auto& f : r.files) source.files.insert(std::filesystem::absolute(f).lexically_normal());
+        if (!r.ok()) {
+            // The last good program stays in use.
+            report.errors.push_back("shader program '" + source.name + "' failed to build (keeping the last good one):\n" + r.log);
+            continue;
+        }
+        *source.slot = std::move(r.program);
+        report.rebuilt.push_back(source.name);
+    }
+    if (!report.rebuilt.empty()) probes_.valid = false;  // captured with the old shading
+    return report;
 }
 
 void Renderer::prepare_rsm() {

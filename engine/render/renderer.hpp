@@ -1,6 +1,8 @@
 #pragma once
 // The raster renderer: every frame, a frame graph of only the passes this scene and these
 // settings call for (features.hpp), compiled, executed with per-pass GPU/CPU timing and counters.
+#include <filesystem>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -32,6 +34,12 @@ struct FrameReport {
     int state_calls = 0, state_calls_skipped = 0;
 };
 
+// What reload_shaders did: programs rebuilt, and messages of those that failed (file:line: ...).
+struct ShaderReload {
+    std::vector<std::string> rebuilt;
+    std::vector<std::string> errors;
+};
+
 // What a frame produces: linear radiance only (.exr, comparisons), or also display values
 // (.png, a window) through the tonemap pass.
 enum class FrameOutput { hdr, display };
@@ -42,7 +50,13 @@ public:
     // renderer (programs for newly planned passes are built from it on set_settings).
     Renderer(const ShaderLibrary& shaders, const Scene& scene, GpuScene& gpu, const RenderSettings& settings);
 
+    Renderer(const Renderer&) = delete;
+    Renderer& operator=(const Renderer&) = delete;
+
     void set_settings(const RenderSettings& settings);
+    // Rebuilds every program that includes one of `changed` (shader files); a program that
+    // fails keeps its last good version. Never throws for GLSL errors.
+    ShaderReload reload_shaders(const std::vector<std::filesystem::path>& changed);
     const RenderSettings& settings() const { return settings_; }
     const Features& features() const { return features_; }
 
@@ -72,7 +86,15 @@ public:
 private:
     void prepare_shadows(const Camera& camera, float aspect);
     void prepare_rsm();  // after prepare_shadows: the RSM views are shadow views
-    void prepare_probes(const FrameData& frame);  // textures, and per-face frames when capturing
+    void prepare_probes(const FrameData& frame);
+    // Builds the catalogued program `name` into `slot` and remembers its files for reloads;
+    // throws candela::Error (internal) if it does not build.
+    void build_program(gl::Program& slot, const std::string& name);
+    struct ProgramSource {
+        gl::Program* slot;
+        std::string name;
+        std::set<std::filesystem::path> files;
+    };  // textures, and per-face frames when capturing
 
     const ShaderLibrary& shaders_;
     const Scene& scene_;
@@ -89,6 +111,7 @@ private:
     RenderSettings settings_;
     Features features_;
     Programs programs_;
+    std::vector<ProgramSource> sources_;  // every program built so far
     gl::Buffer frame_ubo_;
     gl::VertexArray empty_vao_;
     gl::Texture output_;

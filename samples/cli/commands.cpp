@@ -21,6 +21,7 @@
 #include "scene/features.hpp"
 #include "scene/generate.hpp"
 #include "scene/gltf_loader.hpp"
+#include "shader/program_catalog.hpp"
 
 namespace candela::cli {
 namespace fs = std::filesystem;
@@ -36,12 +37,13 @@ void print_usage() {
         "                 [--debug-gl] [--verify-state] [--timings] [--strict] [--quiet]\n"
         "                 [--path auto|forward|deferred] [--output-buffer radiance|visibility]\n"
         "                 [--raytrace whitted|path|direct|indirect|ao|primary|visibility] [--spp N] [--max-depth N] [--seed N]\n"
-        "                 [--spp-shard K/N] [--time-limit S]\n"
+        "                 [--spp-shard K/N] [--time-limit S] [--shader-dir DIR]\n"
         "  candela merge OUT.exr SHARD.exr...\n"
         "  candela info SCENE [--effects ...] [--set ...] [--strict]\n"
         "  candela compare A B [--heatmap OUT.png] [--tolerance T] [--max-failing F] [--check]\n"
         "  candela bench frame SCENE [--effects LIST ...] [--path P ...] [--size WxH] [--frames N] [--warmup N] [--json FILE]\n"
         "  candela bench rays SCENE|generated:N ... [--size WxH] [--spp N]\n"
+        "  candela shaders check [--shader-dir DIR] [--backend auto|egl|osmesa]\n"
         "\n"
         "render   SCENE (.gltf/.glb) to OUT: .exr holds linear radiance; .png is exposure + ACES + sRGB.\n"
         "         --size WxH (default 512x512), --backend (default auto: EGL, then OSMesa),\n"
@@ -61,6 +63,9 @@ void print_usage() {
         "         pixel (default 16), --max-depth bounces (whitted 5, path 8), --seed, --spp-shard K/N\n"
         "         computes the samples s with s %% N == K (alpha holds the sample count) and\n"
         "         --time-limit S stops at a sample boundary and still writes the image.\n"
+        "         --shader-dir DIR reads the GLSL sources from DIR instead of the built-in shaders/.\n"
+        "shaders  check: compiles every program and ray-tracer variant with glslang and links it\n"
+        "         with the GL driver; exit 1 if any fails.\n"
         "merge    the sample-weighted mean of --spp-shard outputs: equal to one run with all samples.\n"
         "info     counts, bounds, cameras, lights, the effects the scene calls for and the planned passes.\n"
         "compare  RMSE, relative MSE, PSNR, max difference and the pixels beyond --tolerance\n"
@@ -177,10 +182,20 @@ struct SceneSetup {
     Backend backend = Backend::auto_select;
     bool debug = false;
     double load_ms = 0;
+    fs::path shader_dir = ShaderLibrary::default_root();  // --shader-dir
 };
 
+// --shader-dir DIR: an existing directory (a copy of shaders/ to edit or test).
+fs::path shader_dir_option(const Parsed& p) {
+    if (!p.has("--shader-dir")) return ShaderLibrary::default_root();
+    const fs::path dir = p.get("--shader-dir");
+    if (!fs::is_directory(dir)) throw bad_input("--shader-dir " + dir.string() + ": not a directory");
+    return dir;
+}
+
 const std::vector<std::string> kSetupOptions = {"--size", "--backend", "--camera", "--environment", "--effects",
-                                                "--set", "--frames", "--warmup", "--path", "--output-buffer"};
+                                                "--set", "--frames", "--warmup", "--path", "--output-buffer",
+                                                "--shader-dir"};
 const std::vector<std::string> kSetupFlags = {"--debug-gl", "--strict", "--verify-state", "--quiet"};
 
 int parse_int(const std::string& option, const std::string& text, int lo, int hi) {
@@ -200,6 +215,7 @@ SceneSetup setup_scene(const Parsed& p, const std::string& scene_path, int defau
     s.options.height = default_h;
     if (p.has("--size")) parse_size(p.get("--size"), s.options.width, s.options.height);
     if (p.has("--camera")) s.options.camera = p.get("--camera");
+    s.shader_dir = shader_dir_option(p);
     if (p.has("--frames")) s.options.frames = parse_int("--frames", p.get("--frames"), 1, 100000);
     if (p.has("--warmup")) s.options.warmup = parse_int("--warmup", p.get("--warmup"), 0, 100000);
     if (p.has("--effects")) apply_effects(s.options.settings, p.get("--effects"));
@@ -276,7 +292,7 @@ int raytrace(const Parsed& p, const SceneSetup& s, const fs::path& out_path, flo
     o.env_importance = s.options.settings.rt.env_importance;
     o.jitter = s.options.settings.rt.jitter == "auto" ? -1 : s.options.settings.rt.jitter == "on" ? 1 : 0;
     o.progress = true;
-    const ShaderLibrary shaders(ShaderLibrary::default_root());
+    const ShaderLibrary shaders(s.shader_dir);
     GpuScene gpu(s.scene);
     rt::RayTracer tracer(shaders, s.scene, gpu, o);
     const float aspect = static_cast<float>(s.options.width) / static_cast<float>(s.options.height);
@@ -292,6 +308,55 @@ int raytrace(const Parsed& p, const SceneSetup& s, const fs::path& out_path, flo
 }
 
 }  // namespace
+
+int cmd_shaders(const Args& args) {
+    const Parsed p = parse(args, {"--shader-dir", "--backend"}, {"--quiet"});
+    if (p.positional.size() != 1 || p.positional[0] != "check") throw bad_input("usage: candela shaders check [--shader-dir DIR] [--backend B]");
+    if (p.flags.count("--quiet")) log::set_level(log::Level::warn);
+    SceneSetup s;
+    s.shader_dir = shader_dir_option(p);
+    if (p.has("--backend")) {
+        const auto b = parse_backend(p.get("--backend"));
+        if (!b || *b == Backend::glfw) throw bad_input("--backend must be auto, egl or osmesa");
+        s.backend = *b;
+    }
+    const ShaderLibrary shaders(s.shader_dir);
+    std::vector<ProgramDesc> programs = raster_programs();
+    for (ProgramDesc& d : ray_tracer_variants()) programs.push_back(std::move(d));
+    // glslang first: it needs no GL, so a machine without GL still checks the sources.
+    int failed = 0;
+    std::vector<bool> glslang_ok(programs.size(), true);
+    for (size_t i = 0; i < programs.size(); ++i) {
+        for (const auto& [stage, file] : programs[i].stages) {
+            std::string problem;
+            try {
+                problem = validate_with_glslang(shaders.preprocess(file, programs[i].defines), stage);
+            } catch (const Error& e) {
+                problem = e.what();
+            }
+            if (!problem.empty()) {
+                std::printf("FAIL glslang %s (%s):\n%s\n", programs[i].name.c_str(), file.string().c_str(), problem.c_str());
+                glslang_ok[i] = false;
+            }
+        }
+        failed += !glslang_ok[i];
+    }
+    ContextResult ctx = open_context(s);
+    if (!ctx.context) {
+        std::printf("%zu programs: %d failed glslang; no GL context for the driver check\n", programs.size(), failed);
+        return static_cast<int>(failed ? ExitCode::internal : ExitCode::no_gl);
+    }
+    for (size_t i = 0; i < programs.size(); ++i) {
+        const ShaderLibrary::BuildResult r = shaders.build(programs[i]);
+        if (r.ok() && glslang_ok[i]) std::printf("ok   %s\n", programs[i].name.c_str());
+        if (!r.ok()) {
+            std::printf("FAIL driver %s:\n%s\n", programs[i].name.c_str(), r.log.c_str());
+            failed += glslang_ok[i];
+        }
+    }
+    std::printf("%zu programs (glslang and %s): %d failed\n", programs.size(), ctx.context->device_string().c_str(), failed);
+    return failed ? static_cast<int>(ExitCode::internal) : 0;
+}
 
 int cmd_merge(const Args& args) {
     const Parsed p = parse(args, {}, {});
@@ -330,7 +395,7 @@ int cmd_render(const Args& args) {
     if (!ctx.context) return static_cast<int>(ExitCode::no_gl);
     const double context_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 
-    const ShaderLibrary shaders(ShaderLibrary::default_root());
+    const ShaderLibrary shaders(s.shader_dir);
     if (p.has("--raytrace")) return raytrace(p, s, out_path, exposure);
     const StillResult result = render_still(s.scene, shaders, s.options);
     const std::size_t bad = count_nonfinite(result.radiance);
@@ -373,7 +438,7 @@ int bench_rays(const Args& args) {
     }
     ContextResult ctx = open_context(s);
     if (!ctx.context) return static_cast<int>(ExitCode::no_gl);
-    const ShaderLibrary shaders(ShaderLibrary::default_root());
+    const ShaderLibrary shaders(s.shader_dir);
     std::printf("device: %s (%s); %dx%d, %d spp per mode, after one warm-up sample\n", ctx.context->device_string().c_str(),
                 to_string(ctx.context->backend()), w, h, spp);
     std::printf("%-28s %10s %10s %10s %12s %12s %12s %10s %10s\n", "scene", "triangles", "bvh ms", "SAH", "primary Mr/s",
@@ -444,7 +509,7 @@ int cmd_bench(const Args& args) {
     if (variants.empty()) variants = {"all", "none"};
     ContextResult ctx = open_context(s);
     if (!ctx.context) return static_cast<int>(ExitCode::no_gl);
-    const ShaderLibrary shaders(ShaderLibrary::default_root());
+    const ShaderLibrary shaders(s.shader_dir);
     std::vector<StillOptions> options(variants.size(), s.options);
     std::vector<std::unique_ptr<FrameLoop>> loops;
     for (size_t v = 0; v < variants.size(); ++v) {

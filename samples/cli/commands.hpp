@@ -14,6 +14,7 @@ int cmd_info(const Args& args);
 int cmd_compare(const Args& args);
 int cmd_bench(const Args& args);
 int cmd_merge(const Args& args);
+int cmd_shaders(const Args& args);
 void print_usage();
 
 }  // namespace candela::cli

@@ -1,0 +1,50 @@
+#include "shader/program_catalog.hpp"
+
+#include "core/error.hpp"
+
+namespace candela {
+
+const std::vector<ProgramDesc>& raster_programs() {
+    using S = ShaderStage;
+    static const std::vector<ProgramDesc> all = {
+        {"forward", {{S::vertex, "forward/forward.vert"}, {S::fragment, "forward/forward.frag"}}, {}},
+        {"sky", {{S::vertex, "forward/sky.vert"}, {S::fragment, "forward/sky.frag"}}, {}},
+        {"tonemap", {{S::vertex, "post/fullscreen.vert"}, {S::fragment, "post/tonemap.frag"}}, {}},
+        {"copy", {{S::vertex, "post/fullscreen.vert"}, {S::fragment, "post/copy.frag"}}, {}},
+        {"shadow", {{S::vertex, "shadow/shadow.vert"}, {S::fragment, "shadow/shadow.frag"}}, {}},
+        {"gbuffer", {{S::vertex, "forward/forward.vert"}, {S::fragment, "deferred/gbuffer.frag"}}, {}},
+        {"deferred_light", {{S::compute, "deferred/light.comp"}}, {}},
+        {"ssao_normals", {{S::vertex, "forward/forward.vert"}, {S::fragment, "ssao/normals.frag"}}, {}},
+        {"ssao", {{S::vertex, "post/fullscreen.vert"}, {S::fragment, "ssao/ssao.frag"}}, {}},
+        {"ssao_blur", {{S::vertex, "post/fullscreen.vert"}, {S::fragment, "ssao/blur.frag"}}, {}},
+        {"rsm", {{S::vertex, "rsm/rsm.vert"}, {S::fragment, "rsm/rsm.frag"}}, {}},
+        {"rsm_gather", {{S::vertex, "post/fullscreen.vert"}, {S::fragment, "rsm/gather.frag"}}, {}},
+        {"brdf_lut", {{S::compute, "env/brdf_lut.comp"}}, {}},
+        {"equirect_to_cube", {{S::compute, "env/equirect_to_cube.comp"}}, {}},
+        {"prefilter", {{S::compute, "env/prefilter.comp"}}, {}},
+    };
+    return all;
+}
+
+const ProgramDesc& program_desc(const std::string& name) {
+    for (const ProgramDesc& d : raster_programs())
+        if (d.name == name) return d;
+    throw Error(ExitCode::internal, "no shader program named '" + name + "'");
+}
+
+std::vector<ProgramDesc> ray_tracer_variants() {
+    std::vector<ProgramDesc> out;
+    for (const char* mode : {"MODE_AO", "MODE_PRIMARY", "MODE_PATH", "MODE_INDIRECT", "MODE_WHITTED", "MODE_VISIBILITY", "MODE_BOUNCE"})
+        for (bool features : {false, true}) {
+            std::vector<std::string> defines = {mode};
+            if (features)
+                for (const char* f : {"HAS_EMITTERS", "HAS_TRANSMISSION", "HAS_BLEND", "RT_STATS"}) defines.push_back(f);
+            if (features && std::string(mode) == "MODE_PATH") defines.push_back("HAS_ENV_MAP_SAMPLING");  // path/direct only
+            std::string name = "trace";
+            for (const auto& d : defines) name += " " + d;
+            out.push_back({name, {{ShaderStage::compute, "rt/trace.comp"}}, defines});
+        }
+    return out;
+}
+
+}  // namespace candela

@@ -1,0 +1,21 @@
+#pragma once
+// Every GLSL program Candela builds, by name, so that the renderer, the hot reloader and
+// `candela shaders check` agree on what exists.
+#include <string>
+#include <vector>
+
+#include "shader/shader_library.hpp"
+
+namespace candela {
+
+// The raster renderer's programs: forward, sky, tonemap, shadow, gbuffer, deferred_light,
+// ssao_normals, ssao, ssao_blur, rsm, rsm_gather, copy; image-based lighting: brdf_lut,
+// equirect_to_cube, prefilter. Throws candela::Error (internal) for an unknown name.
+const ProgramDesc& program_desc(const std::string& name);
+const std::vector<ProgramDesc>& raster_programs();
+
+// The ray tracer's variants worth checking: every mode with no scene feature and with all of
+// them (the feature blocks are additive #ifdefs, so the two ends cover every line).
+std::vector<ProgramDesc> ray_tracer_variants();
+
+}  // namespace candela
