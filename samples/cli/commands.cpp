@@ -22,6 +22,7 @@
 #include "scene/generate.hpp"
 #include "scene/gltf_loader.hpp"
 #include "shader/program_catalog.hpp"
+#include "viewer.hpp"
 
 namespace candela::cli {
 namespace fs = std::filesystem;
@@ -44,6 +45,8 @@ void print_usage() {
         "  candela bench frame SCENE [--effects LIST ...] [--path P ...] [--size WxH] [--frames N] [--warmup N] [--json FILE]\n"
         "  candela bench rays SCENE|generated:N ... [--size WxH] [--spp N]\n"
         "  candela shaders check [--shader-dir DIR] [--backend auto|egl|osmesa]\n"
+        "  candela view SCENE [--size WxH] [--effects ...] [--set ...] [--path P] [--camera C] [--shader-dir DIR]\n"
+        "               [--script FILE] [--frames N] [--screenshot OUT.png] [--window-shot OUT.png] [--no-vsync]\n"
         "\n"
         "render   SCENE (.gltf/.glb) to OUT: .exr holds linear radiance; .png is exposure + ACES + sRGB.\n"
         "         --size WxH (default 512x512), --backend (default auto: EGL, then OSMesa),\n"
@@ -66,6 +69,10 @@ void print_usage() {
         "         --shader-dir DIR reads the GLSL sources from DIR instead of the built-in shaders/.\n"
         "shaders  check: compiles every program and ray-tracer variant with glslang and links it\n"
         "         with the GL driver; exit 1 if any fails.\n"
+        "view     the interactive viewer (a window: needs X; use xvfb-run or 'candela render' without\n"
+        "         one). Shaders under --shader-dir reload when saved. --script FILE replays camera moves\n"
+        "         and setting changes (samples/viewer/script.hpp), --frames N quits after N frames,\n"
+        "         --screenshot writes the last frame's image, --window-shot the window with its panel.\n"
         "merge    the sample-weighted mean of --spp-shard outputs: equal to one run with all samples.\n"
         "info     counts, bounds, cameras, lights, the effects the scene calls for and the planned passes.\n"
         "compare  RMSE, relative MSE, PSNR, max difference and the pixels beyond --tolerance\n"
@@ -356,6 +363,36 @@ int cmd_shaders(const Args& args) {
     }
     std::printf("%zu programs (glslang and %s): %d failed\n", programs.size(), ctx.context->device_string().c_str(), failed);
     return failed ? static_cast<int>(ExitCode::internal) : 0;
+}
+
+int cmd_view(const Args& args) {
+    std::vector<std::string> with_value = kSetupOptions;
+    with_value.insert(with_value.end(), {"--script", "--screenshot", "--window-shot", "--exposure"});
+    std::vector<std::string> flags = kSetupFlags;
+    flags.push_back("--no-vsync");
+    const Parsed p = parse(args, with_value, flags);
+    if (p.positional.size() != 1) throw bad_input("view needs exactly one SCENE (got " + std::to_string(p.positional.size()) + ")");
+    SceneSetup s = setup_scene(p, p.positional[0], 1280, 720);
+    viewer::ViewerOptions o;
+    o.width = s.options.width;
+    o.height = s.options.height;
+    o.settings = s.options.settings;
+    o.camera = s.options.camera;
+    o.shader_dir = s.shader_dir;
+    o.frames = p.has("--frames") ? s.options.frames : 0;
+    o.vsync = !p.flags.count("--no-vsync");
+    if (p.has("--script")) {
+        o.script = p.get("--script");
+        if (!fs::is_regular_file(o.script)) throw bad_input(o.script.string() + ": --script: no such file");
+    }
+    if (p.has("--screenshot")) o.screenshot = p.get("--screenshot");
+    if (p.has("--window-shot")) o.window_shot = p.get("--window-shot");
+    for (const fs::path& out : {o.screenshot, o.window_shot})
+        if (!out.empty() && out.extension() != ".png") throw bad_input(out.string() + ": screenshots are .png");
+    if ((!o.screenshot.empty() || !o.window_shot.empty()) && o.frames == 0 && o.script.empty())
+        throw bad_input("--screenshot/--window-shot need --frames N (the frame to capture)");
+    if (p.has("--exposure")) o.exposure_ev = parse_float("--exposure", p.get("--exposure"), -32, 32);
+    return viewer::run_viewer(s.scene, o);
 }
 
 int cmd_merge(const Args& args) {

@@ -15,6 +15,7 @@ int cmd_compare(const Args& args);
 int cmd_bench(const Args& args);
 int cmd_merge(const Args& args);
 int cmd_shaders(const Args& args);
+int cmd_view(const Args& args);
 void print_usage();
 
 }  // namespace candela::cli

@@ -1,0 +1,30 @@
+#pragma once
+// Viewer scripts (--script FILE): camera moves and setting changes replayed at given frames, for
+// tests and demos. One command per line, '#' starts a comment:
+//   FRAME orbit YAW PITCH     turn the orbit camera (degrees)
+//   FRAME zoom FACTOR         distance *= FACTOR
+//   FRAME pan DX DY           move the target (units of the distance)
+//   FRAME camera N|NAME       switch to a scene camera
+//   FRAME frame               frame the whole scene
+//   FRAME effects LIST        as --effects
+//   FRAME set KNOB=VALUE      as --set
+//   FRAME path auto|forward|deferred
+//   FRAME screenshot OUT.png  the rendered image (without the UI)
+//   FRAME quit
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace candela::viewer {
+
+struct ScriptCommand {
+    int frame = 0;
+    std::string verb;
+    std::vector<std::string> args;
+    int line = 0;
+};
+
+// Throws candela::Error (bad_input) naming FILE:LINE for unknown verbs or bad arguments.
+std::vector<ScriptCommand> load_script(const std::filesystem::path& file);
+
+}  // namespace candela::viewer

@@ -1,0 +1,31 @@
+#pragma once
+// `candela view SCENE`: the interactive viewer. A GLFW window shows the raster frame; a Dear
+// ImGui panel holds the render path, every effect and knob of RenderSettings (the names of
+// --set), the planned and culled passes with their reasons, per-pass GPU times and counters,
+// and shader errors. Shaders under --shader-dir reload when saved.
+#include <filesystem>
+#include <string>
+
+#include "render/settings.hpp"
+#include "scene/scene.hpp"
+
+namespace candela::viewer {
+
+struct ViewerOptions {
+    int width = 1280, height = 720;    // window size
+    RenderSettings settings;
+    std::string camera;                // scene camera to start with ("" = the first)
+    std::filesystem::path shader_dir;  // watched and reloaded
+    std::filesystem::path script;      // --script FILE (viewer/script.hpp)
+    std::filesystem::path screenshot;  // --screenshot OUT.png: the image (no UI) after the last frame
+    std::filesystem::path window_shot; // --window-shot OUT.png: the whole window with the panel
+    int frames = 0;                    // --frames N: quit after N frames (0: when closed)
+    bool vsync = true;
+    float exposure_ev = 0.0f;
+};
+
+// Runs until the window closes, the script quits or --frames have passed. Returns the exit code:
+// 0, or 3 when no window with OpenGL 4.5 can be opened (the message says why and what to use).
+int run_viewer(const Scene& scene, const ViewerOptions& options);
+
+}  // namespace candela::viewer
