@@ -402,6 +402,11 @@ void Renderer::render(const Camera& camera, int width, int height, FrameOutput o
     // the graph culls it.
     add_tonemap_pass(graph, env, targets, display_, exposure_ev);
     graph.mark_output(output == FrameOutput::display ? targets.display : targets.hdr);
+    // An inspected resource is an output too: it lives to the end, unshared.
+    int inspected_id = -1;
+    for (size_t i = 0; i < graph.resources().size(); ++i)
+        if (!inspect_.empty() && graph.resources()[i].name == inspect_) inspected_id = static_cast<int>(i);
+    if (inspected_id >= 0) graph.mark_output(inspected_id);
     graph.compile(pool_);
     const double graph_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 
@@ -432,6 +437,17 @@ void Renderer::render(const Camera& camera, int width, int height, FrameOutput o
                 if (!bad.empty()) state_problem = "pass '" + p.name + "' changed " + bad + " behind the state cache";
             }
         });
+    inspected_ = nullptr;
+    inspectable_.clear();
+    for (size_t i = 0; i < graph.resources().size(); ++i) {
+        const auto& r = graph.resources()[i];
+        if (r.imported || r.slot >= 0) inspectable_.push_back(r.name);
+        if (static_cast<int>(i) == inspected_id) inspected_ = r.imported ? r.imported : &pool_.texture(r.slot);
+    }
+    if (rsm_.flux) inspectable_.push_back("rsm_flux");
+    if (probes_.filtered) inspectable_.push_back("probe_cube");
+    if (inspect_ == "rsm_flux" && rsm_.flux) inspected_ = &rsm_.flux;
+    if (inspect_ == "probe_cube" && probes_.filtered) inspected_ = &probes_.filtered;
     graph.release(pool_);
     // Leave GL as other code (ImGui, readback) expects it.
     state_.apply(gl::PipelineState{.depth_test = false, .depth_func = GL_LESS, .reversed_z = false});

@@ -80,6 +80,13 @@ public:
     void invalidate_probes() { probes_.valid = false; }
     const ImageBasedLighting& ibl() const { return ibl_; }
     const gl::Texture& environment_cube() const { return env_cube_; }
+    // Buffer inspection (the viewer): keep the frame-graph resource `name` alive to the frame's
+    // end (not aliased) so that inspected() returns it after render(); "" stops. Besides the
+    // graph's resources: "rsm_flux" and "probe_cube" (textures the renderer owns).
+    void set_inspect(const std::string& name) { inspect_ = name; }
+    const gl::Texture* inspected() const { return inspected_; }
+    // The names that can be inspected after the last frame.
+    const std::vector<std::string>& inspectable() const { return inspectable_; }
     // Debug: after each pass compare GL's state with the state cache's (stalls).
     void set_verify_state(bool on) { verify_state_ = on; }
 
@@ -123,6 +130,9 @@ private:
     GpuTimer timer_;
     FrameReport report_;
     bool verify_state_ = false;
+    std::string inspect_;
+    const gl::Texture* inspected_ = nullptr;
+    std::vector<std::string> inspectable_;
     bool timer_warmed_ = false;
 };
 

@@ -11,6 +11,7 @@
 namespace candela::rt {
 namespace {
 
+}  // namespace
 struct FrameGpu {  // std140, binding 8: mirrors RtFrame in shaders/rt/scene.glsl
     glm::mat4 inv_view_proj;
     glm::vec4 camera_pos;
@@ -21,6 +22,7 @@ struct FrameGpu {  // std140, binding 8: mirrors RtFrame in shaders/rt/scene.gls
     glm::ivec4 params;
     glm::vec4 fparams;
 };
+namespace {
 
 void progress_bar(int done, int total, double elapsed_s) {
     const int width = 30;
@@ -137,16 +139,9 @@ RayTracer::RayTracer(const ShaderLibrary& shaders, const Scene& scene, GpuScene&
     frame_ubo_ = gl::Buffer(sizeof(FrameGpu), nullptr, GL_DYNAMIC_STORAGE_BIT);
 }
 
-Result RayTracer::render(const Camera& camera, int width, int height) {
-    if (width < 1 || height < 1 || width > 16384 || height > 16384) throw bad_input("--size is out of range (1..16384 per side)");
-    Result result;
-    result.defines = defines_;
-    const size_t pixels = static_cast<size_t>(width) * static_cast<size_t>(height);
-    std::vector<glm::vec4> zeros(pixels, glm::vec4(0.0f));
-    gl::Buffer accum(static_cast<GLsizeiptr>(pixels * sizeof(glm::vec4)), zeros.data(), GL_DYNAMIC_STORAGE_BIT);
-    const unsigned zeros4[4] = {0, 0, 0, 0};
-    gl::Buffer diagnostics(sizeof(zeros4), zeros4, GL_DYNAMIC_STORAGE_BIT);
+RayTracer::~RayTracer() = default;
 
+FrameGpu RayTracer::make_frame(const Camera& camera, int width, int height) const {
     FrameGpu f{};
     const float aspect = static_cast<float>(width) / static_cast<float>(height);
     f.inv_view_proj = glm::inverse(projection_matrix(camera, aspect) * glm::inverse(camera.world));
@@ -159,7 +154,10 @@ Result RayTracer::render(const Camera& camera, int width, int height) {
     f.params = glm::ivec4(options_.max_depth, options_.jitter, options_.indirect_occlusion ? 1 : 0, 0);
     f.fparams = glm::vec4(options_.ao_radius, options_.whitted_max_roughness, static_cast<float>(g.emitted_power),
                           static_cast<float>(options_.visibility_light));
+    return f;
+}
 
+void RayTracer::bind(const gl::Buffer& accum, const gl::Buffer& diagnostics) const {
     glUseProgram(program_.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, gpu_.materials().id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, gpu_.lights().id());  // punctual lights come first
@@ -172,6 +170,79 @@ Result RayTracer::render(const Camera& camera, int width, int height) {
     glBindSampler(5, 0);
     glBindTextureUnit(6, gpu_.image_array().id());
     glBindSampler(6, 0);
+}
+
+void RayTracer::progressive_restart(const Camera& camera, int width, int height) {
+    if (width < 1 || height < 1 || width > 16384 || height > 16384) throw bad_input("reference size is out of range");
+    Progressive& p = progressive_;
+    const size_t pixels = static_cast<size_t>(width) * static_cast<size_t>(height);
+    if (p.width != width || p.height != height || !p.accum) {
+        p.accum = gl::Buffer(static_cast<GLsizeiptr>(pixels * sizeof(glm::vec4)), nullptr, GL_DYNAMIC_STORAGE_BIT);
+        p.diagnostics = gl::Buffer(4 * sizeof(unsigned), nullptr, GL_DYNAMIC_STORAGE_BIT);
+    }
+    const float zero = 0.0f;
+    glClearNamedBufferData(p.accum.id(), GL_R32F, GL_RED, GL_FLOAT, &zero);
+    const unsigned zero_u = 0;
+    glClearNamedBufferData(p.diagnostics.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero_u);
+    p.frame = std::make_unique<FrameGpu>(make_frame(camera, width, height));
+    p.width = width;
+    p.height = height;
+    p.sample = 0;
+    p.row = 0;
+}
+
+void RayTracer::progressive_step(double budget_ms) {
+    Progressive& p = progressive_;
+    if (!p.frame || progressive_done()) return;
+    bind(p.accum, p.diagnostics);
+    const auto t0 = std::chrono::steady_clock::now();
+    const int rows = std::max(1, options_.tile_rows);
+    do {
+        FrameGpu f = *p.frame;
+        f.image = glm::ivec4(p.width, p.height, p.sample, static_cast<int>(options_.seed));
+        f.params.w = p.row;
+        frame_ubo_.update(0, sizeof(FrameGpu), &f);
+        glDispatchCompute(static_cast<GLuint>((p.width + 7) / 8), static_cast<GLuint>((std::min(rows, p.height - p.row) + 7) / 8), 1);
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_UNIFORM_BARRIER_BIT);
+        glFinish();  // the budget is wall time of finished work
+        p.row += rows;
+        if (p.row >= p.height) {
+            p.row = 0;
+            ++p.sample;
+        }
+    } while (!progressive_done() &&
+             std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count() < budget_ms);
+    glUseProgram(0);
+}
+
+ImageF RayTracer::progressive_image() const {
+    const Progressive& p = progressive_;
+    ImageF img(std::max(p.width, 1), std::max(p.height, 1), 4);
+    if (!p.accum) return img;
+    const size_t pixels = static_cast<size_t>(p.width) * static_cast<size_t>(p.height);
+    std::vector<glm::vec4> sums(pixels);
+    glGetNamedBufferSubData(p.accum.id(), 0, static_cast<GLsizeiptr>(pixels * sizeof(glm::vec4)), sums.data());
+    for (size_t i = 0; i < pixels; ++i) {
+        const glm::vec4 v = sums[i];
+        const float n = v.w > 0.0f ? v.w : 1.0f;
+        float* o = img.pixels.data() + i * 4;
+        o[0] = v.x / n, o[1] = v.y / n, o[2] = v.z / n, o[3] = v.w;
+    }
+    return img;
+}
+
+Result RayTracer::render(const Camera& camera, int width, int height) {
+    if (width < 1 || height < 1 || width > 16384 || height > 16384) throw bad_input("--size is out of range (1..16384 per side)");
+    Result result;
+    result.defines = defines_;
+    const size_t pixels = static_cast<size_t>(width) * static_cast<size_t>(height);
+    std::vector<glm::vec4> zeros(pixels, glm::vec4(0.0f));
+    gl::Buffer accum(static_cast<GLsizeiptr>(pixels * sizeof(glm::vec4)), zeros.data(), GL_DYNAMIC_STORAGE_BIT);
+    const unsigned zeros4[4] = {0, 0, 0, 0};
+    gl::Buffer diagnostics(sizeof(zeros4), zeros4, GL_DYNAMIC_STORAGE_BIT);
+
+    FrameGpu f = make_frame(camera, width, height);
+    bind(accum, diagnostics);
 
     const bool show_progress = options_.progress && isatty(STDERR_FILENO);
     int mine = 0;

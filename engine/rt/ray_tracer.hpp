@@ -2,6 +2,7 @@
 // The compute-shader ray tracer: the reference every raster effect is judged against. Modes:
 // whitted, path, direct (path with one bounce), indirect (one diffuse bounce only), ao.
 #include <optional>
+#include <memory>
 #include <string>
 
 #include "image/image.hpp"
@@ -59,7 +60,18 @@ public:
     // Builds the BVH, uploads the scene, compiles the program specialised to the mode and the
     // scene's features. Throws candela::Error (internal) if the shader does not build.
     RayTracer(const ShaderLibrary& shaders, const Scene& scene, GpuScene& gpu, const Options& options);
+    ~RayTracer();
     Result render(const Camera& camera, int width, int height);
+
+    // Progressive accumulation (the viewer's reference mode): restart for a camera and size,
+    // then each step traces tiles of further samples for about `budget_ms` of wall time (at
+    // least one tile), so a frame loop stays responsive. Samples stop at Options::spp.
+    void progressive_restart(const Camera& camera, int width, int height);
+    void progressive_step(double budget_ms);
+    // Per-pixel mean of the samples traced so far (alpha: their count; a pixel may be one ahead).
+    ImageF progressive_image() const;
+    int progressive_samples() const { return progressive_.sample; }  // complete samples per pixel
+    bool progressive_done() const { return progressive_.sample >= options_.spp; }
     // Changes the sample count for the next render (benchmarks warm up with one sample first).
     void set_spp(int spp) { options_.spp = spp; }
     const RtScene& scene() const { return rt_scene_; }
@@ -74,6 +86,14 @@ private:
     gl::Buffer env_distribution_;
     int env_width_ = 0, env_height_ = 0;
     std::string defines_;
+    struct Progressive {
+        gl::Buffer accum, diagnostics;
+        std::unique_ptr<struct FrameGpu> frame;
+        int width = 0, height = 0;
+        int sample = 0, row = 0;  // the next tile
+    } progressive_;
+    FrameGpu make_frame(const Camera& camera, int width, int height) const;
+    void bind(const gl::Buffer& accum, const gl::Buffer& diagnostics) const;
 };
 
 // The environment map's sampling distribution: [0, W*H) the probability of each texel

@@ -19,6 +19,7 @@ const std::vector<ProgramDesc>& raster_programs() {
         {"ssao_blur", {{S::vertex, "post/fullscreen.vert"}, {S::fragment, "ssao/blur.frag"}}, {}},
         {"rsm", {{S::vertex, "rsm/rsm.vert"}, {S::fragment, "rsm/rsm.frag"}}, {}},
         {"rsm_gather", {{S::vertex, "post/fullscreen.vert"}, {S::fragment, "rsm/gather.frag"}}, {}},
+        {"debug_view", {{S::vertex, "post/fullscreen.vert"}, {S::fragment, "post/debug_view.frag"}}, {}},
         {"brdf_lut", {{S::compute, "env/brdf_lut.comp"}}, {}},
         {"equirect_to_cube", {{S::compute, "env/equirect_to_cube.comp"}}, {}},
         {"prefilter", {{S::compute, "env/prefilter.comp"}}, {}},

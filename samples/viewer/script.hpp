@@ -10,6 +10,9 @@
 //   FRAME set KNOB=VALUE      as --set
 //   FRAME path auto|forward|deferred
 //   FRAME screenshot OUT.png  the rendered image (without the UI)
+//   FRAME reference MODE|off  reference mode: path|direct|whitted|ao refines in the background
+//   FRAME show VIEW           raster|reference|split|flip|difference
+//   FRAME inspect NAME [CHANNEL SCALE LAYER]  a frame-graph buffer (viewer panel names), or "off"
 //   FRAME quit
 #include <filesystem>
 #include <string>

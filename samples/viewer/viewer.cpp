@@ -22,7 +22,9 @@
 #include "platform/context.hpp"
 #include "render/features.hpp"
 #include "render/renderer.hpp"
+#include "rt/ray_tracer.hpp"
 #include "script.hpp"
+#include "shader/program_catalog.hpp"
 #include "shader/file_watcher.hpp"
 
 namespace candela::viewer {
@@ -46,12 +48,44 @@ std::vector<unsigned char> read_window(int w, int h) {
     return rgba;
 }
 
+// An RGBA8 texture holding display values (top row first in `img`, [0,1]).
+void upload_display(gl::Texture& tex, const ImageF& img) {
+    if (!tex || tex.width() != img.width || tex.height() != img.height) tex = gl::Texture::create_2d(GL_RGBA8, img.width, img.height, 1);
+    std::vector<unsigned char> bytes(static_cast<size_t>(img.width) * static_cast<size_t>(img.height) * 4);
+    for (int y = 0; y < img.height; ++y)
+        for (int x = 0; x < img.width; ++x) {
+            const float* p = img.at(x, img.height - 1 - y);  // GL's first row is the bottom one
+            unsigned char* o = bytes.data() + (static_cast<size_t>(y) * static_cast<size_t>(img.width) + static_cast<size_t>(x)) * 4;
+            for (int c = 0; c < 3; ++c) o[c] = static_cast<unsigned char>(std::clamp(p[c], 0.0f, 1.0f) * 255.0f + 0.5f);
+            o[3] = 255;
+        }
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    glTextureSubImage2D(tex.id(), 0, 0, 0, img.width, img.height, GL_RGBA, GL_UNSIGNED_BYTE, bytes.data());
+}
+
+// The reference mode: the ray tracer refines the current view between frames.
+struct Reference {
+    static constexpr const char* kModes[] = {"path", "direct", "whitted", "ao"};
+    static constexpr const char* kViews[] = {"raster", "reference", "split", "flip", "difference"};
+    bool on = false;
+    int mode = 0, built_mode = -1;
+    int view = 2;
+    float budget_ms = 40.0f;
+    std::unique_ptr<rt::RayTracer> tracer;
+    glm::mat4 camera{0.0f};
+    int width = 0, height = 0;
+    int shown_samples = -1;
+    double rmse = -1.0;
+    gl::Texture image, diff;
+    gl::Framebuffer fbo;
+};
+
 class Viewer {
 public:
-    Viewer(const Scene& scene, const ViewerOptions& o, Context& ctx)
+    Viewer(const Scene& scene, const ViewerOptions& o, Context& ctx, std::vector<ScriptCommand> script)
         : scene_(scene), o_(o), ctx_(ctx), shaders_(o.shader_dir), gpu_(scene), settings_(o.settings),
-          renderer_(shaders_, scene, gpu_, settings_), watcher_(shaders_.root()), bounds_(scene.world_bounds()) {
-        if (!o.script.empty()) script_ = load_script(o.script);
+          renderer_(shaders_, scene, gpu_, settings_), watcher_(shaders_.root()), bounds_(scene.world_bounds()),
+          script_(std::move(script)) {
         select_camera(o.camera);
         IMGUI_CHECKVERSION();
         ImGui::CreateContext();
@@ -92,6 +126,17 @@ private:
     void reload_shaders();
     void draw_ui(double frame_ms);
     void knob_widgets(const std::string& prefix_filter, bool exclude);
+    void update_reference(const Camera& camera, int w, int h);
+    void draw_inspected(int w, int h);
+    struct Inspect {
+        std::string name;  // "" = off
+        int channel = 0, layer = 0;
+        float scale = 1.0f, lod = 0.0f;
+        gl::Program program;
+    } inspect_;
+    void draw_reference(int w, int h);
+    Reference ref_;
+    gl::VertexArray empty_vao_;
 
     const Scene& scene_;
     ViewerOptions o_;
@@ -102,8 +147,8 @@ private:
     Renderer renderer_;
     FileWatcher watcher_;
     Bounds bounds_;
-    CameraController controller_;
     std::vector<ScriptCommand> script_;
+    CameraController controller_;
     gl::Framebuffer blit_;
     std::string shader_errors_, settings_error_, status_;
     std::deque<double> frame_times_;
@@ -111,6 +156,93 @@ private:
     std::vector<fs::path> pending_screenshots_;
     bool show_ui_ = true;
 };
+
+void Viewer::update_reference(const Camera& camera, int w, int h) {
+    Reference& r = ref_;
+    if (!r.on) return;
+    if (!r.tracer || r.built_mode != r.mode) {
+        rt::Options o;
+        o.mode = *rt::parse_mode(Reference::kModes[r.mode]);
+        o.spp = 1 << 16;
+        o.ao_radius = settings_.ao.radius;
+        o.whitted_max_roughness = settings_.rt.whitted_max_roughness;
+        o.env_importance = settings_.rt.env_importance;
+        o.tile_rows = 16;
+        try {
+            r.tracer = std::make_unique<rt::RayTracer>(shaders_, scene_, gpu_, o);
+        } catch (const Error& e) {
+            settings_error_ = e.what();
+            r.on = false;
+            return;
+        }
+        r.built_mode = r.mode;
+        r.width = 0;  // restart below
+    }
+    if (camera.world != r.camera || w != r.width || h != r.height) {
+        r.tracer->progressive_restart(camera, w, h);
+        r.camera = camera.world;
+        r.width = w;
+        r.height = h;
+        r.shown_samples = -1;
+    }
+    r.tracer->progressive_step(r.budget_ms);
+    // Read back only when a whole sample more is in (a readback costs as much as a few tiles).
+    if (r.tracer->progressive_samples() == r.shown_samples || r.tracer->progressive_samples() == 0) return;
+    r.shown_samples = r.tracer->progressive_samples();
+    const ImageF reference = r.tracer->progressive_image();
+    const ImageF raster = renderer_.read_radiance();
+    r.rmse = compare(raster, reference, 2.0 / 255.0).rmse;
+    upload_display(r.image, to_display(reference, o_.exposure_ev));
+    upload_display(r.diff, heatmap(raster, reference, 0.1));
+}
+
+void Viewer::draw_inspected(int w, int h) {
+    const gl::Texture* t = renderer_.inspected();
+    if (inspect_.name.empty() || !t) return;
+    if (!inspect_.program) {
+        ShaderLibrary::BuildResult r = shaders_.build(program_desc("debug_view"));
+        if (!r.ok()) {
+            shader_errors_ = r.log;
+            inspect_.name.clear();
+            return;
+        }
+        inspect_.program = std::move(r.program);
+    }
+    GLint target = 0;
+    glGetTextureParameteriv(t->id(), GL_TEXTURE_TARGET, &target);
+    const int kind = target == GL_TEXTURE_2D_ARRAY ? 1 : target == GL_TEXTURE_CUBE_MAP_ARRAY ? 2 : 0;
+    const GLuint p = inspect_.program.id();
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    glViewport(0, 0, w, h);
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_BLEND);
+    glDisable(GL_CULL_FACE);
+    glUseProgram(p);
+    glProgramUniform1i(p, 0, kind);
+    glProgramUniform1i(p, 1, inspect_.channel);
+    glProgramUniform1f(p, 2, inspect_.scale);
+    glProgramUniform1i(p, 3, inspect_.layer);
+    glProgramUniform1f(p, 4, inspect_.lod);
+    for (GLuint unit = 0; unit < 3; ++unit) glBindSampler(unit, 0);
+    glBindTextureUnit(static_cast<GLuint>(kind), t->id());
+    if (!empty_vao_) empty_vao_ = gl::VertexArray::create();
+    glBindVertexArray(empty_vao_.id());
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    glBindVertexArray(0);
+    glUseProgram(0);
+}
+
+void Viewer::draw_reference(int w, int h) {
+    Reference& r = ref_;
+    if (!r.on || !r.image || r.image.width() != w || r.image.height() != h || r.view == 0) return;
+    if (!r.fbo) r.fbo = gl::Framebuffer::create();
+    const bool flip_shows_reference = std::fmod(glfwGetTime(), 1.0) < 0.5;
+    const gl::Texture& src = r.view == 4 ? r.diff : r.image;
+    if (r.view == 3 && !flip_shows_reference) return;
+    glNamedFramebufferTexture(r.fbo.id(), GL_COLOR_ATTACHMENT0, src.id(), 0);
+    const int x0 = r.view == 2 ? w / 2 : 0;  // split: reference on the right half
+    glBlitNamedFramebuffer(r.fbo.id(), 0, x0, 0, w, h, x0, 0, w, h, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+}
 
 void Viewer::run_script(int frame) {
     for (const ScriptCommand& c : script_) {
@@ -124,6 +256,30 @@ void Viewer::run_script(int frame) {
             else if (c.verb == "frame") controller_.frame(bounds_);
             else if (c.verb == "screenshot") pending_screenshots_.push_back(c.args[0]);
             else if (c.verb == "quit") quit_ = true;
+            else if (c.verb == "inspect") {
+                inspect_.name = c.args[0] == "off" ? "" : c.args[0];
+                static const std::vector<std::string> channels = {"rgb", "r", "g", "b", "a"};
+                if (c.args.size() > 1) {
+                    auto it = std::find(channels.begin(), channels.end(), c.args[1]);
+                    if (it == channels.end()) throw bad_input("'" + c.args[1] + "' is not a channel (rgb, r, g, b, a)");
+                    inspect_.channel = static_cast<int>(it - channels.begin());
+                }
+                if (c.args.size() > 2) inspect_.scale = std::stof(c.args[2]);
+                if (c.args.size() > 3) inspect_.layer = std::max(0, std::stoi(c.args[3]));
+                renderer_.set_inspect(inspect_.name);
+            } else if (c.verb == "reference" || c.verb == "show") {
+                const bool ref = c.verb == "reference";
+                if (ref && c.args[0] == "off") {
+                    ref_.on = false;
+                    continue;
+                }
+                const auto& names = ref ? std::vector<std::string>(Reference::kModes, Reference::kModes + 4)
+                                        : std::vector<std::string>(Reference::kViews, Reference::kViews + 5);
+                auto it = std::find(names.begin(), names.end(), c.args[0]);
+                if (it == names.end()) throw bad_input("'" + c.args[0] + "' is not one of the " + (ref ? "reference modes" : "views"));
+                (ref ? ref_.mode : ref_.view) = static_cast<int>(it - names.begin());
+                if (ref) ref_.on = true;
+            }
             else {
                 RenderSettings s = settings_;
                 if (c.verb == "effects") apply_effects(s, c.args[0]);
@@ -274,8 +430,41 @@ void Viewer::draw_ui(double frame_ms) {
         }
         if (changed) apply_settings(s);
     }
+    if (ImGui::CollapsingHeader("Reference (ray tracer)")) {
+        Reference& r = ref_;
+        ImGui::Checkbox("refine in the background", &r.on);
+        ImGui::Combo("mode", &r.mode, Reference::kModes, 4);
+        ImGui::Combo("show", &r.view, Reference::kViews, 5);
+        ImGui::SliderFloat("ms per frame", &r.budget_ms, 5.0f, 500.0f, "%.0f");
+        if (r.on && r.tracer) {
+            ImGui::Text("%d spp", r.tracer->progressive_samples());
+            if (r.rmse >= 0.0) {
+                ImGui::SameLine();
+                ImGui::Text("RMSE raster vs reference %.4f (linear radiance)", r.rmse);
+            }
+        }
+    }
     if (ImGui::CollapsingHeader("Knobs")) knob_widgets("debug.", true);
-    if (ImGui::CollapsingHeader("Debug views")) knob_widgets("debug.", false);
+    if (ImGui::CollapsingHeader("Debug views")) {
+        knob_widgets("debug.", false);
+        const std::string current = inspect_.name.empty() ? "(final image)" : inspect_.name;
+        if (ImGui::BeginCombo("buffer", current.c_str())) {
+            if (ImGui::Selectable("(final image)", inspect_.name.empty())) inspect_.name.clear();
+            for (const std::string& n : renderer_.inspectable())
+                if (ImGui::Selectable(n.c_str(), n == inspect_.name)) inspect_.name = n;
+            ImGui::EndCombo();
+        }
+        if (!inspect_.name.empty()) {
+            static const char* channels[] = {"rgb", "r", "g", "b", "a"};
+            ImGui::Combo("channel", &inspect_.channel, channels, 5);
+            ImGui::SliderFloat("scale", &inspect_.scale, 0.01f, 100.0f, "%.3g", ImGuiSliderFlags_Logarithmic);
+            ImGui::InputInt("layer / probe", &inspect_.layer);
+            inspect_.layer = std::max(inspect_.layer, 0);
+            ImGui::SliderFloat("mip level", &inspect_.lod, 0.0f, 8.0f, "%.1f");
+            ImGui::TextDisabled("depth is reversed-Z (near 1, far 0); cubes show longitude/latitude");
+        }
+        renderer_.set_inspect(inspect_.name);
+    }
     if (ImGui::CollapsingHeader("Passes", ImGuiTreeNodeFlags_DefaultOpen)) {
         const FrameReport& r = renderer_.last_frame();
         if (ImGui::BeginTable("passes", 5, ImGuiTableFlags_RowBg | ImGuiTableFlags_SizingStretchProp)) {
@@ -327,10 +516,14 @@ int Viewer::run() {
         ImGui_ImplGlfw_NewFrame();
         ImGui::NewFrame();
         handle_input(std::min(dt, 0.1f));
-        renderer_.render(controller_.camera(), w, h, FrameOutput::display, o_.exposure_ev);
+        const Camera camera = controller_.camera();
+        renderer_.render(camera, w, h, FrameOutput::display, o_.exposure_ev);
         renderer_.resolve_gpu_times();
+        update_reference(camera, w, h);
         glNamedFramebufferTexture(blit_.id(), GL_COLOR_ATTACHMENT0, renderer_.display().id(), 0);
         glBlitNamedFramebuffer(blit_.id(), 0, 0, 0, w, h, 0, 0, w, h, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+        draw_reference(w, h);
+        draw_inspected(w, h);
         const bool last_frame = o_.frames > 0 && frame + 1 >= o_.frames;
         if (last_frame && !o_.screenshot.empty()) pending_screenshots_.push_back(o_.screenshot);
         for (const fs::path& p : pending_screenshots_) {
@@ -355,6 +548,9 @@ int Viewer::run() {
 }  // namespace
 
 int run_viewer(const Scene& scene, const ViewerOptions& options) {
+    // Bad input is reported before a window opens.
+    std::vector<ScriptCommand> script;
+    if (!options.script.empty()) script = load_script(options.script);
     ContextOptions co;
     co.width = options.width;
     co.height = options.height;
@@ -366,7 +562,7 @@ int run_viewer(const Scene& scene, const ViewerOptions& options) {
         return static_cast<int>(ExitCode::no_gl);
     }
     log::info("viewer: " + ctx.context->device_string());
-    Viewer viewer(scene, options, *ctx.context);
+    Viewer viewer(scene, options, *ctx.context, std::move(script));
     return viewer.run();
 }
 

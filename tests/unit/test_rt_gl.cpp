@@ -635,3 +635,38 @@ TEST_P(RtMaterialTest, EmissiveTexturesLightThroughNextEventEstimation) {
 
 }  // namespace
 }  // namespace candela
+
+namespace candela {
+namespace {
+
+// The viewer's reference mode: stepping in small time budgets accumulates exactly the samples
+// one render() traces (same sample indices and seed), however the steps fall.
+TEST_P(RtTest, ProgressiveStepsEqualOneRender) {
+    const Scene scene = load_gltf(fs::path(CANDELA_SOURCE_DIR) / "samples" / "scenes" / "cornell_box.gltf");
+    rt::Options o;
+    o.mode = rt::Mode::path;
+    o.spp = 3;
+    o.tile_rows = 8;
+    const int w = 40, h = 30;
+    const rt::Result once = trace(scene, o, w, h);
+    GpuScene gpu(scene);
+    rt::RayTracer tracer(shader_lib(), scene, gpu, o);
+    tracer.progressive_restart(scene.select_camera("", static_cast<float>(w) / static_cast<float>(h)), w, h);
+    int steps = 0;
+    while (!tracer.progressive_done() && steps < 1000) {
+        tracer.progressive_step(0.0);  // one tile per step
+        ++steps;
+    }
+    EXPECT_EQ(steps, 3 * ((h + 7) / 8));
+    EXPECT_EQ(tracer.progressive_samples(), 3);
+    const ImageF img = tracer.progressive_image();
+    ASSERT_EQ(img.pixels.size(), once.image.pixels.size());
+    for (size_t i = 0; i < img.pixels.size(); ++i) ASSERT_FLOAT_EQ(img.pixels[i], once.image.pixels[i]) << i;
+    // A restart forgets what was traced.
+    tracer.progressive_restart(scene.select_camera("", 1.0f), w, h);
+    EXPECT_EQ(tracer.progressive_samples(), 0);
+    EXPECT_EQ(tracer.progressive_image().pixels[3], 0.0f);
+}
+
+}  // namespace
+}  // namespace candela
