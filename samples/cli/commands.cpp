@@ -5,8 +5,11 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <optional>
+
+#include <unistd.h>
 
 #include "core/error.hpp"
 #include "core/log.hpp"
@@ -21,6 +24,7 @@
 #include "scene/features.hpp"
 #include "scene/generate.hpp"
 #include "scene/gltf_loader.hpp"
+#include "shader/file_watcher.hpp"
 #include "shader/program_catalog.hpp"
 #include "viewer.hpp"
 
@@ -44,6 +48,7 @@ void print_usage() {
         "  candela compare A B [--heatmap OUT.png] [--tolerance T] [--max-failing F] [--check]\n"
         "  candela bench frame SCENE [--effects LIST ...] [--path P ...] [--size WxH] [--frames N] [--warmup N] [--json FILE]\n"
         "  candela bench rays SCENE|generated:N ... [--size WxH] [--spp N]\n"
+        "  candela bench reload SCENE [--size WxH] [--count N] [--shader-dir DIR]\n"
         "  candela shaders check [--shader-dir DIR] [--backend auto|egl|osmesa]\n"
         "  candela view SCENE [--size WxH] [--effects ...] [--set ...] [--path P] [--camera C] [--shader-dir DIR]\n"
         "               [--script FILE] [--frames N] [--screenshot OUT.png] [--window-shot OUT.png] [--no-vsync]\n"
@@ -84,6 +89,8 @@ void print_usage() {
         "         all and none) or, with several --path values, of each render path, measured\n"
         "         interleaved in one run (default 1280x720, 20 frames, 3 warm-up). SCENE may be\n"
         "         generated:lights:N (N point lights over a floor with boxes).\n"
+        "         reload: median time from saving a shader file to the first frame drawn with the\n"
+        "         rebuilt programs (a copy of the shaders is edited; default 1280x720, 10 saves).\n"
         "\n"
         "exit codes: 0 ok, 1 internal error, 2 bad input (file, option), 3 no usable OpenGL 4.5,\n"
         "            4 compare --check: images differ beyond the tolerance.\n",
@@ -519,8 +526,64 @@ int bench_rays(const Args& args) {
     return 0;
 }
 
+// The time from a shader file's save to the first frame drawn with the rebuilt program: a copy
+// of the shaders is edited (a comment appended to lighting/shading.glsl, which the shading
+// programs include) and the watcher, the reload and one frame run as in the viewer.
+int bench_reload(const Args& args) {
+    std::vector<std::string> with_value = kSetupOptions;
+    with_value.push_back("--count");
+    const Parsed p = parse(args, with_value, kSetupFlags);
+    if (p.positional.size() != 1) throw bad_input("bench reload needs exactly one SCENE");
+    SceneSetup s = setup_scene(p, p.positional[0], 1280, 720);
+    const int count = p.has("--count") ? parse_int("--count", p.get("--count"), 1, 1000) : 10;
+    ContextResult ctx = open_context(s);
+    if (!ctx.context) return static_cast<int>(ExitCode::no_gl);
+    const fs::path dir = fs::temp_directory_path() / ("candela_reload_" + std::to_string(::getpid()));
+    fs::remove_all(dir);
+    fs::copy(s.shader_dir, dir, fs::copy_options::recursive);
+    struct Cleanup {
+        fs::path dir;
+        ~Cleanup() {
+            std::error_code ec;
+            fs::remove_all(dir, ec);
+        }
+    } cleanup{dir};
+    const ShaderLibrary shaders(dir);
+    GpuScene gpu(s.scene);
+    Renderer renderer(shaders, s.scene, gpu, s.options.settings);
+    const Camera camera = s.scene.select_camera(s.options.camera, static_cast<float>(s.options.width) / static_cast<float>(s.options.height));
+    FileWatcher watcher(dir);
+    for (int i = 0; i < 2; ++i) renderer.render(camera, s.options.width, s.options.height, FrameOutput::display);
+    glFinish();
+    const fs::path file = dir / "lighting" / "shading.glsl";
+    std::vector<double> total, rebuild, frame;
+    for (int i = 0; i < count; ++i) {
+        { std::ofstream(file, std::ios::app) << "// edit " << i << "\n"; }
+        const auto t0 = std::chrono::steady_clock::now();
+        std::vector<fs::path> changed;
+        while ((changed = watcher.poll()).empty())
+            if (std::chrono::steady_clock::now() - t0 > std::chrono::seconds(10)) throw Error(ExitCode::internal, "bench reload: the watcher saw no change in 10 s");
+        const ShaderReload r = renderer.reload_shaders(changed);
+        if (!r.errors.empty()) throw Error(ExitCode::internal, r.errors[0]);
+        const auto t1 = std::chrono::steady_clock::now();
+        renderer.render(camera, s.options.width, s.options.height, FrameOutput::display);
+        glFinish();
+        const auto t2 = std::chrono::steady_clock::now();
+        rebuild.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
+        frame.push_back(std::chrono::duration<double, std::milli>(t2 - t1).count());
+        total.push_back(std::chrono::duration<double, std::milli>(t2 - t0).count());
+    }
+    std::printf("device: %s (%s), %s at %dx%d, %d saves of lighting/shading.glsl (watcher: %s)\n", ctx.context->device_string().c_str(),
+                to_string(ctx.context->backend()), p.positional[0].c_str(), s.options.width, s.options.height, count,
+                watcher.uses_inotify() ? "inotify" : "polling");
+    std::printf("save -> new frame: median %.1f ms (notice + rebuild %.1f ms, first frame with the new program %.1f ms)\n",
+                median(total), median(rebuild), median(frame));
+    return check_gl_errors(s);
+}
+
 int cmd_bench(const Args& args) {
     if (!args.empty() && args[0] == "rays") return bench_rays(Args(args.begin() + 1, args.end()));
+    if (!args.empty() && args[0] == "reload") return bench_reload(Args(args.begin() + 1, args.end()));
     if (args.empty() || args[0] != "frame")
         throw bad_input("bench needs a benchmark: 'candela bench frame SCENE' or 'candela bench rays SCENE...'");
     const Args rest(args.begin() + 1, args.end());

@@ -16,7 +16,7 @@ std::vector<ScriptCommand> load_script(const std::filesystem::path& file) {
     static const std::map<std::string, std::pair<size_t, size_t>> verbs = {
         {"orbit", {2, 2}}, {"zoom", {1, 1}},    {"pan", {2, 2}},        {"camera", {1, 1}}, {"frame", {0, 0}},
         {"effects", {1, 1}}, {"set", {1, 1}}, {"path", {1, 1}}, {"screenshot", {1, 1}}, {"quit", {0, 0}},
-        {"reference", {1, 1}}, {"show", {1, 1}}, {"inspect", {1, 4}}};
+        {"reference", {1, 2}}, {"show", {1, 1}}, {"inspect", {1, 4}}};
     std::vector<ScriptCommand> out;
     std::string text;
     int line_no = 0;

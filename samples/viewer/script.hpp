@@ -10,7 +10,8 @@
 //   FRAME set KNOB=VALUE      as --set
 //   FRAME path auto|forward|deferred
 //   FRAME screenshot OUT.png  the rendered image (without the UI)
-//   FRAME reference MODE|off  reference mode: path|direct|whitted|ao refines in the background
+//   FRAME reference MODE|off [MS]  reference mode: path|direct|whitted|ao refines in the
+//                             background for MS (default 40) of each frame
 //   FRAME show VIEW           raster|reference|split|flip|difference
 //   FRAME inspect NAME [CHANNEL SCALE LAYER]  a frame-graph buffer (viewer panel names), or "off"
 //   FRAME quit

@@ -75,7 +75,7 @@ struct Reference {
     glm::mat4 camera{0.0f};
     int width = 0, height = 0;
     int shown_samples = -1;
-    double rmse = -1.0;
+    double rmse = -1.0, rmse_display = -1.0;  // linear radiance; display values
     gl::Texture image, diff;
     gl::Framebuffer fbo;
 };
@@ -186,13 +186,17 @@ void Viewer::update_reference(const Camera& camera, int w, int h) {
         r.shown_samples = -1;
     }
     r.tracer->progressive_step(r.budget_ms);
-    // Read back only when a whole sample more is in (a readback costs as much as a few tiles).
-    if (r.tracer->progressive_samples() == r.shown_samples || r.tracer->progressive_samples() == 0) return;
-    r.shown_samples = r.tracer->progressive_samples();
+    // Read back when a whole sample more is in (a readback costs as much as a few tiles), and
+    // every frame while the first sample is still coming in (its rows appear as they finish).
+    const int samples = r.tracer->progressive_samples();
+    if (samples == r.shown_samples && samples > 0) return;
+    r.shown_samples = samples;
     const ImageF reference = r.tracer->progressive_image();
     const ImageF raster = renderer_.read_radiance();
-    r.rmse = compare(raster, reference, 2.0 / 255.0).rmse;
-    upload_display(r.image, to_display(reference, o_.exposure_ev));
+    const ImageF shown = to_display(reference, o_.exposure_ev);
+    r.rmse = samples > 0 ? compare(raster, reference, 2.0 / 255.0).rmse : -1.0;
+    r.rmse_display = samples > 0 ? compare(to_display(raster, o_.exposure_ev), shown, 2.0 / 255.0).rmse : -1.0;
+    upload_display(r.image, shown);
     upload_display(r.diff, heatmap(raster, reference, 0.1));
 }
 
@@ -279,6 +283,7 @@ void Viewer::run_script(int frame) {
                 if (it == names.end()) throw bad_input("'" + c.args[0] + "' is not one of the " + (ref ? "reference modes" : "views"));
                 (ref ? ref_.mode : ref_.view) = static_cast<int>(it - names.begin());
                 if (ref) ref_.on = true;
+                if (ref && c.args.size() > 1) ref_.budget_ms = std::clamp(std::stof(c.args[1]), 1.0f, 10000.0f);
             }
             else {
                 RenderSettings s = settings_;
@@ -430,7 +435,7 @@ void Viewer::draw_ui(double frame_ms) {
         }
         if (changed) apply_settings(s);
     }
-    if (ImGui::CollapsingHeader("Reference (ray tracer)")) {
+    if (ImGui::CollapsingHeader("Reference (ray tracer)", ref_.on ? ImGuiTreeNodeFlags_DefaultOpen : 0)) {
         Reference& r = ref_;
         ImGui::Checkbox("refine in the background", &r.on);
         ImGui::Combo("mode", &r.mode, Reference::kModes, 4);
@@ -440,7 +445,7 @@ void Viewer::draw_ui(double frame_ms) {
             ImGui::Text("%d spp", r.tracer->progressive_samples());
             if (r.rmse >= 0.0) {
                 ImGui::SameLine();
-                ImGui::Text("RMSE raster vs reference %.4f (linear radiance)", r.rmse);
+                ImGui::Text("RMSE vs reference: %.4f linear, %.4f display", r.rmse, r.rmse_display);
             }
         }
     }
@@ -500,6 +505,7 @@ int Viewer::run() {
     auto last = Clock::now();
     int frame = 0;
     int w = 0, h = 0;
+    std::vector<double> whole_frames;
     while (!glfwWindowShouldClose(window) && !quit_) {
         glfwPollEvents();
         glfwGetFramebufferSize(window, &w, &h);
@@ -539,8 +545,16 @@ int Viewer::run() {
             log::info("viewer: wrote " + o_.window_shot.string());
         }
         ctx_.swap_buffers();
+        whole_frames.push_back(ms_since(t0));
         ++frame;
         if (last_frame) break;
+    }
+    if (!whole_frames.empty()) {
+        // Without the first frame (shader compilation happens there on llvmpipe).
+        std::vector<double> steady(whole_frames.begin() + (whole_frames.size() > 1 ? 1 : 0), whole_frames.end());
+        std::sort(steady.begin(), steady.end());
+        log::info("viewer: " + std::to_string(frame) + " frames; median frame (render, UI, swap; after the first) " +
+                  std::to_string(steady[steady.size() / 2]).substr(0, 6) + " ms at " + std::to_string(w) + "x" + std::to_string(h));
     }
     return 0;
 }
