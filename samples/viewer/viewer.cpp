@@ -337,6 +337,11 @@ void Viewer::reload_shaders() {
     if (changed.empty()) return;
     const auto t0 = Clock::now();
     const ShaderReload r = renderer_.reload_shaders(changed);
+    // The viewer's own programs are rebuilt on next use: the reference tracer (which then
+    // starts over) and the buffer inspector.
+    ref_.tracer.reset();
+    ref_.built_mode = -1;
+    inspect_.program = gl::Program();
     shader_errors_.clear();
     for (const std::string& e : r.errors) {
         shader_errors_ += e + "\n";

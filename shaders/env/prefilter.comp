@@ -1,7 +1,7 @@
 #version 450 core
 // One mip level of a GGX-prefiltered cube map (the split sum's first factor, Karis 2013): with
 // n = v = r, the NdotL-weighted mean of the radiance over GGX-sampled directions at this level's
-// roughness. Filtered importance sampling (Krivanek & Colbert 2007) reads each sample at the mip
+// roughness. Filtered importance sampling (Krivanek & Colbert 2008) reads each sample at the mip
 // whose texel solid angle matches the sample's, so few samples give a smooth result.
 #include "../common/brdf.glsl"
 #include "cube.glsl"
