@@ -8,6 +8,7 @@
 #include "shader/program_catalog.hpp"
 
 #include <cstring>
+#include <map>
 #include <set>
 
 #include <glm/gtc/constants.hpp>
@@ -428,10 +429,23 @@ void Renderer::render(const Camera& camera, int width, int height, FrameOutput o
     }
     timer_.begin_frame();
     std::string state_problem;
+    std::map<std::string, double> sync_ms;
+    std::chrono::steady_clock::time_point pass_start;
     graph.execute(
-        state_, [&](FrameGraph::PassRecord& p) { timer_.begin(p.name); },
+        state_,
+        [&](FrameGraph::PassRecord& p) {
+            if (sync_timing_) {
+                glFinish();
+                pass_start = std::chrono::steady_clock::now();
+            }
+            timer_.begin(p.name);
+        },
         [&](FrameGraph::PassRecord& p) {
             timer_.end();
+            if (sync_timing_) {
+                glFinish();
+                sync_ms[p.name] += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - pass_start).count();
+            }
             if (verify_state_ && state_problem.empty()) {
                 const std::string bad = state_.verify();
                 if (!bad.empty()) state_problem = "pass '" + p.name + "' changed " + bad + " behind the state cache";
@@ -457,7 +471,7 @@ void Renderer::render(const Camera& camera, int width, int height, FrameOutput o
     report_.graph_ms = graph_ms;
     for (const auto& p : graph.passes()) {
         if (p.culled) report_.culled.emplace_back(p.name, p.cull_reason);
-        else report_.passes.push_back({p.name, -1.0, p.cpu_ms, p.counters});
+        else report_.passes.push_back({p.name, -1.0, p.cpu_ms, p.counters, sync_timing_ ? sync_ms[p.name] : -1.0});
     }
     report_.pool_allocations = pool_.allocations();
     report_.pool_slots = pool_.size();

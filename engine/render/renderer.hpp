@@ -23,6 +23,10 @@ struct PassStats {
     double gpu_ms = -1.0;  // -1: not measured (yet)
     double cpu_ms = 0.0;
     PassCounters counters;
+    // With synchronous timing: wall ms between a glFinish before and one after the pass (all of
+    // its work, including what a GPU timer does not see on llvmpipe: vertex shading, binning,
+    // CPU work); -1 otherwise.
+    double sync_ms = -1.0;
 };
 
 struct FrameReport {
@@ -87,6 +91,9 @@ public:
     const gl::Texture* inspected() const { return inspected_; }
     // The names that can be inspected after the last frame.
     const std::vector<std::string>& inspectable() const { return inspectable_; }
+    // Measure every pass's wall time between glFinish calls (PassStats::sync_ms; stalls: for
+    // benchmarks on software rasterizers, where timer queries miss the work done on the CPU).
+    void set_synchronous_timing(bool on) { sync_timing_ = on; }
     // Debug: after each pass compare GL's state with the state cache's (stalls).
     void set_verify_state(bool on) { verify_state_ = on; }
 
@@ -130,6 +137,7 @@ private:
     GpuTimer timer_;
     FrameReport report_;
     bool verify_state_ = false;
+    bool sync_timing_ = false;
     std::string inspect_;
     const gl::Texture* inspected_ = nullptr;
     std::vector<std::string> inspectable_;

@@ -24,6 +24,7 @@
 #include "scene/features.hpp"
 #include "scene/generate.hpp"
 #include "scene/gltf_loader.hpp"
+#include "accuracy.hpp"
 #include "shader/file_watcher.hpp"
 #include "shader/program_catalog.hpp"
 #include "viewer.hpp"
@@ -49,6 +50,7 @@ void print_usage() {
         "  candela bench frame SCENE [--effects LIST ...] [--path P ...] [--size WxH] [--frames N] [--warmup N] [--json FILE]\n"
         "  candela bench rays SCENE|generated:N ... [--size WxH] [--spp N]\n"
         "  candela bench reload SCENE [--size WxH] [--count N] [--shader-dir DIR]\n"
+        "  candela bench accuracy [SCENE...] -o DIR [--report FILE.md] [--quick]\n"
         "  candela shaders check [--shader-dir DIR] [--backend auto|egl|osmesa]\n"
         "  candela view SCENE [--size WxH] [--effects ...] [--set ...] [--path P] [--camera C] [--shader-dir DIR]\n"
         "               [--script FILE] [--frames N] [--screenshot OUT.png] [--window-shot OUT.png] [--no-vsync]\n"
@@ -89,6 +91,8 @@ void print_usage() {
         "         all and none) or, with several --path values, of each render path, measured\n"
         "         interleaved in one run (default 1280x720, 20 frames, 3 warm-up). SCENE may be\n"
         "         generated:lights:N (N point lights over a floor with boxes).\n"
+        "         accuracy: every effect's knob sweep, timed and compared with the ray tracer's\n"
+        "         reference: DIR/results.csv, report.md, plots and image strips (--quick: small, CI).\n"
         "         reload: median time from saving a shader file to the first frame drawn with the\n"
         "         rebuilt programs (a copy of the shaders is edited; default 1280x720, 10 saves).\n"
         "\n"
@@ -584,6 +588,29 @@ int bench_reload(const Args& args) {
 int cmd_bench(const Args& args) {
     if (!args.empty() && args[0] == "rays") return bench_rays(Args(args.begin() + 1, args.end()));
     if (!args.empty() && args[0] == "reload") return bench_reload(Args(args.begin() + 1, args.end()));
+    if (!args.empty() && args[0] == "accuracy") {
+        const Parsed p = parse(Args(args.begin() + 1, args.end()), {"-o", "--report", "--shader-dir", "--backend"}, {"--quick", "--quiet"});
+        if (!p.has("-o")) throw bad_input("bench accuracy needs -o DIR");
+        if (p.flags.count("--quiet")) log::set_level(log::Level::warn);
+        AccuracyOptions o;
+        o.scenes = p.positional;
+        for (const std::string& s : o.scenes)
+            if (!fs::is_regular_file(s)) throw bad_input(s + ": no such file");
+        o.out = p.get("-o");
+        if (p.has("--report")) o.report = p.get("--report");
+        o.quick = p.flags.count("--quick") > 0;
+        o.shader_dir = shader_dir_option(p);
+        // The sample scenes sit beside the built-in shaders in the source tree.
+        o.scene_dir = fs::path(ShaderLibrary::default_root()).parent_path() / "samples" / "scenes";
+        if (p.has("--backend")) {
+            const auto b = parse_backend(p.get("--backend"));
+            if (!b || *b == Backend::glfw) throw bad_input("--backend must be auto, egl or osmesa");
+            o.backend = *b;
+        }
+        o.command_line = "candela bench accuracy";
+        for (size_t i = 1; i < args.size(); ++i) o.command_line += " " + (args[i].find('/') != std::string::npos && fs::path(args[i]).is_absolute() ? fs::path(args[i]).filename().string() : args[i]);
+        return run_accuracy(o);
+    }
     if (args.empty() || args[0] != "frame")
         throw bad_input("bench needs a benchmark: 'candela bench frame SCENE' or 'candela bench rays SCENE...'");
     const Args rest(args.begin() + 1, args.end());

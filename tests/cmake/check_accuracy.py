@@ -1,0 +1,66 @@
+#!/usr/bin/python3
+"""Checks `candela bench accuracy --quick` output (results.csv): a row for every effect, finite
+errors and times, error never rising with more samples beyond the reference's noise (SSAO, RSM,
+the ray tracer's own convergence), and Pareto flags that agree with the numbers."""
+import csv
+import math
+import re
+import sys
+
+rows = list(csv.DictReader(open(sys.argv[1])))
+problems = []
+effects = {r["effect"] for r in rows}
+for e in ["shadows", "shadows_colour", "area_lights", "ssao", "rsm", "transparency", "reflections", "forward_deferred", "ray_tracer"]:
+    if e not in effects:
+        problems.append(f"no rows for {e}")
+
+def f(r, k):
+    return float(r[k]) if r[k] != "" else math.nan
+
+for r in rows:
+    if not (f(r, "ms") > 0 and math.isfinite(f(r, "ms"))):
+        problems.append(f"{r['effect']} {r['variant']}: time {r['ms']!r} is not a positive number")
+    if r["effect"] != "forward_deferred":
+        for k in ("rmse", "relmse", "max", "pct_over", "ref_noise"):
+            if not math.isfinite(f(r, k)) or f(r, k) < 0:
+                problems.append(f"{r['effect']} {r['variant']}: {k} {r[k]!r} is not a finite non-negative number")
+
+def monotone(effect, key):
+    groups = {}
+    for r in rows:
+        if r["effect"] != effect:
+            continue
+        n, rest = key(r["variant"])
+        groups.setdefault(rest, []).append((n, f(r, "rmse"), f(r, "ref_noise"), r["variant"]))
+    checked = 0
+    for rest, g in groups.items():
+        g.sort()
+        for (n0, e0, noise, v0), (n1, e1, _, v1) in zip(g, g[1:]):
+            checked += 1
+            if e1 > e0 + noise + 1e-9:
+                problems.append(f"{effect}: '{v1}' has error {e1:.5g} > '{v0}' {e0:.5g} + noise {noise:.3g}")
+    if checked == 0:
+        problems.append(f"{effect}: no pair of rows differing only in sample count")
+
+def samples_key(v):
+    m = re.match(r"(\d+) (samples|spp)(.*)", v)
+    return int(m.group(1)), m.group(3)
+
+monotone("ssao", samples_key)
+monotone("rsm", samples_key)
+monotone("ray_tracer", samples_key)
+
+for e in effects - {"forward_deferred"}:
+    part = [r for r in rows if r["effect"] == e and r["scene"] == r["scene"]]
+    for scene in {r["scene"] for r in part}:
+        p = [r for r in part if r["scene"] == scene]
+        for r in p:
+            dominated = any(f(o, "ms") <= f(r, "ms") and f(o, "rmse") <= f(r, "rmse") and
+                            (f(o, "ms") < f(r, "ms") or f(o, "rmse") < f(r, "rmse")) for o in p if o is not r)
+            if (r["pareto"] == "1") == dominated:
+                problems.append(f"{e} {r['variant']}: pareto flag {r['pareto']} but dominated={dominated}")
+
+print(f"{len(rows)} rows, {len(effects)} effects checked")
+for p in problems:
+    print("FAIL:", p)
+sys.exit(1 if problems else 0)
