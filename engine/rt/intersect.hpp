@@ -80,9 +80,17 @@ inline float intersect_sphere(const Ray& ray, const glm::vec3& center, float rad
     return -1.0f;
 }
 
-// Wächter & Binder, Ray Tracing Gems ch. 6.
-inline glm::vec3 offset_ray(const glm::vec3& p, const glm::vec3& n) {
-    constexpr float origin = 1.0f / 32.0f, float_scale = 1.0f / 65536.0f, int_scale = 256.0f;
+// The smallest offset for a scene whose bounding box has this diagonal: 2^-19 of it (1/65536
+// for a scene of about 8 units, Wächter & Binder's constant). A hit's error against a triangle
+// grows with the distances in the scene, not with the hit's own coordinates: a floor at y = 0
+// in a scene 6000 units wide needs more than 1/65536 (hard case ScaleInvariance).
+inline float ray_offset_for_extent(float diagonal) { return std::max(diagonal, 1e-30f) * (1.0f / 524288.0f); }
+
+// Wächter & Binder, Ray Tracing Gems ch. 6: each coordinate moves along n by 16 ulps of itself
+// (their 256 put a scene 10^4 from the origin 0.25 units off its surfaces: light leaked at
+// contacts) or by `min_offset` (a distance), whichever is farther.
+inline glm::vec3 offset_ray(const glm::vec3& p, const glm::vec3& n, float min_offset) {
+    constexpr float int_scale = 16.0f;
     glm::vec3 out;
     for (int i = 0; i < 3; ++i) {
         const int of = static_cast<int>(int_scale * n[i]);
@@ -91,7 +99,8 @@ inline glm::vec3 offset_ray(const glm::vec3& p, const glm::vec3& n) {
         bits += p[i] < 0.0f ? -of : of;
         float pi;
         std::memcpy(&pi, &bits, 4);
-        out[i] = std::fabs(p[i]) < origin ? p[i] + float_scale * n[i] : pi;
+        const float pf = p[i] + min_offset * n[i];
+        out[i] = std::fabs(pi - p[i]) > std::fabs(pf - p[i]) ? pi : pf;
     }
     return out;
 }

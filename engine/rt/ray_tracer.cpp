@@ -7,6 +7,7 @@
 #include <cstdio>
 
 #include "core/error.hpp"
+#include "rt/intersect.hpp"
 
 namespace candela::rt {
 namespace {
@@ -21,6 +22,7 @@ struct FrameGpu {  // std140, binding 8: mirrors RtFrame in shaders/rt/scene.gls
     glm::ivec4 image;
     glm::ivec4 params;
     glm::vec4 fparams;
+    glm::vec4 fparams2;
 };
 namespace {
 
@@ -102,6 +104,8 @@ std::optional<Mode> parse_mode(const std::string& name) {
 
 RayTracer::RayTracer(const ShaderLibrary& shaders, const Scene& scene, GpuScene& gpu, const Options& options)
     : scene_(scene), gpu_(gpu), options_(options), rt_scene_(scene, static_cast<int>(scene.materials.size())) {
+    const Bounds b = scene.world_bounds();
+    scene_diagonal_ = b.empty() ? 1.0f : glm::length(b.extent());
     if (options_.spp < 1 || options_.spp > (1 << 24)) throw bad_input("--spp must be in [1, 16777216]");
     if (options_.shard_count < 1 || options_.shard < 0 || options_.shard >= options_.shard_count)
         throw bad_input("--spp-shard K/N needs 0 <= K < N");
@@ -144,7 +148,12 @@ RayTracer::~RayTracer() = default;
 FrameGpu RayTracer::make_frame(const Camera& camera, int width, int height) const {
     FrameGpu f{};
     const float aspect = static_cast<float>(width) / static_cast<float>(height);
-    f.inv_view_proj = glm::inverse(projection_matrix(camera, aspect) * glm::inverse(camera.world));
+    // Camera-relative: the view without its translation, so that unprojected points stay near 0
+    // and keep their precision when the camera is far from the origin (hard case
+    // FarFromTheOrigin); camera_pos adds the position back.
+    glm::mat4 rotation = camera.world;
+    rotation[3] = glm::vec4(0.0f, 0.0f, 0.0f, 1.0f);
+    f.inv_view_proj = glm::inverse(projection_matrix(camera, aspect) * glm::inverse(rotation));
     f.camera_pos = glm::vec4(glm::vec3(camera.world[3]), 1.0f);
     f.env_radiance = glm::vec4(gpu_.environment_radiance(), gpu_.has_environment_map() ? 1.0f : 0.0f);
     const RtGeometry& g = rt_scene_.geometry();
@@ -154,6 +163,7 @@ FrameGpu RayTracer::make_frame(const Camera& camera, int width, int height) cons
     f.params = glm::ivec4(options_.max_depth, options_.jitter, options_.indirect_occlusion ? 1 : 0, 0);
     f.fparams = glm::vec4(options_.ao_radius, options_.whitted_max_roughness, static_cast<float>(g.emitted_power),
                           static_cast<float>(options_.visibility_light));
+    f.fparams2 = glm::vec4(ray_offset_for_extent(scene_diagonal_), 0.0f, 0.0f, 0.0f);
     return f;
 }
 

@@ -81,6 +81,7 @@ private:
     GpuScene& gpu_;
     Options options_;
     RtScene rt_scene_;
+    float scene_diagonal_ = 1.0f;  // of the world bounds: sets the smallest ray offset
     gl::Program program_;
     gl::Buffer frame_ubo_;
     gl::Buffer env_distribution_;

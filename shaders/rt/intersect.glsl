@@ -88,17 +88,16 @@ float intersect_aabb(vec3 bmin, vec3 bmax, vec3 origin, vec3 inv_dir, float tmax
     return enter <= leave ? enter : -1.0;
 }
 
-// Moves a secondary ray's origin off the surface along the geometric normal by a few ulps of the
-// position (Wächter & Binder, Ray Tracing Gems ch. 6): scale-aware, no scene epsilon.
-vec3 offset_ray(vec3 p, vec3 n) {
-    const float origin = 1.0 / 32.0;
-    const float float_scale = 1.0 / 65536.0;
-    const float int_scale = 256.0;
+// Moves a secondary ray's origin off the surface along the geometric normal (Wächter & Binder,
+// Ray Tracing Gems ch. 6): per coordinate by 16 ulps of itself or by `min_offset`, whichever is
+// farther. The tracer passes 2^-19 of the scene's diagonal (rt::ray_offset_for_extent): a hit's
+// error grows with the distances in the scene, not with its own coordinates.
+vec3 offset_ray(vec3 p, vec3 n, float min_offset) {
+    const float int_scale = 16.0;
     ivec3 of_i = ivec3(int_scale * n);
     vec3 p_i = vec3(intBitsToFloat(floatBitsToInt(p.x) + (p.x < 0.0 ? -of_i.x : of_i.x)),
                     intBitsToFloat(floatBitsToInt(p.y) + (p.y < 0.0 ? -of_i.y : of_i.y)),
                     intBitsToFloat(floatBitsToInt(p.z) + (p.z < 0.0 ? -of_i.z : of_i.z)));
-    return vec3(abs(p.x) < origin ? p.x + float_scale * n.x : p_i.x,
-                abs(p.y) < origin ? p.y + float_scale * n.y : p_i.y,
-                abs(p.z) < origin ? p.z + float_scale * n.z : p_i.z);
+    vec3 p_f = p + min_offset * n;
+    return mix(p_f, p_i, greaterThan(abs(p_i - p), abs(p_f - p)));
 }

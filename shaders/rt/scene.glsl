@@ -45,7 +45,7 @@ layout(std430, binding = 7) readonly buffer Emitters { Emitter emitters[]; };
 layout(std430, binding = 11) readonly buffer Surfaces { Emitter surfaces[]; };  // every triangle by area
 
 layout(std140, binding = 8) uniform RtFrame {
-    mat4 inv_view_proj;
+    mat4 inv_view_proj;  // camera-relative: of the view without its translation
     vec4 camera_pos;
     vec4 env_radiance;   // rgb constant radiance, or the map's scale when w = 1
     ivec4 counts;        // x triangles, y spheres, z emitters, w punctual lights
@@ -53,6 +53,7 @@ layout(std140, binding = 8) uniform RtFrame {
     ivec4 image;         // x width, y height, z sample index, w seed
     ivec4 params;        // x max depth, y jitter, z indirect occlusion, w tile y offset
     vec4 fparams;        // x ao radius, y whitted max roughness, z emitter power total
+    vec4 fparams2;       // x smallest secondary-ray offset (rt::ray_offset_for_extent)
 } rt;
 
 // Scene images as array layers (layer = image index; GpuScene::image_array).

@@ -204,7 +204,7 @@ vec3 shadow_visibility(Ray ray, float tmax) {
         float F = fresnel_dielectric(abs(dot(normalize(ray.dir), s.ng)), eta);
         T *= (1.0 - F) * transmission * m.base_color;
         if (max(T.r, max(T.g, T.b)) <= 0.0) return vec3(0.0);
-        ray.origin = offset_ray(s.p, -s.ng);
+        ray.origin = offset_ray(s.p, -s.ng, rt.fparams2.x);
         tmax -= h.t;
     }
     return vec3(0.0);
@@ -221,7 +221,7 @@ vec3 direct_punctual(SurfaceHit s, BrdfInput m, vec3 v) {
         light_incidence(lights[i], s.p, l, E, dist);
         float NdotL = dot(s.ns, l);
         if (NdotL <= 0.0 || dot(s.ng, l) <= 0.0 || max(E.r, max(E.g, E.b)) <= 0.0) continue;
-        vec3 visible = shadow_visibility(make_ray(offset_ray(s.p, s.ng), l), dist);
+        vec3 visible = shadow_visibility(make_ray(offset_ray(s.p, s.ng, rt.fparams2.x), l), dist);
         sum += brdf_eval(m, s.ns, l, v) * E * NdotL * visible;
     }
     return sum;
@@ -263,8 +263,8 @@ vec3 direct_emitters(SurfaceHit s, BrdfInput m, vec3 v, inout Rng rng, bool use_
     float NdotL = dot(s.ns, l);
     if (cos_l <= 0.0 || NdotL <= 0.0 || dot(s.ng, l) <= 0.0) return vec3(0.0);
     float pdf = e.pdf / e.area * dist2 / cos_l;  // solid angle
-    vec3 origin = offset_ray(s.p, s.ng);
-    vec3 target = offset_ray(q, dot(nl, -l) > 0.0 ? nl : -nl);
+    vec3 origin = offset_ray(s.p, s.ng, rt.fparams2.x);
+    vec3 target = offset_ray(q, dot(nl, -l) > 0.0 ? nl : -nl, rt.fparams2.x);
     vec3 visible = shadow_visibility(make_ray(origin, target - origin), 1.0);
     float w = use_mis ? power_heuristic(pdf, brdf_pdf(m, s.ns, v, l)) : 1.0;
     return brdf_eval(m, s.ns, l, v) * Le * NdotL * w * visible / pdf;
@@ -294,9 +294,10 @@ Ray camera_ray(ivec2 pixel, inout Rng rng) {
     vec4 near_point = rt.inv_view_proj * vec4(ndc, 1.0, 1.0);
     vec3 a = near_point.xyz / near_point.w;
     vec3 b = far_point.xyz / far_point.w;
-    // Perspective: rays from the camera position; orthographic: from the near plane.
+    // Perspective: rays from the camera position; orthographic: from the near plane. The points
+    // are relative to the camera, so precision does not depend on where the camera is.
     Ray r;
-    r.origin = a;
+    r.origin = rt.camera_pos.xyz + a;
     r.dir = normalize(b - a);
     return r;
 }
@@ -329,7 +330,7 @@ vec3 radiance(Ray ray, inout Rng rng) {
         float dist;
         light_incidence(lights[li], s.p, l, E, dist);
         if (dot(s.ns, l) <= 0.0 || dot(s.ng, l) <= 0.0 || max(E.r, max(E.g, E.b)) <= 0.0) return vec3(0.0);
-        return vec3(trace_any(make_ray(offset_ray(s.p, s.ng), l), dist) ? 0.0 : 1.0);
+        return vec3(trace_any(make_ray(offset_ray(s.p, s.ng, rt.fparams2.x), l), dist) ? 0.0 : 1.0);
     }
 #ifdef HAS_EMITTERS
     float u = rng_next(rng);
@@ -347,8 +348,8 @@ vec3 radiance(Ray ray, inout Rng rng) {
     float cos_l = dot(nl, -d);
     if (material_double_sided(floatBitsToInt(tri.p0.w))) cos_l = abs(cos_l);
     if (dot(s.ns, d) <= 0.0 || dot(s.ng, d) <= 0.0 || cos_l <= 0.0) return vec3(0.0);
-    vec3 origin = offset_ray(s.p, s.ng);
-    vec3 target = offset_ray(q, dot(nl, -d) > 0.0 ? nl : -nl);
+    vec3 origin = offset_ray(s.p, s.ng, rt.fparams2.x);
+    vec3 target = offset_ray(q, dot(nl, -d) > 0.0 ? nl : -nl, rt.fparams2.x);
     return vec3(trace_any(make_ray(origin, target - origin), 1.0) ? 0.0 : 1.0);
 #else
     return vec3(0.0);
@@ -364,7 +365,7 @@ vec3 radiance(Ray ray, inout Rng rng) {
     Hit hit = trace_closest(ray, 3.0e38);
     if (hit.prim < 0) return vec3(0.0);
     SurfaceHit s = surface_at(ray, hit);
-    Ray bounce = make_ray(offset_ray(s.p, s.ng), to_world(sample_cosine_hemisphere(vec2(rng_next(rng), rng_next(rng))), s.ng));
+    Ray bounce = make_ray(offset_ray(s.p, s.ng, rt.fparams2.x), to_world(sample_cosine_hemisphere(vec2(rng_next(rng), rng_next(rng))), s.ng));
     Hit h2 = trace_closest(bounce, 3.0e38);
     if (h2.prim < 0) return vec3(0.0);
     return 0.5 + 0.5 * surface_at(bounce, h2).ns;
@@ -377,7 +378,7 @@ vec3 radiance(Ray ray, inout Rng rng) {
     if (hit.prim < 0) return vec3(1.0);
     SurfaceHit s = surface_at(ray, hit);
     vec3 dir = to_world(sample_cosine_hemisphere(vec2(rng_next(rng), rng_next(rng))), s.ng);
-    bool occluded = trace_any(make_ray(offset_ray(s.p, s.ng), dir * rt.fparams.x), 1.0);
+    bool occluded = trace_any(make_ray(offset_ray(s.p, s.ng, rt.fparams2.x), dir * rt.fparams.x), 1.0);
     return vec3(occluded ? 0.0 : 1.0);
 }
 #endif
@@ -408,7 +409,7 @@ vec3 radiance(Ray ray, inout Rng rng) {
         // Camera rays pass a blended layer with probability 1 - alpha: in expectation
         // alpha * (the layer) + (1 - alpha) * (what is behind it), the OVER operator.
         if (depth == 0 && layers < 32 && rng_next(rng) >= blend_alpha(s)) {
-            ray = make_ray(offset_ray(s.p, -s.ng), ray.dir);
+            ray = make_ray(offset_ray(s.p, -s.ng, rt.fparams2.x), ray.dir);
             ++layers;
             --depth;
             continue;
@@ -435,9 +436,9 @@ vec3 radiance(Ray ray, inout Rng rng) {
             // A thin wall reflects like the interface it stands for but does not bend the ray.
             float F = fresnel_dielectric(cos_i, thin ? 1.0 / m.ior : eta);
             if (rng_next(rng) < F) {
-                ray = make_ray(offset_ray(s.p, s.ng), reflect(-v, s.ng));
+                ray = make_ray(offset_ray(s.p, s.ng, rt.fparams2.x), reflect(-v, s.ng));
             } else {
-                ray = make_ray(offset_ray(s.p, -s.ng), thin ? -v : refract(-v, s.ng, eta));
+                ray = make_ray(offset_ray(s.p, -s.ng, rt.fparams2.x), thin ? -v : refract(-v, s.ng, eta));
                 throughput *= m.base_color;
             }
             last_brdf_pdf = 0.0;
@@ -455,7 +456,7 @@ vec3 radiance(Ray ray, inout Rng rng) {
             vec3 le = sample_env(rng, pdf_env);
             float NdotL = dot(s.ns, le);
             if (pdf_env > 0.0 && NdotL > 0.0 && dot(s.ng, le) > 0.0 &&
-                !trace_any(make_ray(offset_ray(s.p, s.ng), le), 3.0e38)) {
+                !trace_any(make_ray(offset_ray(s.p, s.ng, rt.fparams2.x), le), 3.0e38)) {
                 float w = power_heuristic(pdf_env, brdf_pdf(m, s.ns, v, le));
                 sum += throughput * brdf_eval(m, s.ns, le, v) * environment(le) * NdotL * w / pdf_env;
             }
@@ -471,7 +472,7 @@ vec3 radiance(Ray ray, inout Rng rng) {
             if (rng_next(rng) >= survive) break;
             throughput /= survive;
         }
-        ray = make_ray(offset_ray(s.p, s.ng), l);
+        ray = make_ray(offset_ray(s.p, s.ng, rt.fparams2.x), l);
     }
     return sum;
 }
@@ -505,7 +506,7 @@ vec3 radiance(Ray ray, inout Rng rng) {
         // With occlusion: y is what a cosine-distributed ray from x sees.
         vec3 dir = to_world(sample_cosine_hemisphere(vec2(rng_next(rng), rng_next(rng))), x.ns);
         if (dot(dir, x.ng) <= 0.0) return vec3(0.0);
-        Ray bounce = make_ray(offset_ray(x.p, x.ng), dir);
+        Ray bounce = make_ray(offset_ray(x.p, x.ng, rt.fparams2.x), dir);
         Hit hy = trace_closest(bounce, 3.0e38);
         if (hy.prim < 0) return vec3(0.0);
         // Cosine sampling: f_x * cos / pdf = albedo_x.
@@ -577,7 +578,7 @@ vec3 radiance(Ray primary, inout Rng rng) {
         if (depth == 0) {
             float a = blend_alpha(s);
             if (a < 1.0 && n < kMaxStack) {
-                rays[n] = make_ray(offset_ray(s.p, -s.ng), ray.dir);
+                rays[n] = make_ray(offset_ray(s.p, -s.ng, rt.fparams2.x), ray.dir);
                 weights[n] = w * (1.0 - a);
                 depths[n++] = 0;
                 w *= a;
@@ -593,11 +594,11 @@ vec3 radiance(Ray primary, inout Rng rng) {
             float eta = thin ? 1.0 : (s.front ? 1.0 / m.ior : m.ior);
             float F = fresnel_dielectric(dot(v, s.ng), thin ? 1.0 / m.ior : eta);
             if (!can_branch) continue;
-            rays[n] = make_ray(offset_ray(s.p, s.ng), reflect(-v, s.ng));
+            rays[n] = make_ray(offset_ray(s.p, s.ng, rt.fparams2.x), reflect(-v, s.ng));
             weights[n] = w * F;
             depths[n++] = depth + 1;
             if (F < 1.0) {
-                rays[n] = make_ray(offset_ray(s.p, -s.ng), thin ? -v : refract(-v, s.ng, eta));
+                rays[n] = make_ray(offset_ray(s.p, -s.ng, rt.fparams2.x), thin ? -v : refract(-v, s.ng, eta));
                 weights[n] = w * (1.0 - F) * m.base_color;
                 depths[n++] = depth + 1;
             }
@@ -616,7 +617,7 @@ vec3 radiance(Ray primary, inout Rng rng) {
             float cos_v = saturate(dot(v, s.ns));
             vec3 F = mix(F_Schlick(dielectric_f0(m), vec3(dielectric_f90(m)), cos_v),
                          F_Schlick(m.base_color, vec3(1.0), cos_v), m.metallic);
-            rays[n] = make_ray(offset_ray(s.p, s.ng), reflect(-v, s.ns));
+            rays[n] = make_ray(offset_ray(s.p, s.ng, rt.fparams2.x), reflect(-v, s.ns));
             weights[n] = w * F;
             depths[n++] = depth + 1;
         }

@@ -297,7 +297,7 @@ void main() {
     vec2 bary;
     float tt = intersect_triangle(watertight_setup(r), c.p0.xyz, c.p1.xyz, c.p2.xyz, 1e30, bary);
     float ts = intersect_sphere(r, c.sphere.xyz, c.sphere.w, 0.0, 1e30);
-    vec3 off = offset_ray(c.origin.xyz, normalize(c.dir.xyz));
+    vec3 off = offset_ray(c.origin.xyz, normalize(c.dir.xyz), c.sphere.w * 1e-4);
     results[i * 2u] = vec4(tt, bary, ts);
     results[i * 2u + 1u] = vec4(off, 0.0);
 }
@@ -331,7 +331,7 @@ void main() {
         glm::vec2 bary;
         const float tt = rt::intersect_triangle(rt::watertight_setup(ray), glm::vec3(c.p0), glm::vec3(c.p1), glm::vec3(c.p2), 1e30f, bary);
         const float ts = rt::intersect_sphere(ray, glm::vec3(c.sphere), c.sphere.w, 0.0f, 1e30f);
-        const glm::vec3 off = rt::offset_ray(glm::vec3(c.origin), glm::normalize(glm::vec3(c.dir)));
+        const glm::vec3 off = rt::offset_ray(glm::vec3(c.origin), glm::normalize(glm::vec3(c.dir)), c.sphere.w * 1e-4f);
         EXPECT_EQ(tt > 0.0f, res[i * 2].x > 0.0f) << i;
         if (tt > 0.0f) EXPECT_NEAR(res[i * 2].x, tt, std::fabs(tt) * 1e-5f) << i;
         EXPECT_EQ(ts > 0.0f, res[i * 2].w > 0.0f) << i;

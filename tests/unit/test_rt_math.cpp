@@ -118,9 +118,11 @@ TEST(Sphere, OriginInsideAndTangentRays) {
 
 TEST(OffsetRay, LeavesTheSurfaceAtAnyScale) {
     const glm::vec3 n(0, 0, 1);
+    const float min_offset = ray_offset_for_extent(8.0f);
+    EXPECT_FLOAT_EQ(min_offset, 1.0f / 65536.0f);  // Wächter & Binder's constant for a unit-size scene
     for (const float z : {0.0f, 1e-5f, 1.0f, 1e3f, 1e5f, -1e5f}) {
         const glm::vec3 p(0.3f, -0.2f, z);
-        const glm::vec3 o = offset_ray(p, n);
+        const glm::vec3 o = offset_ray(p, n, min_offset);
         EXPECT_GT(o.z, p.z) << z;                            // moved to the normal's side
         EXPECT_LT(o.z - p.z, std::max(1e-4f, std::fabs(z) * 1e-4f)) << z;  // by a few ulps only
         // A ray leaving along the surface's tangent from the offset point does not hit the plane.
