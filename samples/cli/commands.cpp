@@ -432,6 +432,12 @@ int cmd_render(const Args& args) {
         if (e != ".png" && e != ".exr") throw bad_input(out + ": the output must be .png or .exr");
     }
     const float exposure = p.has("--exposure") ? parse_float("--exposure", p.get("--exposure"), -32, 32) : 0.0f;
+    // Fail before rendering, not after: the output's directory must exist.
+    {
+        const fs::path dir = out_path.has_parent_path() ? out_path.parent_path() : fs::path(".");
+        if (!fs::is_directory(dir)) throw bad_input(out + ": cannot write: no directory " + dir.string());
+        if (access(dir.c_str(), W_OK) != 0) throw bad_input(out + ": cannot write: " + dir.string() + " is not writable");
+    }
     SceneSetup s = setup_scene(p, p.positional[0], 512, 512);
     // A .png gets its display transform on the GPU (the tonemap pass); an .exr is the HDR target.
     const bool display = is_display_format(out_path);

@@ -1,6 +1,8 @@
 // Loader: sample scenes, broken files (message names file and JSON path), geometry rules.
 #include <gtest/gtest.h>
 
+#include <fstream>
+
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "core/error.hpp"
@@ -109,6 +111,48 @@ TEST(Loader, MissingTextureWarnsAndUsesVisibleFallback) {
     EXPECT_EQ(img.name, "fallback");
     EXPECT_EQ(img.rgba8[0], 255);  // magenta
     EXPECT_EQ(img.rgba8[1], 0);
+}
+
+// Bad texture files (issue 10): truncated, not an image, a header that claims 65536x65536 or
+// 0x0, an unsupported format. Each is a warning naming the image and the fallback texture.
+TEST(Loader, BadTextureFilesFallBackWithAWarning) {
+    const fs::path dir = test::test_dir("bad_textures");
+    std::string png;
+    {
+        std::ifstream in(fs::path(CANDELA_SOURCE_DIR) / "samples" / "scenes" / "fence.png", std::ios::binary);
+        png.assign(std::istreambuf_iterator<char>(in), {});
+    }
+    ASSERT_GT(png.size(), 60u);
+    // An IHDR chunk with the given size (CRC not checked by the decoder before the size).
+    auto header = [&](std::uint32_t w, std::uint32_t h) {
+        std::string s = png.substr(0, 33);
+        for (int i = 0; i < 4; ++i) {
+            s[16 + i] = static_cast<char>((w >> (24 - 8 * i)) & 0xff);
+            s[20 + i] = static_cast<char>((h >> (24 - 8 * i)) & 0xff);
+        }
+        return s + png.substr(33);
+    };
+    const std::vector<std::pair<std::string, std::string>> files = {
+        {"truncated.png", png.substr(0, png.size() / 2)}, {"garbage.png", "not an image at all"},
+        {"huge.png", header(65536, 65536)}, {"empty.png", header(0, 0)}, {"image.bmp", std::string("BM") + std::string(60, '\0')}};
+    for (const auto& [name, bytes] : files) {
+        SCOPED_TRACE(name);
+        std::ofstream(dir / name, std::ios::binary) << bytes;
+        test::GltfBuilder b;
+        b.json()["images"] = {{{"uri", name}}};
+        b.json()["textures"] = {{{"source", 0}}};
+        b.json()["materials"] = {{{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}}};
+        b.add_node({{"mesh", b.add_quad_mesh(0)}});
+        const int before = log::warning_count();
+        const Scene scene = load_gltf(b.write(dir, "scene_" + name));
+        EXPECT_EQ(log::warning_count(), before + 1);
+        EXPECT_EQ(scene.sanitized.missing_textures, 1);
+        const TextureRef& ref = scene.materials.at(0).base_color_texture;
+        ASSERT_TRUE(ref.present());
+        const Image& img = scene.images.at(static_cast<size_t>(ref.image));
+        EXPECT_TRUE(img.valid);
+        EXPECT_EQ(img.name, "fallback");
+    }
 }
 
 TEST(Loader, NotAFileOrNotGltf) {
