@@ -86,12 +86,7 @@ void add_transmissive_pass(FrameGraph& graph, const PassEnv& env, ForwardTargets
             ps.depth_test = true;
             ps.depth_func = GL_EQUAL;
             ps.depth_write = false;
-            ctx.state.apply(ps);
-            ctx.state.bind_framebuffer(env.fbos.get({&ctx.texture(targets.hdr)}, &ctx.texture(targets.depth)));
-            ctx.state.viewport(0, 0, env.width, env.height);
-            bind_scene_buffers(env);
-            bind_ssao(env, ctx, targets);
-            ctx.state.use_program(env.programs.forward.id());
+            begin_forward_shading(env, ctx, targets, ps);
             ctx.state.bind_vertex_array(env.scene.vertex_array().id());
             const Scene& scene = env.scene.scene();
             for (const auto& d : env.scene.draws())

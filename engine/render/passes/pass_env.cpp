@@ -69,6 +69,16 @@ void bind_ssao(const PassEnv& env, FrameGraph::Context& ctx, const ForwardTarget
     }
 }
 
+void begin_forward_shading(const PassEnv& env, FrameGraph::Context& ctx, const ForwardTargets& targets,
+                           const gl::PipelineState& ps) {
+    ctx.state.apply(ps);
+    ctx.state.bind_framebuffer(env.fbos.get({&ctx.texture(targets.hdr)}, &ctx.texture(targets.depth)));
+    ctx.state.viewport(0, 0, env.width, env.height);
+    bind_scene_buffers(env);
+    bind_ssao(env, ctx, targets);
+    ctx.state.use_program(env.programs.forward.id());
+}
+
 void draw_item(const PassEnv& env, FrameGraph::Context& ctx, const GpuScene::Draw& d, bool cull, GLenum cull_face,
                GLuint program_id) {
     ctx.state.set_cull(cull, cull_face);

@@ -127,6 +127,10 @@ void bind_scene_buffers(const PassEnv& env);
 void read_lighting_inputs(FrameGraph::Builder& b, const ForwardTargets& targets);
 // Binds the AO buffer (unit 9) and the RSM indirect irradiance (unit 10) when they run.
 void bind_ssao(const PassEnv& env, FrameGraph::Context& ctx, const ForwardTargets& targets);
+// The forward program shading into the HDR target over the frame's depth with `ps`, every
+// lighting input bound: the passes that draw after the opaque geometry.
+void begin_forward_shading(const PassEnv& env, FrameGraph::Context& ctx, const ForwardTargets& targets,
+                           const gl::PipelineState& ps);
 // Draws one scene item with `program` (default: forward), which has the forward vertex layout and
 // per-draw uniforms (locations 0-3), textures and winding.
 void draw_item(const PassEnv& env, FrameGraph::Context& ctx, const GpuScene::Draw& d, bool cull, GLenum cull_face,

@@ -33,12 +33,7 @@ void add_transparent_pass(FrameGraph& graph, const PassEnv& env, ForwardTargets&
             ps.blend_dst_rgb = GL_ONE_MINUS_SRC_ALPHA;
             ps.blend_src_alpha = GL_ZERO;
             ps.blend_dst_alpha = GL_ONE;
-            ctx.state.apply(ps);
-            ctx.state.bind_framebuffer(env.fbos.get({&ctx.texture(targets.hdr)}, &ctx.texture(targets.depth)));
-            ctx.state.viewport(0, 0, env.width, env.height);
-            bind_scene_buffers(env);
-            bind_ssao(env, ctx, targets);
-            ctx.state.use_program(env.programs.forward.id());
+            begin_forward_shading(env, ctx, targets, ps);
             std::vector<GpuScene::Draw> draws;
             for (const auto* d : blended) draws.push_back(*d);
             if (env.settings.transparency_knobs.sort == "triangle") {
