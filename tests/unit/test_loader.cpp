@@ -99,18 +99,24 @@ INSTANTIATE_TEST_SUITE_P(
         BrokenCase{"bad_mesh_reference.gltf", "nodes[0].mesh: mesh 7 does not exist"},
         BrokenCase{"node_cycle.gltf", "scenes[0].nodes: node 0 is a root and also a child"}));
 
-TEST(Loader, MissingTextureWarnsAndUsesVisibleFallback) {
-    const int before = log::warning_count();
-    const Scene scene = load_gltf(kBroken / "missing_texture.gltf");
-    EXPECT_GT(log::warning_count(), before);
-    EXPECT_EQ(scene.sanitized.missing_textures, 1);
+// Material 0's base colour texture is the visible (magenta) fallback image.
+void expect_fallback_base_color(const Scene& scene) {
     const TextureRef& ref = scene.materials.at(0).base_color_texture;
     ASSERT_TRUE(ref.present());
     const Image& img = scene.images.at(static_cast<size_t>(ref.image));
     EXPECT_TRUE(img.valid);
     EXPECT_EQ(img.name, "fallback");
+    ASSERT_GE(img.rgba8.size(), 2u);
     EXPECT_EQ(img.rgba8[0], 255);  // magenta
     EXPECT_EQ(img.rgba8[1], 0);
+}
+
+TEST(Loader, MissingTextureWarnsAndUsesVisibleFallback) {
+    const int before = log::warning_count();
+    const Scene scene = load_gltf(kBroken / "missing_texture.gltf");
+    EXPECT_GT(log::warning_count(), before);
+    EXPECT_EQ(scene.sanitized.missing_textures, 1);
+    expect_fallback_base_color(scene);
 }
 
 // Bad texture files (issue 10): truncated, not an image, a header that claims 65536x65536 or
@@ -147,11 +153,7 @@ TEST(Loader, BadTextureFilesFallBackWithAWarning) {
         const Scene scene = load_gltf(b.write(dir, "scene_" + name));
         EXPECT_EQ(log::warning_count(), before + 1);
         EXPECT_EQ(scene.sanitized.missing_textures, 1);
-        const TextureRef& ref = scene.materials.at(0).base_color_texture;
-        ASSERT_TRUE(ref.present());
-        const Image& img = scene.images.at(static_cast<size_t>(ref.image));
-        EXPECT_TRUE(img.valid);
-        EXPECT_EQ(img.name, "fallback");
+        expect_fallback_base_color(scene);
     }
 }
 
