@@ -5,6 +5,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 struct GLFWwindow;
 
@@ -50,6 +51,8 @@ protected:
 struct ContextResult {
     std::unique_ptr<Context> context;
     std::string error;  // set when context is null: names the backend, the version got, the renderer
+                        // and the features the driver lacks
+    std::string notice;  // set when --backend auto fell back from EGL to OSMesa: says why
 };
 
 // auto_select tries EGL, then OSMesa.
@@ -59,6 +62,12 @@ namespace detail {
 using GetProcAddress = void* (*)(const char*);
 // Loads GL through glad with the backend's getProcAddress and checks for 4.5 core.
 // Returns an empty string on success, else the reason.
+// Which of Candela's required GL features a context of `version` (major * 10 + minor) with these
+// extensions lacks: "GL_ARB_clip_control (reversed-Z depth), ..."; empty when none.
+std::string missing_gl_features(int version, const std::vector<std::string>& extensions);
+// For a context that is current but below 4.5: "<backend>: OpenGL 4.5 core is required; the
+// driver offers '<version>' on '<renderer>'; missing: <features>".
+std::string describe_shortfall(const char* backend, GetProcAddress get_proc);
 std::string load_gl_and_check(const char* backend, GetProcAddress get_proc, std::string& renderer,
                               std::string& version, bool debug);
 std::unique_ptr<Context> create_egl(const ContextOptions& options, std::string& error);

@@ -118,6 +118,18 @@ std::unique_ptr<Context> create_egl(const ContextOptions& options, std::string& 
     if (context == EGL_NO_CONTEXT) {
         error = "egl: could not create an OpenGL 4.5 core context on the " + std::string(platform) +
                 " platform (" + egl_error_name(eglGetError()) + ")";
+        // Ask the best core context the driver does give what it lacks.
+        const EGLint probe_attribs[] = {EGL_CONTEXT_MAJOR_VERSION, 3, EGL_CONTEXT_MINOR_VERSION, 2,
+                                        EGL_CONTEXT_OPENGL_PROFILE_MASK,
+                                        EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
+        EGLContext probe = eglCreateContext(display, EGL_NO_CONFIG_KHR, EGL_NO_CONTEXT, probe_attribs);
+        if (probe != EGL_NO_CONTEXT) {
+            if (eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, probe))
+                error = describe_shortfall("egl", reinterpret_cast<GetProcAddress>(eglGetProcAddress)) +
+                        " (" + platform + " platform)";
+            eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+            eglDestroyContext(display, probe);
+        }
         eglTerminate(display);
         return nullptr;
     }

@@ -34,6 +34,22 @@ private:
     std::array<unsigned char, kSize * kSize * 4> buffer_{};
 };
 
+// After a failed 4.5 request: the best core context the driver does give (Mesa answers a 3.2
+// request with its highest core version), asked what it lacks.
+std::string diagnose_osmesa() {
+    const int attribs[] = {OSMESA_FORMAT, OSMESA_RGBA, OSMESA_PROFILE, OSMESA_CORE_PROFILE,
+                           OSMESA_CONTEXT_MAJOR_VERSION, 3, OSMESA_CONTEXT_MINOR_VERSION, 2, 0};
+    OSMesaContext probe = OSMesaCreateContextAttribs(attribs, nullptr);
+    if (!probe) return "osmesa: could not create an OpenGL 4.5 core context (OSMesaCreateContextAttribs failed, and no core context at all is offered)";
+    std::array<unsigned char, 4 * 4 * 4> buffer{};
+    std::string text = "osmesa: could not create an OpenGL 4.5 core context";
+    if (OSMesaMakeCurrent(probe, buffer.data(), GL_UNSIGNED_BYTE, 4, 4))
+        text = describe_shortfall("osmesa", reinterpret_cast<GetProcAddress>(OSMesaGetProcAddress));
+    OSMesaMakeCurrent(nullptr, nullptr, GL_UNSIGNED_BYTE, 0, 0);
+    OSMesaDestroyContext(probe);
+    return text;
+}
+
 }  // namespace
 
 std::unique_ptr<Context> create_osmesa(const ContextOptions& options, std::string& error) {
@@ -42,7 +58,7 @@ std::unique_ptr<Context> create_osmesa(const ContextOptions& options, std::strin
                            OSMESA_CONTEXT_MINOR_VERSION, 5, 0};
     OSMesaContext context = OSMesaCreateContextAttribs(attribs, nullptr);
     if (!context) {
-        error = "osmesa: could not create an OpenGL 4.5 core context (OSMesaCreateContextAttribs failed)";
+        error = diagnose_osmesa();
         return nullptr;
     }
     auto result = std::make_unique<OsMesaContext>(context, options.debug);

@@ -526,6 +526,7 @@ int run_accuracy(const AccuracyOptions& o) {
         std::fprintf(stderr, "candela: %s\n", ctx.error.c_str());
         return static_cast<int>(ExitCode::no_gl);
     }
+    if (!ctx.notice.empty()) std::fprintf(stderr, "candela: warning: %s\n", ctx.notice.c_str());
     const std::string device = ctx.context->device_string();
     const ShaderLibrary shaders(o.shader_dir);
     Progress progress;

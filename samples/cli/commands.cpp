@@ -273,6 +273,7 @@ ContextResult open_context(const SceneSetup& s) {
     ContextOptions ctx_options;
     ctx_options.debug = s.debug;
     ContextResult ctx = create_context(s.backend, ctx_options);
+    if (ctx.context && !ctx.notice.empty()) log::warn(ctx.notice);
     if (ctx.context) log::info(std::string("backend ") + to_string(ctx.context->backend()) + ": " + ctx.context->device_string());
     else std::fprintf(stderr, "candela: error: no usable OpenGL: %s\n", ctx.error.c_str());
     return ctx;

@@ -154,6 +154,21 @@ TEST(Contexts, WindowWithoutDisplayIsAClearErrorNotACrash) {
     EXPECT_NE(r.error.find("xvfb-run"), std::string::npos) << r.error;
 }
 
+TEST(Contexts, MissingFeaturesAreNamedOnlyWhenNeitherCoreNorExtension) {
+    // A 4.5 driver lacks nothing, whatever it lists.
+    EXPECT_EQ(detail::missing_gl_features(45, {}), "");
+    // 4.4 with clip control as an extension lacks nothing; without it, exactly the 4.5 features
+    // that are not listed.
+    EXPECT_EQ(detail::missing_gl_features(44, {"GL_ARB_clip_control", "GL_ARB_direct_state_access",
+                                               "GL_ARB_texture_barrier"}), "");
+    const std::string m44 = detail::missing_gl_features(44, {"GL_ARB_direct_state_access", "GL_ARB_texture_barrier"});
+    EXPECT_EQ(m44, "GL_ARB_clip_control (reversed-Z depth)");
+    // 3.3 with no extensions lacks compute among others, and not timer queries (core in 3.3).
+    const std::string m33 = detail::missing_gl_features(33, {});
+    EXPECT_NE(m33.find("GL_ARB_compute_shader"), std::string::npos) << m33;
+    EXPECT_EQ(m33.find("GL_ARB_timer_query"), std::string::npos) << m33;
+}
+
 }  // namespace
 }  // namespace candela
 
