@@ -670,14 +670,15 @@ std::string read_file(const fs::path& path) {
 
 // Checks what tinygltf reports only vaguely: JSON syntax (with line and column) and external
 // buffer files that are missing or shorter than their byteLength.
-void precheck_gltf_json(const fs::path& path, const std::string& text) {
+void precheck_gltf_json(const fs::path& path, std::string_view text) {
     nlohmann::json j;
     try {
         j = nlohmann::json::parse(text);
-    } catch (const nlohmann::json::parse_error& e) {
+    } catch (const nlohmann::json::exception& e) {
+        // parse_error, and out_of_range for a number beyond double (e.g. 1e400; found by fuzzing).
         std::string what = e.what();
-        const auto pos = what.find("parse error");
-        throw bad_input(path.string() + ": invalid JSON: " + (pos == std::string::npos ? what : what.substr(pos)));
+        const auto pos = what.find("] ");
+        throw bad_input(path.string() + ": invalid JSON: " + (pos == std::string::npos ? what : what.substr(pos + 2)));
     }
     if (!j.is_object()) throw bad_input(path.string() + ": the top level is not a JSON object");
     if (!j.contains("asset")) throw bad_input(path.string() + ": asset: missing (not a glTF 2.0 file?)");
@@ -709,7 +710,10 @@ Scene load_gltf(const fs::path& path) {
     std::error_code ec;
     if (!fs::exists(path, ec)) throw bad_input(path.string() + ": no such file");
     if (fs::is_directory(path, ec)) throw bad_input(path.string() + ": is a directory, not a glTF file");
-    const std::string bytes = read_file(path);
+    return load_gltf_from_memory(path, read_file(path));
+}
+
+Scene load_gltf_from_memory(const fs::path& path, std::string_view bytes) {
     const bool binary = bytes.size() >= 4 && bytes.compare(0, 4, "glTF") == 0;
     if (!binary) precheck_gltf_json(path, bytes);
 

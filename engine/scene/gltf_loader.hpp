@@ -1,5 +1,6 @@
 #pragma once
 #include <filesystem>
+#include <string_view>
 
 #include "scene/scene.hpp"
 
@@ -12,5 +13,10 @@ namespace candela {
 // Recoverable problems (missing texture, non-triangle primitive) are warnings, counted in
 // Scene::sanitized.
 Scene load_gltf(const std::filesystem::path& path);
+
+// The same from bytes already in memory (.gltf JSON or .glb): `path` names the input in messages
+// and its folder resolves relative URIs (buffers, images), as if the bytes had been read from it.
+// The fuzz target uses this to skip the file system for the input itself.
+Scene load_gltf_from_memory(const std::filesystem::path& path, std::string_view bytes);
 
 }  // namespace candela

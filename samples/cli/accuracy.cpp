@@ -576,7 +576,7 @@ int run_accuracy(const AccuracyOptions& o) {
     const auto link = [&](const std::string& file) { return (link_dir / file).generic_string(); };
     for (const Job& j : jobs) {
         const Sweep& s = *j.sweep;
-        Section sec{&s, j.scene, rows.size(), rows.size()};
+        Section sec{&s, j.scene, rows.size(), rows.size(), 0, 0, 0, kNaN, {}, {}};
         if (s.effect == "forward_deferred") {
             for (int n : light_counts) {
                 const std::string name = "generated:lights:" + std::to_string(n);
