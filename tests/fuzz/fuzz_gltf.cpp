@@ -1,0 +1,51 @@
+// libFuzzer target: the glTF loader, the scene builder (world transforms, world triangles, scene
+// features) and the ray tracer's geometry + BVH builder, on arbitrary bytes.
+// A bad file must end in candela::Error (a clean "FILE: problem" message); anything else escaping,
+// a sanitizer report, a hang or a loaded Scene that breaks one of its promises
+// (scene_invariants.hpp) is a finding. Build: tests/fuzz/CMakeLists.txt (clang); run by ctest as
+// fuzz.gltf; every finding is kept in tests/fuzz/regressions and replayed by the unit tests.
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <string_view>
+
+#include "core/error.hpp"
+#include "core/log.hpp"
+#include "rt/rt_geometry.hpp"
+#include "scene/features.hpp"
+#include "scene/gltf_loader.hpp"
+#include "scene_invariants.hpp"
+
+namespace {
+// The input is loaded as if it were a file in samples/scenes, so relative URIs of mutated inputs
+// still reach the sample buffers and textures.
+const std::filesystem::path kInput = std::filesystem::path(CANDELA_SCENE_DIR) / "fuzz_input.gltf";
+}  // namespace
+
+extern "C" int LLVMFuzzerInitialize(int*, char***) {
+    candela::log::set_level(candela::log::Level::quiet);
+    return 0;
+}
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+    using namespace candela;
+    try {
+        const Scene scene = load_gltf_from_memory(kInput, std::string_view(reinterpret_cast<const char*>(data), size));
+        const std::string broken = fuzz::scene_violation(scene);
+        if (!broken.empty()) {
+            std::fprintf(stderr, "fuzz_gltf: the loaded scene breaks a promise: %s\n", broken.c_str());
+            std::abort();
+        }
+        (void)analyze_features(scene);
+        const rt::RtGeometry g = rt::build_rt_geometry(scene, static_cast<int>(scene.materials.size()));
+        const std::size_t prims = g.triangles.size() + g.spheres.size();
+        if (g.bvh.prim_indices.size() != prims) {
+            std::fprintf(stderr, "fuzz_gltf: the BVH holds %zu primitives, the scene %zu\n", g.bvh.prim_indices.size(), prims);
+            std::abort();
+        }
+    } catch (const Error&) {
+        // The expected outcome for a broken file: a message naming the file and the problem.
+    }
+    return 0;
+}
