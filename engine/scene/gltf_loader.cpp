@@ -104,6 +104,43 @@ private:
     void warn(const std::string& json_path, const std::string& what) const {
         log::warn(file_ + ": " + json_path + ": " + what);
     }
+    // A JSON number as a float: one that does not fit (|v| > FLT_MAX) is bad input.
+    float f32(const std::string& json_path, double v) const {
+        if (!std::isfinite(v) || std::fabs(v) > static_cast<double>(std::numeric_limits<float>::max()))
+            fail(json_path, std::to_string(v) + " does not fit a 32-bit float");
+        return static_cast<float>(v);
+    }
+    // A factor with a valid range (glTF's, or Candela's limit where glTF has none, so that sums
+    // and products in float stay finite): values outside are clamped with a warning.
+    float factor(const std::string& json_path, double v, float lo, float hi) const {
+        const float f = f32(json_path, v);
+        if (f >= lo && f <= hi) return f;
+        warn(json_path, std::to_string(f) + " is outside [" + std::to_string(lo) + ", " + std::to_string(hi) + "]; clamped");
+        return std::clamp(f, lo, hi);
+    }
+    template <int N>
+    glm::vec<N, float> factors(const std::string& json_path, const std::vector<double>& v, float lo, float hi) const {
+        glm::vec<N, float> out;
+        for (int i = 0; i < N; ++i) out[i] = factor(json_path + "[" + std::to_string(i) + "]", v[static_cast<size_t>(i)], lo, hi);
+        return out;
+    }
+    // The same for an object's member (extensions), with a fallback when absent or not a number.
+    float factor(const std::string& json_path, const Value& object, const char* key, double fallback, float lo, float hi) const {
+        return factor(json_path + "." + key, number(object, key, fallback), lo, hi);
+    }
+    template <int N>
+    glm::vec<N, float> factors(const std::string& json_path, const Value& object, const char* key, glm::vec<N, float> fallback,
+                               float lo, float hi) const {
+        if (!object.IsObject() || !object.Has(key)) return fallback;
+        const Value& v = object.Get(key);
+        if (!v.IsArray() || v.ArrayLen() != N) return fallback;
+        std::vector<double> d;
+        for (int i = 0; i < N; ++i) {
+            if (!v.Get(i).IsNumber()) return fallback;
+            d.push_back(v.Get(i).GetNumberAsDouble());
+        }
+        return factors<N>(json_path + "." + key, d, lo, hi);
+    }
 
     // Reads an accessor as float vectors (normalized integers mapped to [0,1] / [-1,1]).
     std::vector<glm::vec4> read_accessor(int accessor, const std::string& path, int want_components_max) const;
@@ -309,11 +346,10 @@ Material Loader::build_material(size_t i) {
     mat.name = src.name.empty() ? path : src.name;
     const auto& pbr = src.pbrMetallicRoughness;
     if (pbr.baseColorFactor.size() == 4)
-        mat.base_color = glm::vec4(pbr.baseColorFactor[0], pbr.baseColorFactor[1], pbr.baseColorFactor[2], pbr.baseColorFactor[3]);
-    mat.metallic = std::clamp(static_cast<float>(pbr.metallicFactor), 0.0f, 1.0f);
-    mat.roughness = std::clamp(static_cast<float>(pbr.roughnessFactor), 0.0f, 1.0f);
-    if (src.emissiveFactor.size() == 3)
-        mat.emissive = glm::vec3(src.emissiveFactor[0], src.emissiveFactor[1], src.emissiveFactor[2]);
+        mat.base_color = factors<4>(path + ".pbrMetallicRoughness.baseColorFactor", pbr.baseColorFactor, 0.0f, 1.0f);
+    mat.metallic = factor(path + ".pbrMetallicRoughness.metallicFactor", pbr.metallicFactor, 0.0f, 1.0f);
+    mat.roughness = factor(path + ".pbrMetallicRoughness.roughnessFactor", pbr.roughnessFactor, 0.0f, 1.0f);
+    if (src.emissiveFactor.size() == 3) mat.emissive = factors<3>(path + ".emissiveFactor", src.emissiveFactor, 0.0f, 1.0f);
     mat.base_color_texture = texture_ref(pbr.baseColorTexture, path + ".pbrMetallicRoughness.baseColorTexture", 1.0);
     mat.metallic_roughness_texture =
         texture_ref(pbr.metallicRoughnessTexture, path + ".pbrMetallicRoughness.metallicRoughnessTexture", 1.0);
@@ -326,27 +362,32 @@ Material Loader::build_material(size_t i) {
     if (src.alphaMode == "MASK") mat.alpha_mode = AlphaMode::mask;
     else if (src.alphaMode == "BLEND") mat.alpha_mode = AlphaMode::blend;
     else if (src.alphaMode != "OPAQUE") warn(path + ".alphaMode", "unknown mode '" + src.alphaMode + "'; using OPAQUE");
-    mat.alpha_cutoff = static_cast<float>(src.alphaCutoff);
+    mat.alpha_cutoff = factor(path + ".alphaCutoff", src.alphaCutoff, 0.0f, 1.0f);
     mat.double_sided = src.doubleSided;
+    // Limits where glTF has none: emission up to 1e6 (the hard cases use 1e4), specular colour up
+    // to 100, IOR up to 10 (diamond is 2.42), thickness and attenuation distance up to 1e30.
+    const std::string ext = path + ".extensions.";
     if (const Value* e = extension(src.extensions, "KHR_materials_emissive_strength"))
-        mat.emissive_strength = std::max(0.0f, static_cast<float>(number(*e, "emissiveStrength", 1.0)));
+        mat.emissive_strength = factor(ext + "KHR_materials_emissive_strength", *e, "emissiveStrength", 1.0, 0.0f, 1e6f);
     if (const Value* e = extension(src.extensions, "KHR_materials_specular")) {
-        mat.specular_factor = std::clamp(static_cast<float>(number(*e, "specularFactor", 1.0)), 0.0f, 1.0f);
-        mat.specular_color = glm::max(vec<3>(*e, "specularColorFactor", glm::vec3(1.0f)), glm::vec3(0.0f));
+        mat.specular_factor = factor(ext + "KHR_materials_specular", *e, "specularFactor", 1.0, 0.0f, 1.0f);
+        mat.specular_color = factors<3>(ext + "KHR_materials_specular", *e, "specularColorFactor", glm::vec3(1.0f), 0.0f, 100.0f);
     }
     if (const Value* e = extension(src.extensions, "KHR_materials_ior")) {
-        mat.ior = static_cast<float>(number(*e, "ior", 1.5));
+        mat.ior = f32(ext + "KHR_materials_ior.ior", number(*e, "ior", 1.5));
         if (mat.ior < 1.0f && mat.ior != 0.0f) {
-            warn(path + ".extensions.KHR_materials_ior.ior", "must be >= 1 (or 0); using 1.5");
+            warn(ext + "KHR_materials_ior.ior", "must be >= 1 (or 0); using 1.5");
             mat.ior = 1.5f;
         }
+        mat.ior = factor(ext + "KHR_materials_ior.ior", mat.ior, 0.0f, 10.0f);
     }
     if (const Value* e = extension(src.extensions, "KHR_materials_transmission"))
-        mat.transmission = std::clamp(static_cast<float>(number(*e, "transmissionFactor", 0.0)), 0.0f, 1.0f);
+        mat.transmission = factor(ext + "KHR_materials_transmission", *e, "transmissionFactor", 0.0, 0.0f, 1.0f);
     if (const Value* e = extension(src.extensions, "KHR_materials_volume")) {
-        mat.thickness = std::max(0.0f, static_cast<float>(number(*e, "thicknessFactor", 0.0)));
-        mat.attenuation_color = vec<3>(*e, "attenuationColor", glm::vec3(1.0f));
-        mat.attenuation_distance = static_cast<float>(number(*e, "attenuationDistance", INFINITY));
+        mat.thickness = factor(ext + "KHR_materials_volume", *e, "thicknessFactor", 0.0, 0.0f, 1e30f);
+        mat.attenuation_color = factors<3>(ext + "KHR_materials_volume", *e, "attenuationColor", glm::vec3(1.0f), 0.0f, 1.0f);
+        const Value& ad = e->IsObject() && e->Has("attenuationDistance") ? e->Get("attenuationDistance") : Value();
+        if (ad.IsNumber()) mat.attenuation_distance = factor(ext + "KHR_materials_volume.attenuationDistance", ad.GetNumberAsDouble(), 1e-30f, 1e30f);
     }
     return mat;
 }
@@ -468,12 +509,15 @@ void Loader::build_nodes(Scene& scene) {
         const std::string path = idx("nodes", i);
         node.name = src.name.empty() ? path : src.name;
         if (src.matrix.size() == 16) {
-            for (int k = 0; k < 16; ++k) glm::value_ptr(node.local)[k] = static_cast<float>(src.matrix[static_cast<size_t>(k)]);
+            for (int k = 0; k < 16; ++k)
+                glm::value_ptr(node.local)[k] = f32(path + ".matrix[" + std::to_string(k) + "]", src.matrix[static_cast<size_t>(k)]);
         } else {
             glm::vec3 t(0.0f), s(1.0f);
             glm::quat r(1.0f, 0.0f, 0.0f, 0.0f);
-            if (src.translation.size() == 3) t = glm::vec3(src.translation[0], src.translation[1], src.translation[2]);
-            if (src.scale.size() == 3) s = glm::vec3(src.scale[0], src.scale[1], src.scale[2]);
+            for (size_t k = 0; k < 3 && src.translation.size() == 3; ++k)
+                t[static_cast<int>(k)] = f32(path + ".translation[" + std::to_string(k) + "]", src.translation[k]);
+            for (size_t k = 0; k < 3 && src.scale.size() == 3; ++k)
+                s[static_cast<int>(k)] = f32(path + ".scale[" + std::to_string(k) + "]", src.scale[k]);
             if (src.rotation.size() == 4) {
                 r = glm::quat(static_cast<float>(src.rotation[3]), static_cast<float>(src.rotation[0]),
                               static_cast<float>(src.rotation[1]), static_cast<float>(src.rotation[2]));
@@ -565,8 +609,8 @@ void Loader::build_environment(Scene& scene) {
     const Value& extras = m_.scenes[si].extras;
     if (!extras.IsObject()) return;
     const std::string path = idx("scenes", si) + ".extras";
-    scene.environment.radiance = glm::max(vec<3>(extras, "environment_radiance", glm::vec3(0.0f)), glm::vec3(0.0f));
-    scene.environment.intensity = std::max(0.0f, static_cast<float>(number(extras, "environment_intensity", 1.0)));
+    scene.environment.radiance = factors<3>(path, extras, "environment_radiance", glm::vec3(0.0f), 0.0f, 1e6f);
+    scene.environment.intensity = factor(path, extras, "environment_intensity", 1.0, 0.0f, 1e6f);
     if (extras.Has("environment_map") && extras.Get("environment_map").IsString()) {
         const fs::path map = dir_ / extras.Get("environment_map").Get<std::string>();
         if (fs::exists(map)) scene.environment.map = map;
@@ -613,11 +657,12 @@ Scene Loader::build() {
         else if (src.type == "spot") light.type = LightType::spot;
         else if (src.type == "point") light.type = LightType::point;
         else fail("extensions.KHR_lights_punctual." + idx("lights", i) + ".type", "unknown light type '" + src.type + "'");
-        if (src.color.size() == 3) light.color = glm::max(glm::vec3(src.color[0], src.color[1], src.color[2]), glm::vec3(0.0f));
-        light.intensity = std::max(0.0f, static_cast<float>(src.intensity));
-        light.range = std::max(0.0f, static_cast<float>(src.range));
-        light.inner_cone = static_cast<float>(src.spot.innerConeAngle);
-        light.outer_cone = static_cast<float>(src.spot.outerConeAngle);
+        const std::string lpath = "extensions.KHR_lights_punctual." + idx("lights", i);
+        if (src.color.size() == 3) light.color = factors<3>(lpath + ".color", src.color, 0.0f, 1.0f);
+        light.intensity = factor(lpath + ".intensity", src.intensity, 0.0f, 1e12f);
+        light.range = factor(lpath + ".range", src.range, 0.0f, std::numeric_limits<float>::max());
+        light.inner_cone = f32(lpath + ".spot.innerConeAngle", src.spot.innerConeAngle);
+        light.outer_cone = f32(lpath + ".spot.outerConeAngle", src.spot.outerConeAngle);
         if (light.type == LightType::spot) {
             light.outer_cone = std::clamp(light.outer_cone, 1e-4f, 1.5707963f);
             light.inner_cone = std::clamp(light.inner_cone, 0.0f, light.outer_cone * 0.9999f);
@@ -626,6 +671,13 @@ Scene Loader::build() {
     }
     for (size_t i = 0; i < m_.meshes.size(); ++i) scene.meshes.push_back(build_mesh(i, scene));
     build_nodes(scene);
+    for (size_t i = 0; i < scene.nodes.size(); ++i)
+        for (int k = 0; k < 16; ++k)
+            if (!std::isfinite(glm::value_ptr(scene.nodes[i].world)[k]))
+                fail(idx("nodes", i), "the world transform overflows a 32-bit float (large scales or translations along the hierarchy)");
+    if (const Bounds b = scene.world_bounds(); !b.empty() && !(std::isfinite(b.max.x - b.min.x) && std::isfinite(b.max.y - b.min.y) &&
+                                                               std::isfinite(b.max.z - b.min.z)))
+        fail("nodes", "the scene's world-space extent overflows a 32-bit float");
     for (size_t i = 0; i < scene.nodes.size(); ++i) {
         const Node& node = scene.nodes[i];
         if (node.camera < 0) continue;
@@ -636,21 +688,26 @@ Scene Loader::build() {
         cam.world = node.world;
         if (src.type == "orthographic") {
             cam.orthographic = true;
-            cam.xmag = static_cast<float>(std::fabs(src.orthographic.xmag));
-            cam.ymag = static_cast<float>(std::fabs(src.orthographic.ymag));
-            cam.znear = static_cast<float>(src.orthographic.znear);
-            cam.zfar = static_cast<float>(src.orthographic.zfar);
+            const std::string cpath = idx("cameras", static_cast<size_t>(node.camera)) + ".orthographic";
+            cam.xmag = std::fabs(f32(cpath + ".xmag", src.orthographic.xmag));
+            cam.ymag = std::fabs(f32(cpath + ".ymag", src.orthographic.ymag));
+            cam.znear = f32(cpath + ".znear", src.orthographic.znear);
+            cam.zfar = f32(cpath + ".zfar", src.orthographic.zfar);
             if (!(cam.ymag > 0.0f)) fail(idx("cameras", static_cast<size_t>(node.camera)) + ".orthographic.ymag", "must be positive");
         } else {
-            cam.yfov = static_cast<float>(src.perspective.yfov);
-            cam.aspect_ratio = static_cast<float>(src.perspective.aspectRatio);
-            cam.znear = static_cast<float>(src.perspective.znear);
-            cam.zfar = static_cast<float>(src.perspective.zfar);
+            const std::string cpath = idx("cameras", static_cast<size_t>(node.camera)) + ".perspective";
+            cam.yfov = f32(cpath + ".yfov", src.perspective.yfov);
+            cam.aspect_ratio = std::max(0.0f, f32(cpath + ".aspectRatio", src.perspective.aspectRatio));
+            cam.znear = f32(cpath + ".znear", src.perspective.znear);
+            cam.zfar = f32(cpath + ".zfar", src.perspective.zfar);
             if (!(cam.yfov > 0.0f && cam.yfov < 3.14f))
                 fail(idx("cameras", static_cast<size_t>(node.camera)) + ".perspective.yfov", "must be in (0, pi)");
             if (!(cam.znear > 0.0f))
                 fail(idx("cameras", static_cast<size_t>(node.camera)) + ".perspective.znear", "must be positive");
         }
+        const std::string cpath = idx("cameras", static_cast<size_t>(node.camera));
+        if (cam.orthographic && !(cam.znear >= 0.0f)) fail(cpath + ".orthographic.znear", "must not be negative");
+        if (cam.zfar != 0.0f && !(cam.zfar > cam.znear)) fail(cpath + (cam.orthographic ? ".orthographic" : ".perspective") + ".zfar", "must be greater than znear");
         scene.cameras.push_back(cam);
     }
     build_environment(scene);

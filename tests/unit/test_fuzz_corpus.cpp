@@ -88,3 +88,13 @@ TEST(FuzzCorpus, NumberBeyondDoubleIsBadJsonNotACrash) {
     ASSERT_EQ(replay(kSource / "tests" / "fuzz" / "regressions" / "json_number_overflow.gltf", &message), Outcome::rejected);
     EXPECT_NE(message.find("invalid JSON: number overflow parsing '1e381'"), std::string::npos) << message;
 }
+
+TEST(FuzzCorpus, FactorBeyondFloatIsBadInput) {
+    // Found by the fuzzer: baseColorFactor 2.2e98 is a finite double but +Inf as a float; the
+    // loaded material was not finite. Numbers that do not fit a float are now bad input, factors
+    // outside their range are clamped with a warning.
+    std::string message;
+    ASSERT_EQ(replay(kSource / "tests" / "fuzz" / "regressions" / "factor_beyond_float.gltf", &message), Outcome::rejected);
+    EXPECT_NE(message.find("materials[3].pbrMetallicRoughness.baseColorFactor[1]: "), std::string::npos) << message;
+    EXPECT_NE(message.find("does not fit a 32-bit float"), std::string::npos) << message;
+}
