@@ -349,7 +349,9 @@ Material Loader::build_material(size_t i) {
         mat.base_color = factors<4>(path + ".pbrMetallicRoughness.baseColorFactor", pbr.baseColorFactor, 0.0f, 1.0f);
     mat.metallic = factor(path + ".pbrMetallicRoughness.metallicFactor", pbr.metallicFactor, 0.0f, 1.0f);
     mat.roughness = factor(path + ".pbrMetallicRoughness.roughnessFactor", pbr.roughnessFactor, 0.0f, 1.0f);
-    if (src.emissiveFactor.size() == 3) mat.emissive = factors<3>(path + ".emissiveFactor", src.emissiveFactor, 0.0f, 1.0f);
+    // glTF caps emissiveFactor at 1 (KHR_materials_emissive_strength goes beyond); several
+    // exporters and Candela's own generated scenes write more, which is accepted up to 1e6.
+    if (src.emissiveFactor.size() == 3) mat.emissive = factors<3>(path + ".emissiveFactor", src.emissiveFactor, 0.0f, 1e6f);
     mat.base_color_texture = texture_ref(pbr.baseColorTexture, path + ".pbrMetallicRoughness.baseColorTexture", 1.0);
     mat.metallic_roughness_texture =
         texture_ref(pbr.metallicRoughnessTexture, path + ".pbrMetallicRoughness.metallicRoughnessTexture", 1.0);
