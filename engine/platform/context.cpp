@@ -47,6 +47,7 @@ constexpr GlRequirement kRequirements[] = {
     {"GL_ARB_compute_shader", 43, "the ray tracer and the compute passes"},
     {"GL_ARB_shader_storage_buffer_object", 43, "scene, light and BVH buffers"},
     {"GL_KHR_debug", 43, "GL error reporting"},
+    {"GL_ARB_texture_view", 43, "the ray tracer's sRGB view of the scene textures"},
     {"GL_ARB_shader_image_load_store", 42, "ray-tracer output images"},
     {"GL_ARB_texture_storage", 42, "immutable textures"},
     {"GL_ARB_texture_cube_map_array", 40, "reflection probes"},

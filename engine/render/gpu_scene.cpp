@@ -65,7 +65,10 @@ MaterialData to_gpu(const Material& m) {
     int wraps = 0;
     for (int s = 0; s < 5; ++s)
         wraps |= (wrap_code(slots[s]->sampler.wrap_s) | (wrap_code(slots[s]->sampler.wrap_t) << 2)) << (4 * s);
-    d.images2 = glm::ivec4(slots[4]->image, wraps, -1, -1);
+    // And the magnification filter: the tracer fetches the nearest texel for NEAREST.
+    int nearest = 0;
+    for (int s = 0; s < 5; ++s) nearest |= (slots[s]->sampler.mag_filter == 9728 ? 1 : 0) << s;  // GL_NEAREST
+    d.images2 = glm::ivec4(slots[4]->image, wraps, nearest, -1);
     d.volume = glm::vec4(m.thickness, m.attenuation_color);
     d.volume2 = glm::vec4(std::isfinite(m.attenuation_distance) ? m.attenuation_distance : 0.0f, 0.0f, 0.0f, 0.0f);
     return d;
@@ -380,6 +383,23 @@ const gl::Texture& GpuScene::image_array() const {
     glTextureParameteri(id, GL_TEXTURE_WRAP_T, GL_REPEAT);
     image_array_ = gl::Texture::adopt(id, side, side, GL_RGBA8);
     return image_array_;
+}
+
+const gl::Texture& GpuScene::image_array_srgb() const {
+    if (image_array_srgb_) return image_array_srgb_;
+    const gl::Texture& linear = image_array();
+    GLint levels = 0, layers = 0;
+    glGetTextureParameteriv(linear.id(), GL_TEXTURE_IMMUTABLE_LEVELS, &levels);
+    glGetTextureLevelParameteriv(linear.id(), 0, GL_TEXTURE_DEPTH, &layers);
+    GLuint id = 0;
+    glGenTextures(1, &id);  // a view needs a name that has never been bound
+    glTextureView(id, GL_TEXTURE_2D_ARRAY, linear.id(), GL_SRGB8_ALPHA8, 0, static_cast<GLuint>(levels), 0,
+                  static_cast<GLuint>(layers));
+    glTextureParameteri(id, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+    glTextureParameteri(id, GL_TEXTURE_WRAP_S, GL_REPEAT);
+    glTextureParameteri(id, GL_TEXTURE_WRAP_T, GL_REPEAT);
+    image_array_srgb_ = gl::Texture::adopt(id, linear.width(), linear.height(), GL_SRGB8_ALPHA8);
+    return image_array_srgb_;
 }
 
 const gl::Texture& GpuScene::texture(int image, bool srgb) {

@@ -141,6 +141,8 @@ public:
     // Every scene image resized to one size, as layers of an RGBA8 array (layer = image index):
     // how compute shaders (the ray tracer) sample material textures without bindless textures.
     const gl::Texture& image_array() const;
+    // The same storage as an sRGB view (colour textures decode before filtering).
+    const gl::Texture& image_array_srgb() const;
     bool has_environment_map() const { return static_cast<bool>(env_map_); }
     // The map's pixels (linear RGBA, unscaled), for the ray tracer's importance sampling.
     const ImageF& environment_image() const { return env_image_; }
@@ -163,7 +165,7 @@ private:
     gl::Texture white_;
     gl::Texture env_map_;
     ImageF env_image_;
-    mutable gl::Texture image_array_;
+    mutable gl::Texture image_array_, image_array_srgb_;
     int env_mips_ = 1;
     glm::vec3 env_radiance_{0.0f};
     std::array<glm::vec3, 9> env_sh_{};

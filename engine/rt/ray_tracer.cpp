@@ -180,6 +180,8 @@ void RayTracer::bind(const gl::Buffer& accum, const gl::Buffer& diagnostics) con
     glBindSampler(5, 0);
     glBindTextureUnit(6, gpu_.image_array().id());
     glBindSampler(6, 0);
+    glBindTextureUnit(15, gpu_.image_array_srgb().id());
+    glBindSampler(15, 0);
 }
 
 void RayTracer::progressive_restart(const Camera& camera, int width, int height) {

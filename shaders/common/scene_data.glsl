@@ -38,7 +38,8 @@ struct MaterialData {
     vec4 volume;               // x thickness (0: thin-walled), yzw attenuation color
     vec4 volume2;              // x attenuation distance (0: none)
     ivec4 images;              // scene image of base, metallic-roughness, normal, occlusion (-1: none)
-    ivec4 images2;             // x emissive image, y wrap modes for the ray tracer (4 bits per slot)
+    ivec4 images2;             // x emissive image, y wrap modes for the ray tracer (4 bits per slot),
+                               // z NEAREST magnification per slot for the ray tracer (1 bit per slot)
 };
 
 layout(std430, binding = 1) readonly buffer Materials { MaterialData materials[]; };

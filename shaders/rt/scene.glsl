@@ -58,6 +58,9 @@ layout(std140, binding = 8) uniform RtFrame {
 
 // Scene images as array layers (layer = image index; GpuScene::image_array).
 layout(binding = 6) uniform sampler2DArray t_images;
+// The same storage viewed as sRGB (GpuScene::image_array_srgb): colour slots (base colour,
+// emissive) decode before filtering, as the rasterizer's sRGB textures do.
+layout(binding = 15) uniform sampler2DArray t_images_srgb;
 
 // The glTF sampler's wrap mode per axis (images2.y: 4 bits per slot, s then t; 0 repeat,
 // 1 clamp to edge, 2 mirrored repeat), applied by hand: the image array itself repeats.
@@ -80,7 +83,22 @@ vec2 material_uv(MaterialData m, int slot, int set, vec2 uv0, vec2 uv1) {
     }
     return r;
 }
-vec4 material_texture(int image, vec2 uv) { return textureLod(t_images, vec3(uv, float(image)), 0.0); }
+// A material's texture in one slot (0 base colour, 1 metallic-roughness, 2 normal, 3 occlusion,
+// 4 emissive) at a hit, linear values (colour slots decoded from sRGB): its uv set and transform,
+// the sampler's wrap modes, and its filter: a
+// NEAREST magnification filter (images2.z bit per slot) fetches the texel under uv (the array's
+// layers replicate each image's texels, exact when the image's size divides the layer's), else
+// bilinear at level 0 (supersampling integrates the pixel's footprint).
+vec4 material_texture(MaterialData m, int slot, int image, int set, vec2 uv0, vec2 uv1) {
+    vec2 uv = material_uv(m, slot, set, uv0, uv1);
+    bool srgb = slot == 0 || slot == 4;
+    if (((m.images2.z >> slot) & 1) != 0) {
+        ivec2 size = textureSize(t_images, 0).xy;
+        ivec3 texel = ivec3(clamp(ivec2(floor(fract(uv) * vec2(size))), ivec2(0), size - 1), image);
+        return srgb ? texelFetch(t_images_srgb, texel, 0) : texelFetch(t_images, texel, 0);
+    }
+    return srgb ? textureLod(t_images_srgb, vec3(uv, float(image)), 0.0) : textureLod(t_images, vec3(uv, float(image)), 0.0);
+}
 
 struct Hit {
     float t;
@@ -136,7 +154,7 @@ Hit trace(Ray ray, float tmax, bool any_hit) {
                                 float w0 = 1.0 - bary.x - bary.y;
                                 vec2 uv0 = tri.uv_a.xy * w0 + tri.uv_a.zw * bary.x + tri.uv_b.xy * bary.y;
                                 vec2 uv1 = tri.uv_b.zw * w0 + tri.uv_c.xy * bary.x + tri.uv_c.zw * bary.y;
-                                alpha *= material_texture(m.images.x, material_uv(m, 0, m.texcoord.x, uv0, uv1)).a;
+                                alpha *= material_texture(m, 0, m.images.x, m.texcoord.x, uv0, uv1).a;
                             }
                             if (alpha < materials[mi].params.y) t = -1.0;
                         }
@@ -228,7 +246,7 @@ SurfaceHit surface_at(Ray ray, Hit hit) {
             if (tl > 1e-8) {
                 t /= tl;
                 vec3 b = cross(s.ns, t) * (tri.t0.w < 0.0 ? -1.0 : 1.0) * (s.front ? 1.0 : -1.0);
-                vec3 tn = material_texture(m.images.z, material_uv(m, 2, m.texcoord.z, s.uv0, s.uv1)).xyz * 2.0 - 1.0;
+                vec3 tn = material_texture(m, 2, m.images.z, m.texcoord.z, s.uv0, s.uv1).xyz * 2.0 - 1.0;
                 tn.xy *= m.params2.z;
                 vec3 mapped = mat3(t, b, s.ns) * tn;
                 float ml = length(mapped);

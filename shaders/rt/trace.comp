@@ -40,9 +40,9 @@ BrdfInput brdf_input(SurfaceHit s) {
     b.metallic = saturate(m.emission_metallic.a);
     b.roughness = saturate(m.params.x);
     if (m.texcoord.x >= 0)
-        b.base_color *= srgb_to_linear(material_texture(m.images.x, material_uv(m, 0, m.texcoord.x, s.uv0, s.uv1)).rgb);
+        b.base_color *= material_texture(m, 0, m.images.x, m.texcoord.x, s.uv0, s.uv1).rgb;
     if (m.texcoord.y >= 0) {
-        vec4 mr = material_texture(m.images.y, material_uv(m, 1, m.texcoord.y, s.uv0, s.uv1));
+        vec4 mr = material_texture(m, 1, m.images.y, m.texcoord.y, s.uv0, s.uv1);
         b.roughness *= mr.g;
         b.metallic *= mr.b;
     }
@@ -55,7 +55,7 @@ vec3 surface_emission(SurfaceHit s) {
     MaterialData m = materials[s.material];
     vec3 e = m.emission_metallic.rgb;
     if (m.texcoord2.x >= 0)
-        e *= srgb_to_linear(material_texture(m.images2.x, material_uv(m, 4, m.texcoord2.x, s.uv0, s.uv1)).rgb);
+        e *= material_texture(m, 4, m.images2.x, m.texcoord2.x, s.uv0, s.uv1).rgb;
     return e;
 }
 bool material_double_sided(int mi) { return materials[mi].params.w > 0.5; }
@@ -68,7 +68,7 @@ float blend_alpha(SurfaceHit s) {
     MaterialData m = materials[s.material];
     if (int(m.params.z) != 2) return 1.0;
     float a = m.base_color.a;
-    if (m.texcoord.x >= 0) a *= material_texture(m.images.x, material_uv(m, 0, m.texcoord.x, s.uv0, s.uv1)).a;
+    if (m.texcoord.x >= 0) a *= material_texture(m, 0, m.images.x, m.texcoord.x, s.uv0, s.uv1).a;
     return saturate(a);
 }
 float material_transmission(int mi) { return materials[mi].params2.y; }
@@ -252,7 +252,7 @@ vec3 direct_emitters(SurfaceHit s, BrdfInput m, vec3 v, inout Rng rng, bool use_
         vec2 uv0 = tri.uv_a.xy * w0 + tri.uv_a.zw * b.x + tri.uv_b.xy * b.y;
         vec2 uv1 = tri.uv_b.zw * w0 + tri.uv_c.xy * b.x + tri.uv_c.zw * b.y;
         MaterialData me = materials[mat];
-        Le *= srgb_to_linear(material_texture(me.images2.x, material_uv(me, 4, me.texcoord2.x, uv0, uv1)).rgb);
+        Le *= material_texture(me, 4, me.images2.x, me.texcoord2.x, uv0, uv1).rgb;
     }
     vec3 d = q - s.p;
     float dist2 = dot(d, d);

@@ -566,9 +566,8 @@ TEST_P(RtMaterialTest, TextureWrapModesMatchTheRasterizer) {
         EXPECT_EQ(count_nonfinite(raster.radiance), 0u);
         int agree = 0;
         for (int x = 0; x < n; ++x) agree += (traced.image.at(x, n / 2)[0] > 0.5f) == (raster.radiance.at(x, n / 2)[0] > 0.5f);
-        // The tracer filters bilinearly whatever the sampler says, so near each of the (up to
-        // three) texel borders in this row two pixels may differ.
-        EXPECT_GE(agree, n - 6);
+        // Both sample NEAREST: at most one pixel whose centre sits on a texel border may differ.
+        EXPECT_GE(agree, n - 1);
         // u = 0.75 -> uv 1.25: white when clamped or mirrored (black if it repeated).
         EXPECT_GT(traced.image.at(n * 3 / 4, n / 2)[0], 0.5f);
         // u = 0.1 -> uv -0.7: black when clamped, white when mirrored.
@@ -582,13 +581,71 @@ TEST_P(RtMaterialTest, TextureWrapModesMatchTheRasterizer) {
 namespace candela {
 namespace {
 
+TEST_P(RtMaterialTest, TextureFilterModesMatchTheRasterizer) {
+    // A 4x4 black/white checker magnified 15 times on an emissive quad. With magFilter NEAREST the
+    // ray tracer, like the rasterizer, shows only black and white (no pixel in between, sampled
+    // without jitter); with LINEAR both blend across every texel border, and agree with each other.
+    const auto dir = test::test_dir("filter");
+    std::vector<unsigned char> rgba(4 * 4 * 4, 255);
+    for (int y = 0; y < 4; ++y)
+        for (int x = 0; x < 4; ++x)
+            if ((x + y) % 2) rgba[static_cast<size_t>((y * 4 + x) * 4)] = rgba[static_cast<size_t>((y * 4 + x) * 4 + 1)] =
+                                 rgba[static_cast<size_t>((y * 4 + x) * 4 + 2)] = 0;
+    write_display_rgba8(dir / "checker.png", rgba, 4, 4);
+    for (const int filter : {9728, 9729}) {
+        SCOPED_TRACE(filter);
+        test::GltfBuilder b;
+        b.json()["images"] = {{{"uri", "checker.png"}}};
+        b.json()["samplers"] = {{{"magFilter", filter}, {"minFilter", filter}, {"wrapS", 33071}, {"wrapT", 33071}}};
+        b.json()["textures"] = {{{"source", 0}, {"sampler", 0}}};
+        json m = lambert(glm::vec3(0.0f));
+        m["emissiveFactor"] = {1, 1, 1};
+        m["emissiveTexture"] = {{"index", 0}};
+        b.json()["materials"] = {m};
+        b.add_node({{"mesh", b.add_quad_mesh(0)}});
+        ortho_camera(b, {0, 0, 5}, {0, 0, 0, 1}, 1.0f);
+        const Scene scene = load_gltf(b.write(dir, filter == 9728 ? "nearest" : "linear"));
+        rt::Options o;
+        o.mode = rt::Mode::whitted;
+        o.jitter = 0;
+        o.spp = 1;
+        GpuScene gpu(scene);
+        const int n = 60;
+        const rt::Result traced = rt::RayTracer(shader_lib(), scene, gpu, o).render(scene.select_camera("", 1.0f), n, n);
+        StillOptions so;
+        so.width = so.height = n;
+        so.settings.ssao = false;
+        const StillResult raster = render_still(scene, shader_lib(), so);
+        EXPECT_EQ(count_nonfinite(traced.image), 0u);
+        EXPECT_EQ(count_nonfinite(raster.radiance), 0u);
+        int between_rt = 0, between_raster = 0;
+        double max_diff = 0.0;
+        for (int y = 0; y < n; ++y)
+            for (int x = 0; x < n; ++x) {
+                const float t = traced.image.at(x, y)[0], r = raster.radiance.at(x, y)[0];
+                between_rt += t > 0.02f && t < 0.98f;
+                between_raster += r > 0.02f && r < 0.98f;
+                max_diff = std::max(max_diff, static_cast<double>(std::abs(t - r)));
+            }
+        std::printf("magFilter %d: pixels between black and white: ray tracer %d, raster %d; max difference %.3f\n", filter,
+                    between_rt, between_raster, max_diff);
+        if (filter == 9728) {
+            EXPECT_EQ(between_rt, 0);
+            EXPECT_EQ(between_raster, 0);
+        } else {
+            EXPECT_GT(between_rt, n * n / 4);
+            EXPECT_GT(between_raster, n * n / 4);
+        }
+        EXPECT_LT(max_diff, filter == 9728 ? 1e-3 : 0.1);
+    }
+}
+
 TEST_P(RtMaterialTest, EmissiveTexturesLightThroughNextEventEstimation) {
     // An area light whose emissive texture is black on one half and white on the other must light
     // the floor like an untextured light covering only the white half: next-event estimation
     // reads the texture at the point it samples, as BRDF rays hitting the light do.
     const auto dir = test::test_dir("emissive_texture");
-    // 64 texels wide, so that the tracer's bilinear filtering (it ignores NEAREST) blurs only
-    // 1/64 of the light across the black/white border.
+    // 64 texels wide and NEAREST, so the black/white border is sharp in both renderers.
     std::vector<unsigned char> rgba(64 * 4, 255);
     for (int x = 0; x < 32; ++x) rgba[static_cast<size_t>(x * 4)] = rgba[static_cast<size_t>(x * 4 + 1)] = rgba[static_cast<size_t>(x * 4 + 2)] = 0;
     write_display_rgba8(dir / "half.png", rgba, 64, 1);
