@@ -62,12 +62,13 @@ MaterialData to_gpu(const Material& m) {
     d.images = glm::ivec4(slots[0]->image, slots[1]->image, slots[2]->image, slots[3]->image);
     // Wrap modes for the ray tracer (it samples one repeating texture array): 4 bits per slot.
     auto wrap_code = [](int gl_wrap) { return gl_wrap == 33071 ? 1 : gl_wrap == 33648 ? 2 : 0; };  // CLAMP_TO_EDGE, MIRRORED_REPEAT
-    int wraps = 0;
-    for (int s = 0; s < 5; ++s)
-        wraps |= (wrap_code(slots[s]->sampler.wrap_s) | (wrap_code(slots[s]->sampler.wrap_t) << 2)) << (4 * s);
-    // And the magnification filter: the tracer fetches the nearest texel for NEAREST.
-    int nearest = 0;
-    for (int s = 0; s < 5; ++s) nearest |= (slots[s]->sampler.mag_filter == 9728 ? 1 : 0) << s;  // GL_NEAREST
+    // And the magnification filter, 1 bit per slot: the tracer fetches the nearest texel for NEAREST.
+    int wraps = 0, nearest = 0;
+    for (int s = 0; s < 5; ++s) {
+        const SamplerDesc& sampler = slots[s]->sampler;
+        wraps |= (wrap_code(sampler.wrap_s) | (wrap_code(sampler.wrap_t) << 2)) << (4 * s);
+        if (sampler.mag_filter == 9728) nearest |= 1 << s;  // GL_NEAREST
+    }
     d.images2 = glm::ivec4(slots[4]->image, wraps, nearest, -1);
     d.volume = glm::vec4(m.thickness, m.attenuation_color);
     d.volume2 = glm::vec4(std::isfinite(m.attenuation_distance) ? m.attenuation_distance : 0.0f, 0.0f, 0.0f, 0.0f);
