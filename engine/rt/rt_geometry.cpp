@@ -66,6 +66,18 @@ RtGeometry build_rt_geometry(const Scene& scene, int default_material, const Bvh
         g.emitters.push_back({static_cast<std::uint32_t>(i), 0.0f, 0.0f, area});
         power.push_back(luminance(e) * area * (m.double_sided ? 2.0f : 1.0f));
     }
+    // Emissive spheres (untextured emission) too, sampled by the cone they subtend: their
+    // `triangle` is triangles.size() + sphere index, their pdf is also kept in material_node.z.
+    for (size_t i = 0; i < g.spheres.size(); ++i) {
+        const SphereGpu& sp = g.spheres[i];
+        const int mat = sp.material_node.x;
+        const Material& m = scene.material(mat < static_cast<int>(scene.materials.size()) ? mat : -1);
+        const float r = sp.center_radius.w;
+        const float area = 4.0f * 3.14159265f * r * r;
+        if (luminance(m.emission()) <= 0.0f || m.emissive_texture.present() || !(area > 0.0f) || !std::isfinite(area)) continue;
+        g.emitters.push_back({static_cast<std::uint32_t>(g.triangles.size() + i), 0.0f, 0.0f, area});
+        power.push_back(luminance(m.emission()) * area);
+    }
     double total = 0.0;
     for (float p : power) total += p;
     g.emitted_power = total;
@@ -74,7 +86,9 @@ RtGeometry build_rt_geometry(const Scene& scene, int default_material, const Bvh
         running += power[i];
         g.emitters[i].pdf = static_cast<float>(power[i] / total);
         g.emitters[i].cdf = static_cast<float>(running / total);
-        g.triangles[g.emitters[i].triangle].n0.w = g.emitters[i].pdf;
+        const std::uint32_t t = g.emitters[i].triangle;
+        if (t < g.triangles.size()) g.triangles[t].n0.w = g.emitters[i].pdf;
+        else g.spheres[t - g.triangles.size()].material_node.z = as_int_bits(g.emitters[i].pdf);
     }
     if (!g.emitters.empty()) g.emitters.back().cdf = 1.0f;
     double total_area = 0.0;

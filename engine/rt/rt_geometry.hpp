@@ -23,10 +23,10 @@ struct TriangleGpu {
 };
 struct SphereGpu {
     glm::vec4 center_radius;
-    glm::ivec4 material_node;
+    glm::ivec4 material_node;  // x material, y node, z emitter-selection pdf (float bits) if emissive
 };
 struct EmitterGpu {
-    std::uint32_t triangle;
+    std::uint32_t triangle;  // a triangle index, or triangles.size() + a sphere index
     float cdf, pdf, area;
 };
 static_assert(sizeof(TriangleGpu) == 192 && sizeof(SphereGpu) == 32 && sizeof(EmitterGpu) == 16);

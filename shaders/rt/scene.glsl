@@ -26,12 +26,12 @@ struct RtTriangle {
 
 struct RtSphere {
     vec4 center_radius;
-    ivec4 material_node;  // x material, y node
+    ivec4 material_node;  // x material, y node, z emitter-selection pdf (float bits) if emissive
 };
 
-// An emissive triangle and the cumulative distribution used to pick one by emitted power.
+// An emissive triangle or sphere and the cumulative distribution used to pick one by power.
 struct Emitter {
-    uint triangle;
+    uint triangle;  // a triangle index, or counts.x + a sphere index
     float cdf;    // inclusive
     float pdf;    // probability of choosing this emitter
     float area;

@@ -228,7 +228,50 @@ vec3 direct_punctual(SurfaceHit s, BrdfInput m, vec3 v) {
 }
 
 #ifdef HAS_EMITTERS
-// One emissive triangle chosen by power, one point on it uniformly by area; MIS with the BRDF.
+// 1 - cos of the half-angle a sphere of radius r subtends at distance^2 d2 (> r^2), without the
+// cancellation of 1 - sqrt(1 - r^2/d2) for small or distant spheres.
+float sphere_cone_one_minus_cos(float r, float d2) {
+    float sin2 = r * r / d2;
+    return sin2 / (1.0 + sqrt(max(1.0 - sin2, 0.0)));
+}
+
+// An emissive sphere: a direction uniformly in the cone it subtends (solid-angle pdf
+// 1 / (2 pi (1 - cos_max))), the point where it meets the sphere, and MIS with the BRDF. From
+// inside the sphere there is no cone: BRDF rays alone see its emission (emitter_pdf is 0 there).
+vec3 direct_sphere(SurfaceHit s, BrdfInput m, vec3 v, inout Rng rng, bool use_mis, Emitter e) {
+    RtSphere sp = spheres[int(e.triangle) - rt.counts.x];
+    vec3 c = sp.center_radius.xyz;
+    float r = sp.center_radius.w;
+    vec3 dc = c - s.p;
+    float d2 = dot(dc, dc);
+    float u1 = rng_next(rng), u2 = rng_next(rng);
+    if (d2 <= r * r) return vec3(0.0);
+    float dist = sqrt(d2);
+    float omc = sphere_cone_one_minus_cos(r, d2);
+    float one_minus_cos_t = u1 * omc;
+    float cos_t = 1.0 - one_minus_cos_t;
+    float sin_t = sqrt(max(one_minus_cos_t * (2.0 - one_minus_cos_t), 0.0));
+    float phi = 2.0 * PI * u2;
+    vec3 l = to_world(vec3(cos(phi) * sin_t, sin(phi) * sin_t, cos_t), dc / dist);
+    float NdotL = dot(s.ns, l);
+    if (NdotL <= 0.0 || dot(s.ng, l) <= 0.0) return vec3(0.0);
+    // Nearest intersection along l (the tangent point if rounding puts l just outside).
+    float along = dist * cos_t;
+    float t = along - sqrt(max(r * r - (d2 - along * along), 0.0));
+    vec3 q = s.p + l * t;
+    vec3 nl = normalize(q - c);
+    int mat = sp.material_node.x;
+    vec3 Le = materials[mat].emission_metallic.rgb;
+    float pdf = e.pdf / (2.0 * PI * omc);
+    vec3 origin = offset_ray(s.p, s.ng, rt.fparams2.x);
+    vec3 target = offset_ray(q, nl, rt.fparams2.x);
+    vec3 visible = shadow_visibility(make_ray(origin, target - origin), 1.0);
+    float w = use_mis ? power_heuristic(pdf, brdf_pdf(m, s.ns, v, l)) : 1.0;
+    return brdf_eval(m, s.ns, l, v) * Le * NdotL * w * visible / pdf;
+}
+
+// One emitter chosen by power: an emissive triangle (one point on it uniformly by area) or an
+// emissive sphere (direct_sphere); MIS with the BRDF.
 vec3 direct_emitters(SurfaceHit s, BrdfInput m, vec3 v, inout Rng rng, bool use_mis) {
     float u = rng_next(rng);
     int lo = 0, hi = rt.counts.z - 1;
@@ -237,6 +280,7 @@ vec3 direct_emitters(SurfaceHit s, BrdfInput m, vec3 v, inout Rng rng, bool use_
         if (emitters[mid].cdf < u) lo = mid + 1; else hi = mid;
     }
     Emitter e = emitters[lo];
+    if (int(e.triangle) >= rt.counts.x) return direct_sphere(s, m, v, rng, use_mis, e);
     RtTriangle tri = triangles[e.triangle];
     float su = sqrt(rng_next(rng));
     float u2 = rng_next(rng);
@@ -272,7 +316,14 @@ vec3 direct_emitters(SurfaceHit s, BrdfInput m, vec3 v, inout Rng rng, bool use_
 
 // Solid-angle pdf with which direct_emitters would have chosen the point the BRDF ray hit.
 float emitter_pdf(Ray ray, Hit hit, SurfaceHit s) {
-    if (hit.prim >= rt.counts.x) return 0.0;
+    if (hit.prim >= rt.counts.x) {
+        RtSphere sp = spheres[hit.prim - rt.counts.x];
+        float select = intBitsToFloat(sp.material_node.z);
+        vec3 dc = sp.center_radius.xyz - ray.origin;
+        float d2 = dot(dc, dc), r = sp.center_radius.w;
+        if (select <= 0.0 || d2 <= r * r) return 0.0;
+        return select / (2.0 * PI * sphere_cone_one_minus_cos(r, d2));
+    }
     RtTriangle tri = triangles[hit.prim];
     float select_pdf = tri.n0.w;
     if (select_pdf <= 0.0) return 0.0;
