@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdlib>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -256,7 +257,9 @@ SceneSetup setup_scene(const Parsed& p, const std::string& scene_path, int defau
         if (!b || *b == Backend::glfw) throw bad_input("--backend '" + p.get("--backend") + "' must be auto, egl or osmesa");
         s.backend = *b;
     }
-    s.debug = p.flags.count("--debug-gl") > 0;
+    // CANDELA_DEBUG_GL=1 does the same as --debug-gl; the test suite sets it for every command.
+    const char* debug_env = std::getenv("CANDELA_DEBUG_GL");
+    s.debug = p.flags.count("--debug-gl") > 0 || (debug_env && std::string(debug_env) == "1");
     const auto t0 = std::chrono::steady_clock::now();
     s.scene = load_scene(scene_path, p.flags.count("--strict") > 0);
     if (p.has("--environment")) {

@@ -9,6 +9,7 @@
 #include <string>
 #include <unistd.h>
 
+#include "gl/debug.hpp"
 #include "gl/handles.hpp"
 #include "platform/context.hpp"
 #include "render/renderer.hpp"
@@ -41,7 +42,9 @@ int main(int argc, char** argv) {
     const fs::path source = argc > 1 ? fs::path(argv[1]) : fs::path(CANDELA_SOURCE_DIR);
     const int frames = argc > 2 ? std::stoi(argv[2]) : 1000;
     const int reloads = argc > 3 ? std::stoi(argv[3]) : 100;
-    ContextResult ctx = create_context(Backend::auto_select, {});
+    ContextOptions options;
+    options.debug = true;  // KHR_debug errors fail the soak
+    ContextResult ctx = create_context(Backend::auto_select, options);
     if (!ctx.context) {
         std::fprintf(stderr, "soak: %s\n", ctx.error.c_str());
         return 3;
@@ -91,6 +94,10 @@ int main(int argc, char** argv) {
     const double bound = 32.0;
     if (rss_frames - rss_start > bound || rss_end - rss_start > bound) {
         std::fprintf(stderr, "soak: RSS grew by more than %.0f MiB\n", bound);
+        ok = false;
+    }
+    if (gl::debug_error_count() > 0) {
+        std::fprintf(stderr, "soak: %d GL error(s)\n", gl::debug_error_count());
         ok = false;
     }
     std::printf("soak: %s\n", ok ? "flat" : "FAILED");
