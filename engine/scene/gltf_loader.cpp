@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <limits>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <map>
@@ -32,6 +33,13 @@ std::string trim(std::string s) {
 }
 
 std::string idx(const char* array, size_t i) { return std::string(array) + "[" + std::to_string(i) + "]"; }
+
+// A number as a person would write it in a message: 2.2e+98, 4, 0.5.
+std::string num(double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%g", v);
+    return buf;
+}
 
 double number(const Value& object, const char* key, double fallback) {
     if (!object.IsObject() || !object.Has(key)) return fallback;
@@ -107,7 +115,7 @@ private:
     // A JSON number as a float: one that does not fit (|v| > FLT_MAX) is bad input.
     float f32(const std::string& json_path, double v) const {
         if (!std::isfinite(v) || std::fabs(v) > static_cast<double>(std::numeric_limits<float>::max()))
-            fail(json_path, std::to_string(v) + " does not fit a 32-bit float");
+            fail(json_path, num(v) + " does not fit a 32-bit float");
         return static_cast<float>(v);
     }
     // A factor with a valid range (glTF's, or Candela's limit where glTF has none, so that sums
@@ -115,7 +123,7 @@ private:
     float factor(const std::string& json_path, double v, float lo, float hi) const {
         const float f = f32(json_path, v);
         if (f >= lo && f <= hi) return f;
-        warn(json_path, std::to_string(f) + " is outside [" + std::to_string(lo) + ", " + std::to_string(hi) + "]; clamped");
+        warn(json_path, num(f) + " is outside [" + num(lo) + ", " + num(hi) + "]; clamped");
         return std::clamp(f, lo, hi);
     }
     template <int N>

@@ -187,6 +187,29 @@ TEST(Loader, ByteStrideSmallerThanElementIsRejected) {
     EXPECT_NE(msg.find("byteStride 4"), std::string::npos) << msg;
 }
 
+TEST(Loader, FactorsOutsideTheirRangeAreClampedWithAWarning) {
+    GltfBuilder b;
+    b.json()["materials"] = {{{"pbrMetallicRoughness", {{"baseColorFactor", {2.0, 0.5, -1.0, 1.0}}, {"roughnessFactor", 7.0}}},
+                              {"extensions", {{"KHR_materials_ior", {{"ior", 40.0}}}}}}};
+    b.add_node({{"mesh", b.add_quad_mesh(0)}});
+    const int before = log::warning_count();
+    const Scene scene = load_gltf(b.write(test::test_dir("clamp"), "clamp"));
+    EXPECT_EQ(log::warning_count(), before + 4);  // two colour channels, roughness, IOR
+    const Material& m = scene.materials.at(0);
+    EXPECT_EQ(m.base_color, glm::vec4(1.0f, 0.5f, 0.0f, 1.0f));
+    EXPECT_EQ(m.roughness, 1.0f);
+    EXPECT_EQ(m.ior, 10.0f);
+}
+
+TEST(Loader, WorldTransformOverflowIsRejected) {
+    // Each node's own scale fits a float; their product along the hierarchy does not.
+    GltfBuilder b;
+    const int leaf = b.add_node({{"mesh", b.add_quad_mesh()}, {"scale", {1e30, 1e30, 1e30}}}, false);
+    b.add_node({{"children", {leaf}}, {"scale", {1e30, 1e30, 1e30}}});
+    const std::string msg = load_error(b.write(test::test_dir("overflow"), "overflow"));
+    EXPECT_NE(msg.find("world transform overflows"), std::string::npos) << msg;
+}
+
 TEST(Transforms, HierarchyComposesTrsAndMatrix) {
     GltfBuilder b;
     const int mesh = b.add_quad_mesh();
