@@ -531,6 +531,40 @@ TEST_P(RtMaterialTest, NormalMapsAgreeBetweenRasterAndTracerAlsoWhenMirrored) {
 namespace candela {
 namespace {
 
+// An emissive quad (texture `texture_info` over `uri` with `sampler`) filling an orthographic
+// view, seen n x n by the tracer (whitted, no jitter) and by the rasterizer; both checked for NaN.
+struct TexturedQuad {
+    ImageF traced, raster;
+};
+TexturedQuad render_textured_quad(const fs::path& dir, const std::string& name, const std::string& uri, const json& sampler,
+                                  const json& texture_info, int n) {
+    test::GltfBuilder b;
+    b.json()["images"] = {{{"uri", uri}}};
+    b.json()["samplers"] = {sampler};
+    b.json()["textures"] = {{{"source", 0}, {"sampler", 0}}};
+    json m = lambert(glm::vec3(0.0f));
+    m["emissiveFactor"] = {1, 1, 1};
+    m["emissiveTexture"] = texture_info;
+    b.json()["materials"] = {m};
+    b.add_node({{"mesh", b.add_quad_mesh(0)}});
+    ortho_camera(b, {0, 0, 5}, {0, 0, 0, 1}, 1.0f);
+    const Scene scene = load_gltf(b.write(dir, name));
+    rt::Options o;
+    o.mode = rt::Mode::whitted;
+    o.jitter = 0;
+    o.spp = 1;
+    GpuScene gpu(scene);
+    TexturedQuad q;
+    q.traced = rt::RayTracer(shader_lib(), scene, gpu, o).render(scene.select_camera("", 1.0f), n, n).image;
+    StillOptions so;
+    so.width = so.height = n;
+    so.settings.ssao = false;
+    q.raster = render_still(scene, shader_lib(), so).radiance;
+    EXPECT_EQ(count_nonfinite(q.traced), 0u);
+    EXPECT_EQ(count_nonfinite(q.raster), 0u);
+    return q;
+}
+
 TEST_P(RtMaterialTest, TextureWrapModesMatchTheRasterizer) {
     // An emissive quad whose texture (a black and a white texel) is stretched over uv -1..2 by
     // KHR_texture_transform: with CLAMP_TO_EDGE and MIRRORED_REPEAT the ray tracer (one
@@ -540,39 +574,19 @@ TEST_P(RtMaterialTest, TextureWrapModesMatchTheRasterizer) {
     write_display_rgba8(dir / "two.png", rgba, 2, 1);
     for (const int wrap : {33071, 33648}) {
         SCOPED_TRACE(wrap);
-        test::GltfBuilder b;
-        b.json()["images"] = {{{"uri", "two.png"}}};
-        b.json()["samplers"] = {{{"magFilter", 9728}, {"minFilter", 9728}, {"wrapS", wrap}, {"wrapT", wrap}}};
-        b.json()["textures"] = {{{"source", 0}, {"sampler", 0}}};
-        json m = lambert(glm::vec3(0.0f));
-        m["emissiveFactor"] = {1, 1, 1};
+        const json sampler = {{"magFilter", 9728}, {"minFilter", 9728}, {"wrapS", wrap}, {"wrapT", wrap}};
         const json transform = {{"offset", {-1, 0}}, {"scale", {3, 1}}};
-        m["emissiveTexture"] = {{"index", 0}, {"extensions", {{"KHR_texture_transform", transform}}}};
-        b.json()["materials"] = {m};
-        b.add_node({{"mesh", b.add_quad_mesh(0)}});
-        ortho_camera(b, {0, 0, 5}, {0, 0, 0, 1}, 1.0f);
-        const Scene scene = load_gltf(b.write(dir, wrap == 33071 ? "clamp" : "mirror"));
-        rt::Options o;
-        o.mode = rt::Mode::whitted;
-        o.jitter = 0;
-        o.spp = 1;
-        GpuScene gpu(scene);
         const int n = 60;
-        const rt::Result traced = rt::RayTracer(shader_lib(), scene, gpu, o).render(scene.select_camera("", 1.0f), n, n);
-        StillOptions so;
-        so.width = so.height = n;
-        so.settings.ssao = false;
-        const StillResult raster = render_still(scene, shader_lib(), so);
-        EXPECT_EQ(count_nonfinite(traced.image), 0u);
-        EXPECT_EQ(count_nonfinite(raster.radiance), 0u);
+        const TexturedQuad q = render_textured_quad(dir, wrap == 33071 ? "clamp" : "mirror", "two.png", sampler,
+                                                    {{"index", 0}, {"extensions", {{"KHR_texture_transform", transform}}}}, n);
         int agree = 0;
-        for (int x = 0; x < n; ++x) agree += (traced.image.at(x, n / 2)[0] > 0.5f) == (raster.radiance.at(x, n / 2)[0] > 0.5f);
+        for (int x = 0; x < n; ++x) agree += (q.traced.at(x, n / 2)[0] > 0.5f) == (q.raster.at(x, n / 2)[0] > 0.5f);
         // Both sample NEAREST: at most one pixel whose centre sits on a texel border may differ.
         EXPECT_GE(agree, n - 1);
         // u = 0.75 -> uv 1.25: white when clamped or mirrored (black if it repeated).
-        EXPECT_GT(traced.image.at(n * 3 / 4, n / 2)[0], 0.5f);
+        EXPECT_GT(q.traced.at(n * 3 / 4, n / 2)[0], 0.5f);
         // u = 0.1 -> uv -0.7: black when clamped, white when mirrored.
-        EXPECT_EQ(traced.image.at(n / 10, n / 2)[0] > 0.5f, wrap == 33648);
+        EXPECT_EQ(q.traced.at(n / 10, n / 2)[0] > 0.5f, wrap == 33648);
     }
 }
 
@@ -595,35 +609,15 @@ TEST_P(RtMaterialTest, TextureFilterModesMatchTheRasterizer) {
     write_display_rgba8(dir / "checker.png", rgba, 4, 4);
     for (const int filter : {9728, 9729}) {
         SCOPED_TRACE(filter);
-        test::GltfBuilder b;
-        b.json()["images"] = {{{"uri", "checker.png"}}};
-        b.json()["samplers"] = {{{"magFilter", filter}, {"minFilter", filter}, {"wrapS", 33071}, {"wrapT", 33071}}};
-        b.json()["textures"] = {{{"source", 0}, {"sampler", 0}}};
-        json m = lambert(glm::vec3(0.0f));
-        m["emissiveFactor"] = {1, 1, 1};
-        m["emissiveTexture"] = {{"index", 0}};
-        b.json()["materials"] = {m};
-        b.add_node({{"mesh", b.add_quad_mesh(0)}});
-        ortho_camera(b, {0, 0, 5}, {0, 0, 0, 1}, 1.0f);
-        const Scene scene = load_gltf(b.write(dir, filter == 9728 ? "nearest" : "linear"));
-        rt::Options o;
-        o.mode = rt::Mode::whitted;
-        o.jitter = 0;
-        o.spp = 1;
-        GpuScene gpu(scene);
+        const json sampler = {{"magFilter", filter}, {"minFilter", filter}, {"wrapS", 33071}, {"wrapT", 33071}};
         const int n = 60;
-        const rt::Result traced = rt::RayTracer(shader_lib(), scene, gpu, o).render(scene.select_camera("", 1.0f), n, n);
-        StillOptions so;
-        so.width = so.height = n;
-        so.settings.ssao = false;
-        const StillResult raster = render_still(scene, shader_lib(), so);
-        EXPECT_EQ(count_nonfinite(traced.image), 0u);
-        EXPECT_EQ(count_nonfinite(raster.radiance), 0u);
+        const TexturedQuad q = render_textured_quad(dir, filter == 9728 ? "nearest" : "linear", "checker.png", sampler,
+                                                    {{"index", 0}}, n);
         int between_rt = 0, between_raster = 0;
         double max_diff = 0.0;
         for (int y = 0; y < n; ++y)
             for (int x = 0; x < n; ++x) {
-                const float t = traced.image.at(x, y)[0], r = raster.radiance.at(x, y)[0];
+                const float t = q.traced.at(x, y)[0], r = q.raster.at(x, y)[0];
                 between_rt += t > 0.02f && t < 0.98f;
                 between_raster += r > 0.02f && r < 0.98f;
                 max_diff = std::max(max_diff, static_cast<double>(std::abs(t - r)));
