@@ -8,6 +8,8 @@
 
 #include <glm/glm.hpp>
 
+#include "rt/rt_geometry.hpp"
+#include "scene/features.hpp"
 #include "scene/scene.hpp"
 
 namespace candela::fuzz {
@@ -84,6 +86,19 @@ inline std::string scene_violation(const Scene& scene) {
     for (const WorldTriangle& t : scene.world_triangles())
         for (int k = 0; k < 3; ++k)
             if (!finite(t.p[k]) || !finite(t.n[k])) return "world triangles: non-finite position or normal";
+    return {};
+}
+
+// Everything after the loader that must hold for a loaded scene: its promises, then the scene
+// features and the ray tracer's geometry and BVH (which must hold every primitive).
+inline std::string built_scene_violation(const Scene& scene) {
+    std::string broken = scene_violation(scene);
+    if (!broken.empty()) return broken;
+    (void)analyze_features(scene);
+    const rt::RtGeometry g = rt::build_rt_geometry(scene, static_cast<int>(scene.materials.size()));
+    const std::size_t prims = g.triangles.size() + g.spheres.size();
+    if (g.bvh.prim_indices.size() != prims)
+        return "the BVH holds " + std::to_string(g.bvh.prim_indices.size()) + " primitives, the scene " + std::to_string(prims);
     return {};
 }
 
