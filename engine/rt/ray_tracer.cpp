@@ -128,6 +128,7 @@ RayTracer::RayTracer(const ShaderLibrary& shaders, const Scene& scene, GpuScene&
     if (!rt_scene_.geometry().emitters.empty()) defines.push_back("HAS_EMITTERS");
     if (rt_scene_.geometry().has_transmission) defines.push_back("HAS_TRANSMISSION");
     if (rt_scene_.geometry().has_blend) defines.push_back("HAS_BLEND");
+    if (rt_scene_.geometry().has_mask) defines.push_back("HAS_MASK");
     if (options_.traversal_stats) defines.push_back("RT_STATS");
     if (gpu_.has_environment_map() && options_.env_importance &&
         (options_.mode == Mode::path || options_.mode == Mode::direct)) {

@@ -1,8 +1,12 @@
 #include "rt/rt_geometry.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstring>
+#include <limits>
+#include <stdexcept>
+#include <string>
 
 namespace candela::rt {
 namespace {
@@ -109,6 +113,7 @@ RtGeometry build_rt_geometry(const Scene& scene, int default_material, const Bvh
     for (const Material& m : scene.materials) {
         g.has_transmission = g.has_transmission || m.transmission > 0.0f;
         g.has_blend = g.has_blend || m.alpha_mode == AlphaMode::blend;
+        g.has_mask = g.has_mask || m.alpha_mode == AlphaMode::mask;
     }
 
     std::vector<Aabb> boxes;
@@ -128,6 +133,139 @@ RtGeometry build_rt_geometry(const Scene& scene, int default_material, const Bvh
     }
     g.bvh = build_bvh_binned_sah(boxes, options);
     return g;
+}
+
+TraversalLayout pack_traversal(const RtGeometry& g) {
+    const Bvh& bvh = g.bvh;
+    const std::size_t triangle_count = g.triangles.size();
+    const std::size_t prim_count = triangle_count + g.spheres.size();
+    if (prim_count > kTraversalMaxPrimitives)
+        throw std::length_error("ray tracer: " + std::to_string(prim_count) + " primitives; the GPU BVH layout holds at most " +
+                                std::to_string(kTraversalMaxPrimitives));
+    TraversalLayout out;
+    out.prims.reserve(bvh.prim_indices.size() * 3);
+    for (const std::uint32_t id : bvh.prim_indices) {
+        const float id_bits = std::bit_cast<float>(static_cast<std::int32_t>(id));
+        if (id < triangle_count) {
+            const TriangleGpu& t = g.triangles[id];
+            out.prims.emplace_back(glm::vec3(t.p0), id_bits);
+            out.prims.emplace_back(glm::vec3(t.p1), 0.0f);
+            out.prims.emplace_back(glm::vec3(t.p2), 0.0f);
+        } else {
+            const SphereGpu& s = g.spheres[id - triangle_count];
+            out.prims.emplace_back(glm::vec3(s.center_radius), id_bits);
+            out.prims.emplace_back(s.center_radius.w, 0.0f, 0.0f, 0.0f);
+            out.prims.emplace_back(0.0f);
+        }
+    }
+    // Interior nodes keep their depth-first order; compact[i] is node i's index among them.
+    std::vector<std::int32_t> compact(bvh.nodes.size(), -1);
+    std::int32_t interior = 0;
+    const bool root_is_interior = bvh.nodes.size() > 1 && !bvh.nodes[0].leaf();
+    for (std::size_t i = 0; i < bvh.nodes.size(); ++i)
+        if (!bvh.nodes[i].leaf() && (i > 0 || root_is_interior)) compact[i] = interior++;
+    auto ref = [&](std::size_t i) -> std::int32_t {
+        const BvhNode& n = bvh.nodes[i];
+        if (!n.leaf()) return compact[i];
+        if (n.count > 64) throw std::logic_error("pack_traversal: a leaf of more than 64 primitives");
+        return -1 - (n.right_or_first * 64 + (n.count - 1));
+    };
+    auto child = [&](glm::vec3 bmin, glm::vec3 bmax, std::int32_t r) {
+        out.nodes.emplace_back(bmin, std::bit_cast<float>(r));
+        out.nodes.emplace_back(bmax, 0.0f);
+    };
+    const float inf = std::numeric_limits<float>::infinity();
+    if (!root_is_interior) {
+        // A single leaf, or the empty BVH (one node with count 0 and an empty box).
+        const BvhNode& root = bvh.nodes.at(0);
+        child(root.bmin, root.bmax, root.leaf() ? ref(0) : kTraversalNoChild);
+        child(glm::vec3(inf), glm::vec3(-inf), kTraversalNoChild);
+        return out;
+    }
+    out.nodes.reserve(static_cast<std::size_t>(interior) * 4);
+    for (std::size_t i = 0; i < bvh.nodes.size(); ++i) {
+        if (compact[i] < 0) continue;
+        const std::size_t left = i + 1, right = static_cast<std::size_t>(bvh.nodes[i].right_or_first);
+        child(bvh.nodes[left].bmin, bvh.nodes[left].bmax, ref(left));
+        child(bvh.nodes[right].bmin, bvh.nodes[right].bmax, ref(right));
+    }
+    return out;
+}
+
+namespace {
+bool same_bits(glm::vec3 a, glm::vec3 b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+bool inside(glm::vec3 p, glm::vec3 bmin, glm::vec3 bmax) {
+    return glm::all(glm::lessThanEqual(bmin, p)) && glm::all(glm::lessThanEqual(p, bmax));
+}
+}  // namespace
+
+std::string traversal_layout_violation(const RtGeometry& g, const TraversalLayout& layout) {
+    const std::size_t triangle_count = g.triangles.size(), prim_count = triangle_count + g.spheres.size();
+    if (layout.prims.size() != prim_count * 3)
+        return std::to_string(layout.prims.size()) + " primitive texels for " + std::to_string(prim_count) + " primitives";
+    if (layout.nodes.size() < 4 || layout.nodes.size() % 4 != 0) return "node texels: " + std::to_string(layout.nodes.size());
+    const std::size_t node_count = layout.nodes.size() / 4;
+    std::vector<int> reached(prim_count, 0);
+    std::vector<char> visited(node_count, 0);
+    struct Item {
+        std::int32_t ref;
+        glm::vec3 bmin, bmax;  // the box the ref was reached through
+    };
+    const float inf = std::numeric_limits<float>::infinity();
+    std::vector<Item> stack{{0, glm::vec3(-inf), glm::vec3(inf)}};
+    while (!stack.empty()) {
+        const Item item = stack.back();
+        stack.pop_back();
+        const bool empty_box = !glm::all(glm::lessThanEqual(item.bmin, item.bmax));
+        if (item.ref == kTraversalNoChild) {
+            if (!empty_box) return "a placeholder child with a box that rays can enter";
+            continue;
+        }
+        if (item.ref >= 0) {
+            const auto n = static_cast<std::size_t>(item.ref);
+            if (n >= node_count) return "node ref " + std::to_string(item.ref) + " out of range";
+            if (visited[n]++) return "node " + std::to_string(n) + " reached twice";
+            for (int c = 0; c < 2; ++c) {
+                const glm::vec4 lo = layout.nodes[n * 4 + static_cast<std::size_t>(c) * 2];
+                const glm::vec4 hi = layout.nodes[n * 4 + static_cast<std::size_t>(c) * 2 + 1];
+                const bool child_empty = !glm::all(glm::lessThanEqual(glm::vec3(lo), glm::vec3(hi)));
+                if (!child_empty && !empty_box && !(inside(glm::vec3(lo), item.bmin, item.bmax) && inside(glm::vec3(hi), item.bmin, item.bmax)))
+                    return "node " + std::to_string(n) + ": a child's box is not inside its parent's";
+                stack.push_back({std::bit_cast<std::int32_t>(lo.w), glm::vec3(lo), glm::vec3(hi)});
+            }
+            continue;
+        }
+        const std::int32_t code = -1 - item.ref;
+        const std::size_t first = static_cast<std::size_t>(code >> 6), count = static_cast<std::size_t>(code & 63) + 1;
+        if (first + count > prim_count) return "leaf ref " + std::to_string(item.ref) + " past the primitives";
+        for (std::size_t r = first; r < first + count; ++r) {
+            const glm::vec4* rec = &layout.prims[r * 3];
+            const auto id = static_cast<std::size_t>(std::bit_cast<std::int32_t>(rec[0].w));
+            if (id >= prim_count) return "record " + std::to_string(r) + ": id " + std::to_string(id) + " out of range";
+            if (reached[id]++) return "primitive " + std::to_string(id) + " reached twice";
+            glm::vec3 lo, hi;
+            if (id < triangle_count) {
+                const TriangleGpu& t = g.triangles[id];
+                if (!same_bits(rec[0], t.p0) || !same_bits(rec[1], t.p1) || !same_bits(rec[2], t.p2))
+                    return "record " + std::to_string(r) + ": positions differ from triangle " + std::to_string(id);
+                lo = glm::min(glm::min(glm::vec3(t.p0), glm::vec3(t.p1)), glm::vec3(t.p2));
+                hi = glm::max(glm::max(glm::vec3(t.p0), glm::vec3(t.p1)), glm::vec3(t.p2));
+            } else {
+                const glm::vec4 cr = g.spheres[id - triangle_count].center_radius;
+                if (!same_bits(rec[0], cr) || std::bit_cast<std::uint32_t>(rec[1].x) != std::bit_cast<std::uint32_t>(cr.w))
+                    return "record " + std::to_string(r) + ": centre or radius differ from sphere " + std::to_string(id - triangle_count);
+                lo = glm::vec3(cr) - glm::vec3(cr.w);
+                hi = glm::vec3(cr) + glm::vec3(cr.w);
+            }
+            // Primitives with non-finite coordinates sit under empty boxes, never hit.
+            const bool finite = !glm::any(glm::isnan(lo)) && !glm::any(glm::isinf(lo)) && !glm::any(glm::isnan(hi)) && !glm::any(glm::isinf(hi));
+            if (finite && !empty_box && !(inside(lo, item.bmin, item.bmax) && inside(hi, item.bmin, item.bmax)))
+                return "primitive " + std::to_string(id) + " is outside the box of its leaf";
+        }
+    }
+    for (std::size_t i = 0; i < prim_count; ++i)
+        if (reached[i] != 1) return "primitive " + std::to_string(i) + " is not reachable";
+    return {};
 }
 
 }  // namespace candela::rt

@@ -4,6 +4,8 @@
 // power CDF, and a BVH over all of them. Layouts mirror shaders/rt/scene.glsl. No GL here: the
 // tests, benchmarks and the fuzz target build it without a context (rt_scene.hpp uploads it).
 #include <cstdint>
+#include <limits>
+#include <string>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -42,11 +44,40 @@ struct RtGeometry {
     double emitted_power = 0.0;  // sum of luminance(emission) * area over emitters
     bool has_transmission = false;
     bool has_blend = false;  // alphaMode BLEND materials: composited along camera rays
+    bool has_mask = false;   // alphaMode MASK materials: every ray tests the cutoff at candidate hits
     Bvh bvh;
 };
 
 // `default_material`: the material index used for primitives without one (GpuScene appends the
 // default material after the scene's).
 RtGeometry build_rt_geometry(const Scene& scene, int default_material, const BvhOptions& options = {});
+
+// The BVH as the GPU traverses it: two RGBA32F buffer textures (shaders/rt/scene.glsl, trace()).
+// On llvmpipe a texel fetch gathers a vector of lanes at once where an SSBO load with a per-lane
+// address becomes a loop over the lanes, and a visit here reads 4 texels where the 32-byte node
+// layout read 6 (the node, then both children's boxes).
+// - nodes: 4 texels per interior node of the Bvh, holding both children:
+//   (left bmin, left ref) (left bmax, 0) (right bmin, right ref) (right bmax, 0), refs as int bits.
+//   A ref >= 0 is the index of an interior node here; a ref < 0 is a leaf,
+//   -1 - (first * 64 + count - 1): `count` (1..64) primitive records from record `first`.
+//   Node 0 is the root. A root that is a leaf (or the empty BVH) becomes node 0 with the root as
+//   its left child and, on the right, an empty box (+inf, -inf: missed by every ray) with the ref
+//   kTraversalNoChild (so is the empty BVH's left child).
+// - prims: 3 texels per primitive in leaf order, so that a leaf's primitives are contiguous:
+//   triangle (p0, id) (p1, 0) (p2, 0); sphere (center, id) (radius, 0, 0, 0) (0); id (int bits) is
+//   the index in triangles, or triangles.size() + the sphere's index.
+struct TraversalLayout {
+    std::vector<glm::vec4> nodes;
+    std::vector<glm::vec4> prims;
+};
+inline constexpr std::int32_t kTraversalNoChild = std::numeric_limits<std::int32_t>::min();
+inline constexpr std::size_t kTraversalMaxPrimitives = std::size_t{1} << 25;  // leaf refs hold first * 64
+// Throws std::length_error past kTraversalMaxPrimitives primitives.
+TraversalLayout pack_traversal(const RtGeometry& geometry);
+// What the GPU traversal relies on, checked by walking `layout` from the root: refs in range, every
+// primitive record reached exactly once with its id and positions, each primitive inside the box
+// its leaf was reached through, children inside their parent's box. Empty if it holds, else the
+// first violation. For the tests and the fuzz target.
+std::string traversal_layout_violation(const RtGeometry& geometry, const TraversalLayout& layout);
 
 }  // namespace candela::rt

@@ -39,7 +39,7 @@ std::vector<ProgramDesc> ray_tracer_variants() {
         for (bool features : {false, true}) {
             std::vector<std::string> defines = {mode};
             if (features)
-                for (const char* f : {"HAS_EMITTERS", "HAS_TRANSMISSION", "HAS_BLEND", "RT_STATS"}) defines.push_back(f);
+                for (const char* f : {"HAS_EMITTERS", "HAS_TRANSMISSION", "HAS_BLEND", "HAS_MASK", "RT_STATS"}) defines.push_back(f);
             if (features && std::string(mode) == "MODE_PATH") defines.push_back("HAS_ENV_MAP_SAMPLING");  // path/direct only
             std::string name = "trace";
             for (const auto& d : defines) name += " " + d;

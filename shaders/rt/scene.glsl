@@ -2,13 +2,6 @@
 // traversal: closest hit for camera and bounce rays, any hit for shadow and AO rays.
 #include "intersect.glsl"
 
-struct BvhNode {
-    vec3 bmin;
-    int right_or_first;  // interior: right child index (left = this + 1); leaf: first primitive
-    vec3 bmax;
-    int count;           // 0 for interior nodes
-};
-
 struct RtTriangle {
     vec4 p0;  // w: material index (int bits)
     vec4 p1;  // w: node index (int bits)
@@ -37,9 +30,31 @@ struct Emitter {
     float area;
 };
 
-layout(std430, binding = 3) readonly buffer BvhNodes { BvhNode nodes[]; };
-layout(std430, binding = 4) readonly buffer PrimIndices { uint prim_indices[]; };
-layout(std430, binding = 5) readonly buffer Triangles { RtTriangle triangles[]; };
+// The BVH in its traversal layout (rt::pack_traversal, engine/rt/rt_geometry.hpp): 4 texels per
+// interior node holding both children's boxes and refs, 3 texels per primitive in leaf order.
+// Texel fetches, not SSBO loads: llvmpipe gathers them for 8 lanes at once.
+layout(binding = 16) uniform samplerBuffer t_bvh_nodes;
+layout(binding = 17) uniform samplerBuffer t_bvh_prims;
+// The triangles (rt::TriangleGpu), 12 texels each, read through load_triangle().
+layout(binding = 18) uniform samplerBuffer t_triangles;
+
+RtTriangle load_triangle(int i) {
+    int b = i * 12;
+    RtTriangle t;
+    t.p0 = texelFetch(t_triangles, b);
+    t.p1 = texelFetch(t_triangles, b + 1);
+    t.p2 = texelFetch(t_triangles, b + 2);
+    t.n0 = texelFetch(t_triangles, b + 3);
+    t.n1 = texelFetch(t_triangles, b + 4);
+    t.n2 = texelFetch(t_triangles, b + 5);
+    t.uv_a = texelFetch(t_triangles, b + 6);
+    t.uv_b = texelFetch(t_triangles, b + 7);
+    t.uv_c = texelFetch(t_triangles, b + 8);
+    t.t0 = texelFetch(t_triangles, b + 9);
+    t.t1 = texelFetch(t_triangles, b + 10);
+    t.t2 = texelFetch(t_triangles, b + 11);
+    return t;
+}
 layout(std430, binding = 6) readonly buffer Spheres { RtSphere spheres[]; };
 layout(std430, binding = 7) readonly buffer Emitters { Emitter emitters[]; };
 layout(std430, binding = 11) readonly buffer Surfaces { Emitter surfaces[]; };  // every triangle by area
@@ -107,9 +122,22 @@ struct Hit {
 };
 
 const int kStackSize = 64;
+// The traversal stacks live in shared memory, entry k of invocation i at k * group size + i (the
+// including shader declares its local size first). On llvmpipe this measured 12% more camera rays
+// and 36% more AO rays per second than a local array, which it indexes per lane through scratch.
+const uint kGroupInvocations = gl_WorkGroupSize.x * gl_WorkGroupSize.y * gl_WorkGroupSize.z;
+shared int traversal_stack[kStackSize * kGroupInvocations];
 
 // One traversal for both kinds of query: `any_hit` returns at the first hit found (shadow and AO
-// rays), otherwise the closest hit is kept and used to prune. Near child first, explicit stack.
+// rays), otherwise the closest hit is kept and used to prune. Near child first, an explicit stack
+// of node refs (>= 0 interior node, < 0 leaf: -1 - (first * 64 + count - 1)).
+// The loop is "while-while" (Aila & Laine 2009, "Understanding the efficiency of ray traversal on
+// GPUs"): interior nodes until a leaf, then leaves until an interior node. llvmpipe runs 8
+// invocations in SIMD lanes and executes every branch some lane takes; one loop with an if/else
+// pays for the node visit and the leaf's triangles in every iteration where the lanes disagree.
+// On llvmpipe this measured 1.5x the camera rays and 1.9x the AO rays per second of that loop.
+const int kTraversalDone = int(0x80000000);  // below every leaf ref (rt::kTraversalNoChild)
+
 Hit trace(Ray ray, float tmax, bool any_hit) {
     Hit hit;
     hit.t = tmax;
@@ -118,39 +146,62 @@ Hit trace(Ray ray, float tmax, bool any_hit) {
     if (rt.counts.x + rt.counts.y == 0) return hit;
     WatertightRay w = watertight_setup(ray);
     vec3 inv_dir = 1.0 / ray.dir;
-    int stack[kStackSize];
+    int stack_base = int(gl_LocalInvocationIndex);
     int sp = 0;
-    int node = 0;
+    int ref = 0;
 #ifdef RT_STATS
     uint visited = 0u, tested = 0u;
     atomicAdd(traversal_rays, 1u);
 #endif
-    if (intersect_aabb(nodes[0].bmin, nodes[0].bmax, ray.origin, inv_dir, hit.t) < 0.0) return hit;
     while (true) {
-        BvhNode n = nodes[node];
+        while (ref >= 0) {
 #ifdef RT_STATS
-        ++visited;
-        if (n.count > 0) tested += uint(n.count);
+            ++visited;
 #endif
-        if (n.count > 0) {
-            for (int i = 0; i < n.count; ++i) {
-                int prim = int(prim_indices[n.right_or_first + i]);
+            int b = ref * 4;
+            vec4 lmin = texelFetch(t_bvh_nodes, b), lmax = texelFetch(t_bvh_nodes, b + 1);
+            vec4 rmin = texelFetch(t_bvh_nodes, b + 2), rmax = texelFetch(t_bvh_nodes, b + 3);
+            float tl = intersect_aabb(lmin.xyz, lmax.xyz, ray.origin, inv_dir, hit.t);
+            float tr = intersect_aabb(rmin.xyz, rmax.xyz, ray.origin, inv_dir, hit.t);
+            int left = floatBitsToInt(lmin.w), right = floatBitsToInt(rmin.w);
+            bool hl = tl >= 0.0, hr = tr >= 0.0;
+            if (hl && hr) {
+                bool left_first = tl <= tr;
+                if (sp < kStackSize) traversal_stack[sp++ * int(kGroupInvocations) + stack_base] = left_first ? right : left;
+                ref = left_first ? left : right;
+            } else if (hl || hr) {
+                ref = hl ? left : right;
+            } else {
+                ref = sp == 0 ? kTraversalDone : traversal_stack[--sp * int(kGroupInvocations) + stack_base];
+            }
+        }
+        if (ref == kTraversalDone) break;
+        while (ref < 0 && ref != kTraversalDone) {
+            int code = -1 - ref;
+            int first = code >> 6, count = (code & 63) + 1;
+#ifdef RT_STATS
+            ++visited;
+            tested += uint(count);
+#endif
+            for (int i = 0; i < count; ++i) {
+                int r = (first + i) * 3;
+                vec4 a = texelFetch(t_bvh_prims, r);
+                int prim = floatBitsToInt(a.w);
                 float t;
                 vec2 bary = vec2(0.0);
                 if (prim < rt.counts.x) {
-                    // Positions only: the rest of the 144-byte record is read on a hit.
-                    vec4 p0 = triangles[prim].p0;
-                    t = intersect_triangle(w, p0.xyz, triangles[prim].p1.xyz, triangles[prim].p2.xyz, hit.t, bary);
+                    t = intersect_triangle(w, a.xyz, texelFetch(t_bvh_prims, r + 1).xyz, texelFetch(t_bvh_prims, r + 2).xyz, hit.t, bary);
+#ifdef HAS_MASK
                     // alphaMode MASK: texels below the cutoff are holes, for every kind of ray.
                     if (t > 0.0 && t < hit.t) {
                         // Only the mode is read for every candidate: copying the whole material
                         // here costs a third of the ray rate on llvmpipe.
-                        int mi = floatBitsToInt(p0.w);
+                        int mi = floatBitsToInt(texelFetch(t_triangles, prim * 12).w);
                         if (int(materials[mi].params.z) == 1) {
                             float alpha = materials[mi].base_color.a;
                             if (materials[mi].texcoord.x >= 0) {
                                 MaterialData m = materials[mi];
-                                RtTriangle tri = triangles[prim];
+                                RtTriangle tri = load_triangle(prim);
                                 float w0 = 1.0 - bary.x - bary.y;
                                 vec2 uv0 = tri.uv_a.xy * w0 + tri.uv_a.zw * bary.x + tri.uv_b.xy * bary.y;
                                 vec2 uv1 = tri.uv_b.zw * w0 + tri.uv_c.xy * bary.x + tri.uv_c.zw * bary.y;
@@ -159,9 +210,9 @@ Hit trace(Ray ray, float tmax, bool any_hit) {
                             if (alpha < materials[mi].params.y) t = -1.0;
                         }
                     }
+#endif
                 } else {
-                    RtSphere s = spheres[prim - rt.counts.x];
-                    t = intersect_sphere(ray, s.center_radius.xyz, s.center_radius.w, 0.0, hit.t);
+                    t = intersect_sphere(ray, a.xyz, texelFetch(t_bvh_prims, r + 1).x, 0.0, hit.t);
                 }
                 if (t > 0.0 && t < hit.t) {
                     hit.t = t;
@@ -176,23 +227,9 @@ Hit trace(Ray ray, float tmax, bool any_hit) {
                     }
                 }
             }
-        } else {
-            int left = node + 1, right = n.right_or_first;
-            float tl = intersect_aabb(nodes[left].bmin, nodes[left].bmax, ray.origin, inv_dir, hit.t);
-            float tr = intersect_aabb(nodes[right].bmin, nodes[right].bmax, ray.origin, inv_dir, hit.t);
-            bool hl = tl >= 0.0, hr = tr >= 0.0;
-            if (hl && hr) {
-                int near_child = tl <= tr ? left : right;
-                int far_child = tl <= tr ? right : left;
-                if (sp < kStackSize) stack[sp++] = far_child;
-                node = near_child;
-                continue;
-            }
-            if (hl) { node = left; continue; }
-            if (hr) { node = right; continue; }
+            ref = sp == 0 ? kTraversalDone : traversal_stack[--sp * int(kGroupInvocations) + stack_base];
         }
-        if (sp == 0) break;
-        node = stack[--sp];
+        if (ref == kTraversalDone) break;
     }
 #ifdef RT_STATS
     atomicAdd(traversal_nodes, visited);
@@ -220,7 +257,7 @@ SurfaceHit surface_at(Ray ray, Hit hit) {
     SurfaceHit s;
     s.p = ray.origin + ray.dir * hit.t;
     if (hit.prim < rt.counts.x) {
-        RtTriangle tri = triangles[hit.prim];
+        RtTriangle tri = load_triangle(hit.prim);
         vec3 ng = normalize(cross(tri.p1.xyz - tri.p0.xyz, tri.p2.xyz - tri.p0.xyz));
         float w0 = 1.0 - hit.bary.x - hit.bary.y;
         vec3 ns = tri.n0.xyz * w0 + tri.n1.xyz * hit.bary.x + tri.n2.xyz * hit.bary.y;

@@ -3,7 +3,8 @@
 // Modes (one is defined by the host): MODE_AO, MODE_PATH (MODE_DIRECT is MODE_PATH with one
 // bounce), MODE_INDIRECT, MODE_WHITTED. Scene features compiled in only when the scene has them:
 // HAS_EMITTERS (emissive triangles), HAS_TRANSMISSION (KHR_materials_transmission), HAS_BLEND
-// (alphaMode BLEND: layers composited along camera rays).
+// (alphaMode BLEND: layers composited along camera rays), HAS_MASK (alphaMode MASK: every ray
+// tests the cutoff at candidate hits).
 #if !defined(MODE_AO) && !defined(MODE_PATH) && !defined(MODE_INDIRECT) && !defined(MODE_WHITTED) && \
     !defined(MODE_PRIMARY) && !defined(MODE_VISIBILITY) && !defined(MODE_BOUNCE)
 #define MODE_PATH  // the default when validated without defines
@@ -17,9 +18,8 @@ layout(std430, binding = 10) buffer Diagnostics {
     uint traversal_primitives; // RT_STATS only: primitives intersected, all rays
     uint traversal_rays;       // RT_STATS only
 };
+layout(local_size_x = 8, local_size_y = 8) in;  // before scene.glsl: its traversal stacks are sized by it
 #include "scene.glsl"
-
-layout(local_size_x = 8, local_size_y = 8) in;
 
 layout(std430, binding = 9) buffer Accum { vec4 accum[]; };  // rgb sum, w sample count
 layout(binding = 5) uniform sampler2D t_environment;
@@ -281,7 +281,7 @@ vec3 direct_emitters(SurfaceHit s, BrdfInput m, vec3 v, inout Rng rng, bool use_
     }
     Emitter e = emitters[lo];
     if (int(e.triangle) >= rt.counts.x) return direct_sphere(s, m, v, rng, use_mis, e);
-    RtTriangle tri = triangles[e.triangle];
+    RtTriangle tri = load_triangle(int(e.triangle));
     float su = sqrt(rng_next(rng));
     float u2 = rng_next(rng);
     vec3 q = (1.0 - su) * tri.p0.xyz + su * (1.0 - u2) * tri.p1.xyz + su * u2 * tri.p2.xyz;
@@ -324,7 +324,7 @@ float emitter_pdf(Ray ray, Hit hit, SurfaceHit s) {
         if (select <= 0.0 || d2 <= r * r) return 0.0;
         return select / (2.0 * PI * sphere_cone_one_minus_cos(r, d2));
     }
-    RtTriangle tri = triangles[hit.prim];
+    RtTriangle tri = load_triangle(hit.prim);
     float select_pdf = tri.n0.w;
     if (select_pdf <= 0.0) return 0.0;
     vec3 c = cross(tri.p1.xyz - tri.p0.xyz, tri.p2.xyz - tri.p0.xyz);
@@ -390,7 +390,7 @@ vec3 radiance(Ray ray, inout Rng rng) {
         int mid = (lo + hi) / 2;
         if (emitters[mid].cdf < u) lo = mid + 1; else hi = mid;
     }
-    RtTriangle tri = triangles[emitters[lo].triangle];
+    RtTriangle tri = load_triangle(int(emitters[lo].triangle));
     float su = sqrt(rng_next(rng));
     float u2 = rng_next(rng);
     vec3 q = (1.0 - su) * tri.p0.xyz + su * (1.0 - u2) * tri.p1.xyz + su * u2 * tri.p2.xyz;
@@ -573,7 +573,7 @@ vec3 radiance(Ray ray, inout Rng rng) {
         if (surfaces[mid].cdf < u) lo = mid + 1; else hi = mid;
     }
     Emitter pick = surfaces[lo];
-    RtTriangle tri = triangles[pick.triangle];
+    RtTriangle tri = load_triangle(int(pick.triangle));
     float su = sqrt(rng_next(rng));
     float u2 = rng_next(rng);
     vec2 bary = vec2(su * (1.0 - u2), su * u2);

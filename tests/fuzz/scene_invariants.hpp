@@ -90,7 +90,8 @@ inline std::string scene_violation(const Scene& scene) {
 }
 
 // Everything after the loader that must hold for a loaded scene: its promises, then the scene
-// features and the ray tracer's geometry and BVH (which must hold every primitive).
+// features and the ray tracer's geometry and BVH (which must hold every primitive), and the BVH's
+// GPU traversal layout.
 inline std::string built_scene_violation(const Scene& scene) {
     std::string broken = scene_violation(scene);
     if (!broken.empty()) return broken;
@@ -99,6 +100,8 @@ inline std::string built_scene_violation(const Scene& scene) {
     const std::size_t prims = g.triangles.size() + g.spheres.size();
     if (g.bvh.prim_indices.size() != prims)
         return "the BVH holds " + std::to_string(g.bvh.prim_indices.size()) + " primitives, the scene " + std::to_string(prims);
+    const std::string layout = rt::traversal_layout_violation(g, rt::pack_traversal(g));
+    if (!layout.empty()) return "the BVH's traversal layout: " + layout;
     return {};
 }
 

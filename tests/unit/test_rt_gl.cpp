@@ -266,6 +266,8 @@ TEST_P(RtTest, ShadersAreSpecialisedToTheScene) {
     EXPECT_EQ(defines("cornell_point.gltf"), "MODE_PATH");
     EXPECT_EQ(defines("cornell_box.gltf"), "MODE_PATH HAS_EMITTERS");
     EXPECT_EQ(defines("reflections.gltf"), "MODE_PATH HAS_TRANSMISSION");
+    // Alpha-masked and blended materials: the alpha test at candidate hits only where it is needed.
+    EXPECT_EQ(defines("transparency.gltf"), "MODE_PATH HAS_BLEND HAS_MASK");
 }
 
 TEST_P(RtTest, TimeLimitStopsAtASampleBoundaryAndStillGivesAnImage) {
