@@ -19,6 +19,7 @@
 #include "platform/context.hpp"
 #include "profile/stats.hpp"
 #include "render/still.hpp"
+#include "rt/ray_rates.hpp"
 #include "rt/ray_tracer.hpp"
 #include <nlohmann/json.hpp>
 #include "render/features.hpp"
@@ -49,7 +50,7 @@ void print_usage() {
         "  candela info SCENE [--effects ...] [--set ...] [--strict]\n"
         "  candela compare A B [--heatmap OUT.png] [--tolerance T] [--max-failing F] [--check]\n"
         "  candela bench frame SCENE [--effects LIST ...] [--path P ...] [--size WxH] [--frames N] [--warmup N] [--json FILE]\n"
-        "  candela bench rays SCENE|generated:N ... [--size WxH] [--spp N]\n"
+        "  candela bench rays SCENE|generated:N ... [--size WxH] [--spp N] [--repeat N]\n"
         "  candela bench reload SCENE [--size WxH] [--count N] [--shader-dir DIR]\n"
         "  candela bench accuracy [SCENE...] -o DIR [--report FILE.md] [--quick]\n"
         "  candela shaders check [--shader-dir DIR] [--backend auto|egl|osmesa]\n"
@@ -482,12 +483,13 @@ int cmd_render(const Args& args) {
 // `candela bench rays SCENE...`: ray rates of the compute-shader tracer. SCENE may be a glTF
 // file or generated:N (a bumpy sphere of about N triangles).
 int bench_rays(const Args& args) {
-    const Parsed p = parse(args, {"--size", "--spp", "--backend"}, {"--quiet"});
+    const Parsed p = parse(args, {"--size", "--spp", "--backend", "--repeat"}, {"--quiet"});
     if (p.positional.empty()) throw bad_input("bench rays needs at least one SCENE (a .gltf or generated:N)");
     if (p.flags.count("--quiet")) log::set_level(log::Level::warn);
     int w = 512, h = 512;
     if (p.has("--size")) parse_size(p.get("--size"), w, h);
     const int spp = p.has("--spp") ? parse_int("--spp", p.get("--spp"), 1, 4096) : 8;
+    const int repeats = p.has("--repeat") ? parse_int("--repeat", p.get("--repeat"), 1, 100) : 3;
     SceneSetup s;
     if (p.has("--backend")) {
         const auto b = parse_backend(p.get("--backend"));
@@ -497,45 +499,18 @@ int bench_rays(const Args& args) {
     ContextResult ctx = open_context(s);
     if (!ctx.context) return static_cast<int>(ExitCode::no_gl);
     const ShaderLibrary shaders(s.shader_dir);
-    std::printf("device: %s (%s); %dx%d, %d spp per mode, after one warm-up sample\n", ctx.context->device_string().c_str(),
-                to_string(ctx.context->backend()), w, h, spp);
+    std::printf("device: %s (%s); %dx%d, %d spp per mode, medians of %d runs after one warm-up sample\n",
+                ctx.context->device_string().c_str(), to_string(ctx.context->backend()), w, h, spp, repeats);
     std::printf("%-28s %10s %10s %10s %12s %12s %12s %10s %10s\n", "scene", "triangles", "bvh ms", "SAH", "primary Mr/s",
                 "AO Mr/s", "bounce Mr/s", "nodes/ray", "prims/ray");
     for (const std::string& name : p.positional) {
         const Scene scene = load_scene(name, false);
         GpuScene gpu(scene);
         const Camera camera = scene.select_camera("", static_cast<float>(w) / static_cast<float>(h));
-        double ms[3] = {0, 0, 0};
-        rt::BvhStats stats{};
-        size_t tris = 0;
-        for (int m = 0; m < 3; ++m) {
-            rt::Options o;
-            o.mode = m == 0 ? rt::Mode::primary : m == 1 ? rt::Mode::ao : rt::Mode::bounce;
-            o.ao_radius = 1e30f;  // AO rays as long as shadow rays to a directional light
-            o.spp = 1;
-            rt::RayTracer tracer(shaders, scene, gpu, o);
-            tracer.render(camera, w, h);  // warm-up: llvmpipe compiles the shader at its first dispatch
-            tracer.set_spp(spp);
-            ms[m] = tracer.render(camera, w, h).trace_ms;
-            stats = tracer.scene().geometry().bvh.stats;
-            tris = tracer.scene().geometry().triangles.size();
-        }
-        log::debug("bench rays: primary " + fmt("%.1f", ms[0]) + " ms, ao " + fmt("%.1f", ms[1]) + " ms");
-        // Traversal work per camera ray, counted in a separate (slower) run.
-        rt::Options counting;
-        counting.mode = rt::Mode::primary;
-        counting.spp = 1;
-        counting.traversal_stats = true;
-        const rt::Result counted = rt::RayTracer(shaders, scene, gpu, counting).render(camera, w, h);
-        const double rays = static_cast<double>(w) * h * spp;
-        const double primary = rays / (ms[0] * 1e3);
-        // An AO sample is one camera ray plus one any-hit ray: the difference prices the latter.
-        const double ao = ms[1] > ms[0] ? rays / ((ms[1] - ms[0]) * 1e3) : 0.0;
-        // Likewise a bounce sample: one camera ray plus one incoherent closest-hit ray.
-        const double bounce = ms[2] > ms[0] ? rays / ((ms[2] - ms[0]) * 1e3) : 0.0;
+        const rt::RayRates r = rt::measure_ray_rates(shaders, scene, gpu, camera, w, h, spp, repeats);
         std::printf("%-28s %10zu %10.1f %10.2f %12.2f %12.2f %12.2f %10.1f %10.1f\n",
-                    name.substr(name.size() > 28 ? name.size() - 28 : 0).c_str(), tris, stats.build_ms, stats.sah_cost, primary,
-                    ao, bounce, counted.nodes_per_ray, counted.primitives_per_ray);
+                    name.substr(name.size() > 28 ? name.size() - 28 : 0).c_str(), r.triangles, r.bvh.build_ms, r.bvh.sah_cost,
+                    r.primary_mrays, r.ao_mrays, r.bounce_mrays, r.nodes_per_ray, r.primitives_per_ray);
     }
     return 0;
 }

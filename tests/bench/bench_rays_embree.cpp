@@ -1,11 +1,15 @@
-// The same rays as `candela bench rays`, through Embree 3's single-ray API on the CPU, so that the
-// compute-shader tracer's rates can be compared in one run on the same cores. Optional: built
-// only when Debian's libembree-dev is installed (it is not a dependency of Candela).
-//   bench_rays_embree SCENE|generated:N ... [--size WxH] [--spp N] [--threads N]
+// The same rays as `candela bench rays`, through Embree 3's single-ray API on the CPU, and the
+// compute-shader tracer's rates (rt::measure_ray_rates, on llvmpipe through EGL or OSMesa) in the
+// same run on the same cores, with their ratio. Optional: built only when Debian's libembree-dev
+// is installed (it is not a dependency of Candela).
+//   bench_rays_embree SCENE|generated:N ... [--size WxH] [--spp N] [--threads N] [--repeat N]
+// Embree's rates are medians of --repeat runs of --spp samples; the tracer's of --repeat runs of
+// 4 x --spp samples (a dispatch's fixed cost is then small against its work).
 // Camera rays through pixel centres (the tracer's primary mode without jitter), and per hit one
 // cosine-distributed any-hit ray of unbounded length (the tracer's AO rays with ao.radius = inf).
 #include <embree3/rtcore.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cstdio>
@@ -14,6 +18,10 @@
 #include <thread>
 #include <vector>
 
+#include "platform/context.hpp"
+#include "render/gpu_scene.hpp"
+#include "render/still.hpp"
+#include "rt/ray_rates.hpp"
 #include "rt/sampling.hpp"
 #include "scene/generate.hpp"
 #include "scene/gltf_loader.hpp"
@@ -26,7 +34,7 @@ struct Rates {
     double primary_mrays = 0, ao_mrays = 0;
 };
 
-Rates measure(const Scene& scene, int w, int h, int spp, int threads) {
+Rates measure(const Scene& scene, int w, int h, int spp, int threads, int repeats) {
     RTCDevice device = rtcNewDevice(nullptr);
     RTCScene rtc_scene = rtcNewScene(device);
     const std::vector<WorldTriangle> tris = scene.world_triangles();
@@ -95,34 +103,52 @@ Rates measure(const Scene& scene, int w, int h, int spp, int threads) {
         return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     };
     run(false);  // warm-up
-    const double primary_ms = run(false);
-    const double ao_ms = run(true);
+    std::vector<double> primary_ms, ao_extra_ms;
+    for (int r = 0; r < repeats; ++r) {
+        primary_ms.push_back(run(false));
+        ao_extra_ms.push_back(run(true) - primary_ms.back());
+    }
     rtcReleaseScene(rtc_scene);
     rtcReleaseDevice(device);
     const double rays = static_cast<double>(w) * h * spp;
-    return {rays / (primary_ms * 1e3), ao_ms > primary_ms ? rays / ((ao_ms - primary_ms) * 1e3) : 0.0};
+    const double p = median(primary_ms), a = median(ao_extra_ms);
+    return {rays / (p * 1e3), a > 0.0 ? rays / (a * 1e3) : 0.0};
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-    int w = 512, h = 512, spp = 4, threads = 2;
+    int w = 512, h = 512, spp = 4, threads = 2, repeats = 3;
     std::vector<std::string> scenes;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         if (a == "--size" && i + 1 < argc) std::sscanf(argv[++i], "%dx%d", &w, &h);
-        else if (a == "--spp" && i + 1 < argc) spp = std::atoi(argv[++i]);
-        else if (a == "--threads" && i + 1 < argc) threads = std::atoi(argv[++i]);
+        else if (a == "--spp" && i + 1 < argc) spp = std::max(1, std::atoi(argv[++i]));
+        else if (a == "--threads" && i + 1 < argc) threads = std::max(1, std::atoi(argv[++i]));
+        else if (a == "--repeat" && i + 1 < argc) repeats = std::max(1, std::atoi(argv[++i]));
         else scenes.push_back(a);
     }
-    std::printf("Embree %d.%d.%d single-ray API, %d threads; %dx%d, %d spp\n", RTC_VERSION_MAJOR, RTC_VERSION_MINOR,
-                RTC_VERSION_PATCH, threads, w, h, spp);
-    std::printf("%-28s %12s %12s\n", "scene", "primary Mr/s", "AO Mr/s");
+    ContextResult ctx = create_context(Backend::auto_select);
+    if (!ctx.context) {
+        std::fprintf(stderr, "bench_rays_embree: no usable OpenGL: %s\n", ctx.error.c_str());
+        return 3;
+    }
+    const ShaderLibrary shaders(ShaderLibrary::default_root());
+    std::printf("Embree %d.%d.%d single-ray API, %d threads, %d spp; tracer: %s, %d spp; %dx%d, medians of %d runs\n",
+                RTC_VERSION_MAJOR, RTC_VERSION_MINOR, RTC_VERSION_PATCH, threads, spp, ctx.context->device_string().c_str(),
+                4 * spp, w, h, repeats);
+    std::printf("%-28s %22s %22s\n", "", "primary Mrays/s", "AO Mrays/s");
+    std::printf("%-28s %7s %7s %6s %7s %7s %6s\n", "scene", "tracer", "Embree", "ratio", "tracer", "Embree", "ratio");
     for (const std::string& name : scenes) {
         const Scene scene = name.rfind("generated:", 0) == 0 ? make_bumpy_sphere_scene(std::stoul(name.substr(10))) : load_gltf(name);
-        const Rates r = measure(scene, w, h, spp, threads);
-        std::printf("%-28s %12.2f %12.2f\n", name.substr(name.size() > 28 ? name.size() - 28 : 0).c_str(), r.primary_mrays,
-                    r.ao_mrays);
+        const Rates e = measure(scene, w, h, spp, threads, repeats);
+        GpuScene gpu(scene);
+        const Camera camera = scene.select_camera("", static_cast<float>(w) / static_cast<float>(h));
+        const rt::RayRates t = rt::measure_ray_rates(shaders, scene, gpu, camera, w, h, 4 * spp, repeats);
+        auto ratio = [](double a, double b) { return b > 0.0 ? a / b : 0.0; };
+        std::printf("%-28s %7.2f %7.2f %5.0f%% %7.2f %7.2f %5.0f%%\n", name.substr(name.size() > 28 ? name.size() - 28 : 0).c_str(),
+                    t.primary_mrays, e.primary_mrays, 100.0 * ratio(t.primary_mrays, e.primary_mrays), t.ao_mrays, e.ao_mrays,
+                    100.0 * ratio(t.ao_mrays, e.ao_mrays));
     }
     return 0;
 }
