@@ -25,6 +25,25 @@ float luminance(const glm::vec3& c) { return 0.2126f * c.r + 0.7152f * c.g + 0.0
 
 }  // namespace
 
+std::vector<Aabb> primitive_boxes(const RtGeometry& g) {
+    std::vector<Aabb> boxes;
+    boxes.reserve(g.triangles.size() + g.spheres.size());
+    for (const TriangleGpu& t : g.triangles) {
+        Aabb b;
+        b.extend(glm::vec3(t.p0));
+        b.extend(glm::vec3(t.p1));
+        b.extend(glm::vec3(t.p2));
+        boxes.push_back(b);
+    }
+    for (const SphereGpu& s : g.spheres) {
+        Aabb b;
+        b.extend(glm::vec3(s.center_radius) - glm::vec3(s.center_radius.w));
+        b.extend(glm::vec3(s.center_radius) + glm::vec3(s.center_radius.w));
+        boxes.push_back(b);
+    }
+    return boxes;
+}
+
 RtGeometry build_rt_geometry(const Scene& scene, int default_material, const BvhOptions& options) {
     RtGeometry g;
     for (const WorldTriangle& t : scene.world_triangles()) {
@@ -116,22 +135,7 @@ RtGeometry build_rt_geometry(const Scene& scene, int default_material, const Bvh
         g.has_mask = g.has_mask || m.alpha_mode == AlphaMode::mask;
     }
 
-    std::vector<Aabb> boxes;
-    boxes.reserve(g.triangles.size() + g.spheres.size());
-    for (const TriangleGpu& t : g.triangles) {
-        Aabb b;
-        b.extend(glm::vec3(t.p0));
-        b.extend(glm::vec3(t.p1));
-        b.extend(glm::vec3(t.p2));
-        boxes.push_back(b);
-    }
-    for (const SphereGpu& s : g.spheres) {
-        Aabb b;
-        b.extend(glm::vec3(s.center_radius) - glm::vec3(s.center_radius.w));
-        b.extend(glm::vec3(s.center_radius) + glm::vec3(s.center_radius.w));
-        boxes.push_back(b);
-    }
-    g.bvh = build_bvh_binned_sah(boxes, options);
+    g.bvh = build_bvh_binned_sah(primitive_boxes(g), options);
     return g;
 }
 
@@ -207,6 +211,7 @@ std::string traversal_layout_violation(const RtGeometry& g, const TraversalLayou
     const std::size_t node_count = layout.nodes.size() / 4;
     std::vector<int> reached(prim_count, 0);
     std::vector<char> visited(node_count, 0);
+    const std::vector<Aabb> boxes = primitive_boxes(g);  // what the builder saw
     struct Item {
         std::int32_t ref;
         glm::vec3 bmin, bmax;  // the box the ref was reached through
@@ -243,23 +248,19 @@ std::string traversal_layout_violation(const RtGeometry& g, const TraversalLayou
             const auto id = static_cast<std::size_t>(std::bit_cast<std::int32_t>(rec[0].w));
             if (id >= prim_count) return "record " + std::to_string(r) + ": id " + std::to_string(id) + " out of range";
             if (reached[id]++) return "primitive " + std::to_string(id) + " reached twice";
-            glm::vec3 lo, hi;
             if (id < triangle_count) {
                 const TriangleGpu& t = g.triangles[id];
                 if (!same_bits(rec[0], t.p0) || !same_bits(rec[1], t.p1) || !same_bits(rec[2], t.p2))
                     return "record " + std::to_string(r) + ": positions differ from triangle " + std::to_string(id);
-                lo = glm::min(glm::min(glm::vec3(t.p0), glm::vec3(t.p1)), glm::vec3(t.p2));
-                hi = glm::max(glm::max(glm::vec3(t.p0), glm::vec3(t.p1)), glm::vec3(t.p2));
             } else {
                 const glm::vec4 cr = g.spheres[id - triangle_count].center_radius;
                 if (!same_bits(rec[0], cr) || std::bit_cast<std::uint32_t>(rec[1].x) != std::bit_cast<std::uint32_t>(cr.w))
                     return "record " + std::to_string(r) + ": centre or radius differ from sphere " + std::to_string(id - triangle_count);
-                lo = glm::vec3(cr) - glm::vec3(cr.w);
-                hi = glm::vec3(cr) + glm::vec3(cr.w);
             }
+            const glm::vec3 lo = boxes[id].min, hi = boxes[id].max;
             // Primitives with non-finite coordinates sit under empty boxes, never hit.
             const bool finite = !glm::any(glm::isnan(lo)) && !glm::any(glm::isinf(lo)) && !glm::any(glm::isnan(hi)) && !glm::any(glm::isinf(hi));
-            if (finite && !empty_box && !(inside(lo, item.bmin, item.bmax) && inside(hi, item.bmin, item.bmax)))
+            if (finite && !boxes[id].empty() && !empty_box && !(inside(lo, item.bmin, item.bmax) && inside(hi, item.bmin, item.bmax)))
                 return "primitive " + std::to_string(id) + " is outside the box of its leaf";
         }
     }

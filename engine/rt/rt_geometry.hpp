@@ -52,6 +52,9 @@ struct RtGeometry {
 // default material after the scene's).
 RtGeometry build_rt_geometry(const Scene& scene, int default_material, const BvhOptions& options = {});
 
+// The boxes the BVH is built over: the triangles', then the spheres', in primitive id order.
+std::vector<Aabb> primitive_boxes(const RtGeometry& geometry);
+
 // The BVH as the GPU traverses it: two RGBA32F buffer textures (shaders/rt/scene.glsl, trace()).
 // On llvmpipe a texel fetch gathers a vector of lanes at once where an SSBO load with a per-lane
 // address becomes a loop over the lanes, and a visit here reads 4 texels where the 32-byte node

@@ -33,23 +33,9 @@ SphereGpu sphere(glm::vec3 c, float r) {
 
 // Builds the BVH over g's primitives as build_rt_geometry does (triangles first, then spheres).
 void build(RtGeometry& g, int max_leaf_size = 4) {
-    std::vector<Aabb> boxes;
-    for (const TriangleGpu& t : g.triangles) {
-        Aabb b;
-        b.extend(glm::vec3(t.p0));
-        b.extend(glm::vec3(t.p1));
-        b.extend(glm::vec3(t.p2));
-        boxes.push_back(b);
-    }
-    for (const SphereGpu& s : g.spheres) {
-        Aabb b;
-        b.extend(glm::vec3(s.center_radius) - glm::vec3(s.center_radius.w));
-        b.extend(glm::vec3(s.center_radius) + glm::vec3(s.center_radius.w));
-        boxes.push_back(b);
-    }
     BvhOptions o;
     o.max_leaf_size = max_leaf_size;
-    g.bvh = build_bvh_binned_sah(boxes, o);
+    g.bvh = build_bvh_binned_sah(primitive_boxes(g), o);
 }
 
 RtGeometry random_geometry(int triangles, int spheres, unsigned seed) {
