@@ -683,6 +683,11 @@ int cmd_info(const Args& args) {
                 scene.nodes.size(), scene.meshes.size(), scene.triangle_count(), scene.materials.size(), valid_images,
                 scene.sanitized.missing_textures);
     std::printf("lights: %d directional, %d point, %d spot\n", directional, point, spot);
+    if (!scene.ignored.empty()) {
+        std::string list;
+        for (const std::string& what : scene.ignored) list += (list.empty() ? "" : "; ") + what;
+        std::printf("ignored (not implemented): %s\n", list.c_str());
+    }
     if (b.empty()) std::printf("bounds: empty\n");
     else
         std::printf("bounds: min (%.4g, %.4g, %.4g)  max (%.4g, %.4g, %.4g)\n", b.min.x, b.min.y, b.min.z, b.max.x,
