@@ -293,6 +293,14 @@ SurfaceHit surface_at(Ray ray, Hit hit) {
                 if (side < 1e-4) s.ns = normalize(s.ns + s.ng * (1e-4 - side));
             }
         }
+        // Shading normals (interpolated or mapped) that face away from the viewer are bent back
+        // to the horizon, exactly as the rasterizer does (shaders/lighting/surface.glsl), so
+        // that the BRDF sees the same n.v in both. ns and v both lie above the geometric
+        // surface, so the bent normal does too. Directions that the shading normal's BRDF sends
+        // below the geometric surface are handled by the folded BRDF in trace.comp.
+        vec3 v = -normalize(ray.dir);
+        float nv = dot(s.ns, v);
+        if (nv < 1e-4) s.ns = normalize(s.ns + v * (1e-4 - nv));
     } else {
         RtSphere sp = spheres[hit.prim - rt.counts.x];
         vec3 n = normalize(s.p - sp.center_radius.xyz);

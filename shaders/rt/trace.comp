@@ -164,6 +164,51 @@ float power_heuristic(float a, float b) {
     return a2 + b2 > 0.0 ? a2 / (a2 + b2) : 0.0;
 }
 
+// ---- shading normals: the BRDF folded into the geometric hemisphere ---------------------------
+// A shading normal ns (interpolated, or from a normal map) differs from the geometric normal ng,
+// so the BRDF evaluated about ns sends part of its light to directions below the geometric
+// surface: a mirror reflection about ns can point into the object. Tracing those rays, or
+// dropping them, gave the black rings on normal-mapped metal (issue 17). Here the BRDF the tracer
+// integrates is folded at the geometric tangent plane: for l above it,
+//     f_fold(v, l) cos = f(v, l) (ns.l) + f(v, M l) (ns.M l),   M l = l - 2 (ng.l) ng,
+// i.e. the light the ns-BRDF would reflect below the surface leaves at its mirror image about
+// the geometric plane instead (the "flip" convention for shading normals; the microfacet model
+// of Schuessler et al. 2017, "Microfacet-based Normal Mapping for Robust Monte Carlo Path
+// Tracing", is the energy-exact alternative, which the rasterizer could not match). Its albedo is
+// the ns-BRDF's own, E(ns.v), which is what the raster's split-sum term computes with the same
+// bent normal, so a white furnace gives the same answer on both. Sampling draws l from the ns
+// lobes and reflects it at the geometric plane if it lies below; that direction's density is
+// pdf(l) + pdf(M l), which is also the pdf MIS uses, so next-event estimation (which evaluates
+// the same folded BRDF) and BRDF sampling stay consistent. Rays leave offset along ng.
+vec3 fold_above(vec3 l, vec3 ng) {
+    float d = dot(l, ng);
+    return d < 0.0 ? l - 2.0 * d * ng : l;
+}
+// f_fold * cosine for a direction l (0 below the geometric surface).
+vec3 brdf_cos_folded(BrdfInput m, SurfaceHit s, vec3 l, vec3 v) {
+    float gl = dot(s.ng, l);
+    if (gl <= 0.0) return vec3(0.0);
+    vec3 lm = l - 2.0 * gl * s.ng;
+    float c = dot(s.ns, l), cm = dot(s.ns, lm);
+    vec3 f = c > 0.0 ? brdf_eval(m, s.ns, l, v) * c : vec3(0.0);
+    if (cm > 0.0) f += brdf_eval(m, s.ns, lm, v) * cm;
+    return f;
+}
+// Solid-angle pdf of sample_brdf_folded drawing l.
+float brdf_pdf_folded(BrdfInput m, SurfaceHit s, vec3 v, vec3 l) {
+    float gl = dot(s.ng, l);
+    if (gl <= 0.0) return 0.0;
+    return brdf_pdf(m, s.ns, v, l) + brdf_pdf(m, s.ns, v, l - 2.0 * gl * s.ng);
+}
+// A direction from the ns lobes, reflected into the geometric hemisphere; false if the lobe's
+// sample lies below the shading surface (the single-scattering loss, as in the raster's E(n.v)).
+bool sample_brdf_folded(BrdfInput m, SurfaceHit s, vec3 v, inout Rng rng, out vec3 l) {
+    l = sample_brdf(m, s.ns, v, rng);
+    if (dot(s.ns, l) <= 0.0) return false;
+    l = fold_above(l, s.ng);
+    return dot(s.ng, l) > 0.0;
+}
+
 // ---- dielectric interfaces (exact Fresnel) ----------------------------------------------------
 
 // Unpolarised Fresnel reflectance; eta = n_incident / n_transmitted. 1 for total internal reflection.
@@ -219,10 +264,11 @@ vec3 direct_punctual(SurfaceHit s, BrdfInput m, vec3 v) {
         vec3 l, E;
         float dist;
         light_incidence(lights[i], s.p, l, E, dist);
-        float NdotL = dot(s.ns, l);
-        if (NdotL <= 0.0 || dot(s.ng, l) <= 0.0 || max(E.r, max(E.g, E.b)) <= 0.0) continue;
+        if (max(E.r, max(E.g, E.b)) <= 0.0) continue;
+        vec3 fc = brdf_cos_folded(m, s, l, v);
+        if (max(fc.r, max(fc.g, fc.b)) <= 0.0) continue;
         vec3 visible = shadow_visibility(make_ray(offset_ray(s.p, s.ng, rt.fparams2.x), l), dist);
-        sum += brdf_eval(m, s.ns, l, v) * E * NdotL * visible;
+        sum += fc * E * visible;
     }
     return sum;
 }
@@ -253,8 +299,8 @@ vec3 direct_sphere(SurfaceHit s, BrdfInput m, vec3 v, inout Rng rng, bool use_mi
     float sin_t = sqrt(max(one_minus_cos_t * (2.0 - one_minus_cos_t), 0.0));
     float phi = 2.0 * PI * u2;
     vec3 l = to_world(vec3(cos(phi) * sin_t, sin(phi) * sin_t, cos_t), dc / dist);
-    float NdotL = dot(s.ns, l);
-    if (NdotL <= 0.0 || dot(s.ng, l) <= 0.0) return vec3(0.0);
+    vec3 fc = brdf_cos_folded(m, s, l, v);
+    if (max(fc.r, max(fc.g, fc.b)) <= 0.0) return vec3(0.0);
     // Nearest intersection along l (the tangent point if rounding puts l just outside).
     float along = dist * cos_t;
     float t = along - sqrt(max(r * r - (d2 - along * along), 0.0));
@@ -266,8 +312,8 @@ vec3 direct_sphere(SurfaceHit s, BrdfInput m, vec3 v, inout Rng rng, bool use_mi
     vec3 origin = offset_ray(s.p, s.ng, rt.fparams2.x);
     vec3 target = offset_ray(q, nl, rt.fparams2.x);
     vec3 visible = shadow_visibility(make_ray(origin, target - origin), 1.0);
-    float w = use_mis ? power_heuristic(pdf, brdf_pdf(m, s.ns, v, l)) : 1.0;
-    return brdf_eval(m, s.ns, l, v) * Le * NdotL * w * visible / pdf;
+    float w = use_mis ? power_heuristic(pdf, brdf_pdf_folded(m, s, v, l)) : 1.0;
+    return fc * Le * w * visible / pdf;
 }
 
 // One emitter chosen by power: an emissive triangle (one point on it uniformly by area) or an
@@ -304,14 +350,15 @@ vec3 direct_emitters(SurfaceHit s, BrdfInput m, vec3 v, inout Rng rng, bool use_
     vec3 l = d * inversesqrt(dist2);
     float cos_l = dot(nl, -l);
     if (material_double_sided(mat)) cos_l = abs(cos_l);
-    float NdotL = dot(s.ns, l);
-    if (cos_l <= 0.0 || NdotL <= 0.0 || dot(s.ng, l) <= 0.0) return vec3(0.0);
+    if (cos_l <= 0.0) return vec3(0.0);
+    vec3 fc = brdf_cos_folded(m, s, l, v);
+    if (max(fc.r, max(fc.g, fc.b)) <= 0.0) return vec3(0.0);
     float pdf = e.pdf / e.area * dist2 / cos_l;  // solid angle
     vec3 origin = offset_ray(s.p, s.ng, rt.fparams2.x);
     vec3 target = offset_ray(q, dot(nl, -l) > 0.0 ? nl : -nl, rt.fparams2.x);
     vec3 visible = shadow_visibility(make_ray(origin, target - origin), 1.0);
-    float w = use_mis ? power_heuristic(pdf, brdf_pdf(m, s.ns, v, l)) : 1.0;
-    return brdf_eval(m, s.ns, l, v) * Le * NdotL * w * visible / pdf;
+    float w = use_mis ? power_heuristic(pdf, brdf_pdf_folded(m, s, v, l)) : 1.0;
+    return fc * Le * w * visible / pdf;
 }
 
 // Solid-angle pdf with which direct_emitters would have chosen the point the BRDF ray hit.
@@ -505,18 +552,19 @@ vec3 radiance(Ray ray, inout Rng rng) {
         {
             float pdf_env;
             vec3 le = sample_env(rng, pdf_env);
-            float NdotL = dot(s.ns, le);
-            if (pdf_env > 0.0 && NdotL > 0.0 && dot(s.ng, le) > 0.0 &&
+            vec3 fc = pdf_env > 0.0 ? brdf_cos_folded(m, s, le, v) : vec3(0.0);
+            if (max(fc.r, max(fc.g, fc.b)) > 0.0 &&
                 !trace_any(make_ray(offset_ray(s.p, s.ng, rt.fparams2.x), le), 3.0e38)) {
-                float w = power_heuristic(pdf_env, brdf_pdf(m, s.ns, v, le));
-                sum += throughput * brdf_eval(m, s.ns, le, v) * environment(le) * NdotL * w / pdf_env;
+                float w = power_heuristic(pdf_env, brdf_pdf_folded(m, s, v, le));
+                sum += throughput * fc * environment(le) * w / pdf_env;
             }
         }
 #endif
-        vec3 l = sample_brdf(m, s.ns, v, rng);
-        float pdf = brdf_pdf(m, s.ns, v, l);
-        if (pdf <= 0.0 || dot(s.ng, l) <= 0.0) break;
-        throughput *= brdf_eval(m, s.ns, l, v) * dot(s.ns, l) / pdf;
+        vec3 l;
+        if (!sample_brdf_folded(m, s, v, rng, l)) break;
+        float pdf = brdf_pdf_folded(m, s, v, l);
+        if (pdf <= 0.0) break;
+        throughput *= brdf_cos_folded(m, s, l, v) / pdf;
         last_brdf_pdf = pdf;
         if (depth >= 3) {
             float survive = clamp(max(throughput.r, max(throughput.g, throughput.b)), 0.05, 0.95);
@@ -668,7 +716,9 @@ vec3 radiance(Ray primary, inout Rng rng) {
             float cos_v = saturate(dot(v, s.ns));
             vec3 F = mix(F_Schlick(dielectric_f0(m), vec3(dielectric_f90(m)), cos_v),
                          F_Schlick(m.base_color, vec3(1.0), cos_v), m.metallic);
-            rays[n] = make_ray(offset_ray(s.p, s.ng, rt.fparams2.x), reflect(-v, s.ns));
+            // The mirror direction about ns, folded above the geometric surface as path mode
+            // folds its BRDF (see fold_above).
+            rays[n] = make_ray(offset_ray(s.p, s.ng, rt.fparams2.x), fold_above(reflect(-v, s.ns), s.ng));
             weights[n] = w * F;
             depths[n++] = depth + 1;
         }
