@@ -10,12 +10,16 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <deque>
+#include <tuple>
+#include <utility>
 
 #include <nlohmann/json.hpp>
 
 #include "camera_controller.hpp"
+#include "effect_status.hpp"
 #include "core/error.hpp"
 #include "core/log.hpp"
 #include "image/image.hpp"
@@ -31,6 +35,13 @@ namespace candela::viewer {
 namespace {
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
+
+// The panel is docked to the window's right edge and the scene is drawn only left of it, so the
+// panel never hides the scene. Widths are in window coordinates (ImGui's); the user can drag the
+// panel's left edge. `candela view --size WxH` is the scene's size: the window adds the panel.
+constexpr float kPanelWidth = 440.0f;
+constexpr float kMinPanelWidth = 240.0f;
+constexpr float kMinSceneWidth = 64.0f;
 
 double ms_since(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
 
@@ -105,8 +116,7 @@ public:
 
 private:
     void select_camera(const std::string& selector) {
-        int w = 0, h = 0;
-        glfwGetFramebufferSize(ctx_.window(), &w, &h);
+        const auto [w, h] = scene_viewport();
         const Camera c = scene_.select_camera(selector, h > 0 ? static_cast<float>(w) / static_cast<float>(h) : 1.0f);
         const float d = bounds_.empty() ? 1.0f : glm::length(bounds_.center() - glm::vec3(c.world[3]));
         controller_.reset(c, std::max(d, 1e-3f));
@@ -120,6 +130,23 @@ private:
             settings_error_ = e.what();
             log::warn(settings_error_);
         }
+    }
+    // The panel's width this frame (window coordinates): what the user left it at, narrowed so
+    // that a narrow window keeps kMinSceneWidth for the scene.
+    float panel_width(float window_width) const {
+        return std::clamp(panel_width_, 0.0f, std::max(0.0f, window_width - kMinSceneWidth));
+    }
+    // The scene's part of the window in framebuffer pixels: the left part, full height (GL's
+    // origin is the bottom-left corner, so the scene's viewport starts at 0,0). All of the window
+    // when the panel is hidden (H).
+    std::pair<int, int> scene_viewport() const {
+        int fw = 0, fh = 0, ww = 0, wh = 0;
+        glfwGetFramebufferSize(ctx_.window(), &fw, &fh);
+        glfwGetWindowSize(ctx_.window(), &ww, &wh);
+        if (!show_ui_ || ww <= 0 || fw <= 0) return {fw, fh};
+        const float pixels_per_unit = static_cast<float>(fw) / static_cast<float>(ww);  // HiDPI
+        const int panel = static_cast<int>(std::lround(panel_width(static_cast<float>(ww)) * pixels_per_unit));
+        return {std::max(fw - panel, 1), fh};
     }
     void run_script(int frame);
     void handle_input(float dt);
@@ -155,6 +182,7 @@ private:
     bool quit_ = false;
     std::vector<fs::path> pending_screenshots_;
     bool show_ui_ = true;
+    float panel_width_ = kPanelWidth;
 };
 
 void Viewer::update_reference(const Camera& camera, int w, int h) {
@@ -399,24 +427,49 @@ void Viewer::knob_widgets(const std::string& prefix, bool exclude) {
     }
 }
 
+// Dim text that wraps at the panel's edge (ImGui::TextDisabled does not wrap).
+void wrapped_disabled(const std::string& text) {
+    ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyleColorVec4(ImGuiCol_TextDisabled));
+    ImGui::TextWrapped("%s", text.c_str());
+    ImGui::PopStyleColor();
+}
+
 void Viewer::draw_ui(double frame_ms) {
-    ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_FirstUseEver);
-    ImGui::SetNextWindowSize(ImVec2(430, 0), ImGuiCond_FirstUseEver);
-    ImGui::Begin("Candela");
-    ImGui::TextUnformatted(ctx_.device_string().c_str());
+    // Docked: pinned to the right edge at full height, opaque (the scene is not behind it), and
+    // resizable only by its left edge; the new width moves the scene's edge on the next frame.
+    const ImVec2 display = ImGui::GetIO().DisplaySize;
+    const float width = panel_width(display.x);
+    ImGui::SetNextWindowPos(ImVec2(display.x - width, 0.0f), ImGuiCond_Always);
+    ImGui::SetNextWindowSize(ImVec2(width, display.y), ImGuiCond_Always);
+    ImGui::SetNextWindowSizeConstraints(ImVec2(std::min(kMinPanelWidth, width), display.y),
+                                        ImVec2(std::max(width, display.x - kMinSceneWidth), display.y));
+    ImGui::PushStyleColor(ImGuiCol_WindowBg, ImVec4(0.08f, 0.08f, 0.09f, 1.0f));
+    ImGui::PushStyleVar(ImGuiStyleVar_WindowRounding, 0.0f);
+    ImGui::Begin("Candela", nullptr, ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoCollapse | ImGuiWindowFlags_NoTitleBar);
+    ImGui::PopStyleVar();
+    ImGui::PopStyleColor();
+    if (ImGui::GetWindowWidth() != width) panel_width_ = ImGui::GetWindowWidth();  // dragged by the user
+    ImGui::TextWrapped("%s", ctx_.device_string().c_str());
     frame_times_.push_back(frame_ms);
     if (frame_times_.size() > 60) frame_times_.pop_front();
     std::vector<double> sorted(frame_times_.begin(), frame_times_.end());
     std::sort(sorted.begin(), sorted.end());
     ImGui::Text("frame %.1f ms (median of %zu)  %s", sorted[sorted.size() / 2], sorted.size(), controller_.fly_mode ? "fly" : "orbit");
-    ImGui::TextDisabled("drag: turn  shift/middle drag: pan  wheel: zoom  WASDQE: move  F: frame  Tab: fly  P: screenshot  H: hide");
+    ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyleColorVec4(ImGuiCol_TextDisabled));
+    ImGui::TextWrapped("drag: turn  shift/middle drag: pan  wheel: zoom  WASDQE: move  F: frame  Tab: fly  P: screenshot  "
+                       "H: hide this panel");
+    ImGui::PopStyleColor();
     if (!shader_errors_.empty()) {
         ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1.0f, 0.45f, 0.4f, 1.0f));
         ImGui::TextWrapped("Shader error (the last good program is in use):\n%s", shader_errors_.c_str());
         ImGui::PopStyleColor();
     }
-    if (!settings_error_.empty()) ImGui::TextColored(ImVec4(1.0f, 0.45f, 0.4f, 1.0f), "%s", settings_error_.c_str());
-    if (!status_.empty()) ImGui::TextDisabled("%s", status_.c_str());
+    if (!settings_error_.empty()) {
+        ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1.0f, 0.45f, 0.4f, 1.0f));
+        ImGui::TextWrapped("%s", settings_error_.c_str());
+        ImGui::PopStyleColor();
+    }
+    if (!status_.empty()) wrapped_disabled(status_);
 
     if (ImGui::CollapsingHeader("Camera")) {
         if (ImGui::Button("Frame scene (F)")) controller_.frame(bounds_);
@@ -433,10 +486,22 @@ void Viewer::draw_ui(double frame_ms) {
         bool* flags[] = {&s.shadows, &s.ssao, &s.rsm, &s.transparency, &s.reflections};
         const EffectDecision* decisions[] = {&f.shadows, &f.ssao, &f.rsm, &f.transparency, &f.reflections};
         bool changed = false;
+        // The checkbox is the user's switch (--effects); beside it, what the planner made of it,
+        // and below it the planner's reason, wrapped to the panel.
         for (size_t i = 0; i < 5; ++i) {
+            const EffectStatus status = effect_status(*flags[i], *decisions[i]);
             changed |= ImGui::Checkbox(effect_names()[i].c_str(), flags[i]);
-            ImGui::SameLine(140);
-            ImGui::TextDisabled("%s", decisions[i]->reason.c_str());
+            if (ImGui::IsItemHovered())
+                ImGui::SetTooltip("switch %s on or off (--effects); the planner still skips it when the scene does not need it",
+                                  effect_names()[i].c_str());
+            ImGui::SameLine(ImGui::GetFontSize() * 9.0f);
+            const ImVec4 colour = status.state == EffectState::running   ? ImVec4(0.45f, 0.85f, 0.45f, 1.0f)
+                                  : status.state == EffectState::skipped ? ImVec4(0.95f, 0.75f, 0.35f, 1.0f)
+                                                                         : ImGui::GetStyleColorVec4(ImGuiCol_TextDisabled);
+            ImGui::TextColored(colour, "%s", status.label.c_str());
+            ImGui::Indent(ImGui::GetFrameHeightWithSpacing());
+            wrapped_disabled(status.detail);
+            ImGui::Unindent(ImGui::GetFrameHeightWithSpacing());
         }
         if (changed) apply_settings(s);
     }
@@ -496,9 +561,12 @@ void Viewer::draw_ui(double frame_ms) {
             }
             ImGui::EndTable();
         }
-        for (const auto& [name, why] : r.culled) ImGui::TextDisabled("culled %s: %s", name.c_str(), why.c_str());
+        for (const auto& [name, why] : r.culled) wrapped_disabled("culled " + name + ": " + why);
         if (ImGui::TreeNode("planned passes and why")) {
-            for (const PlannedPass& p : plan_passes(renderer_.features(), settings_)) ImGui::BulletText("%s: %s", p.name.c_str(), p.why.c_str());
+            for (const PlannedPass& p : plan_passes(renderer_.features(), settings_)) {
+                ImGui::Bullet();
+                ImGui::TextWrapped("%s: %s", p.name.c_str(), p.why.c_str());
+            }
             ImGui::TreePop();
         }
     }
@@ -509,12 +577,13 @@ int Viewer::run() {
     GLFWwindow* window = ctx_.window();
     auto last = Clock::now();
     int frame = 0;
-    int w = 0, h = 0;
+    int w = 0, h = 0;  // the scene's viewport (left of the panel)
     std::vector<double> whole_frames;
     while (!glfwWindowShouldClose(window) && !quit_) {
         glfwPollEvents();
-        glfwGetFramebufferSize(window, &w, &h);
-        if (w <= 0 || h <= 0) {  // minimized: nothing to draw, do not spin
+        int window_w = 0, window_h = 0;  // framebuffer pixels
+        glfwGetFramebufferSize(window, &window_w, &window_h);
+        if (window_w <= 0 || window_h <= 0) {  // minimized: nothing to draw, do not spin
             glfwWaitEventsTimeout(0.1);
             continue;
         }
@@ -523,6 +592,7 @@ int Viewer::run() {
         last = t0;
         reload_shaders();
         run_script(frame);
+        std::tie(w, h) = scene_viewport();  // after the script: it may hide or show the panel
         ImGui_ImplOpenGL3_NewFrame();
         ImGui_ImplGlfw_NewFrame();
         ImGui::NewFrame();
@@ -531,6 +601,9 @@ int Viewer::run() {
         renderer_.render(camera, w, h, FrameOutput::display, o_.exposure_ev);
         renderer_.resolve_gpu_times();
         update_reference(camera, w, h);
+        // The panel is opaque, but the strip under it must not show stale frames either.
+        const GLfloat backdrop[4] = {0.08f, 0.08f, 0.09f, 1.0f};
+        glClearNamedFramebufferfv(0, GL_COLOR, 0, backdrop);
         glNamedFramebufferTexture(blit_.id(), GL_COLOR_ATTACHMENT0, renderer_.display().id(), 0);
         glBlitNamedFramebuffer(blit_.id(), 0, 0, 0, w, h, 0, 0, w, h, GL_COLOR_BUFFER_BIT, GL_NEAREST);
         draw_reference(w, h);
@@ -546,7 +619,7 @@ int Viewer::run() {
         ImGui::Render();
         ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
         if (last_frame && !o_.window_shot.empty()) {
-            write_display_rgba8(o_.window_shot, read_window(w, h), w, h);
+            write_display_rgba8(o_.window_shot, read_window(window_w, window_h), window_w, window_h);
             log::info("viewer: wrote " + o_.window_shot.string());
         }
         ctx_.swap_buffers();
@@ -559,7 +632,8 @@ int Viewer::run() {
         std::vector<double> steady(whole_frames.begin() + (whole_frames.size() > 1 ? 1 : 0), whole_frames.end());
         std::sort(steady.begin(), steady.end());
         log::info("viewer: " + std::to_string(frame) + " frames; median frame (render, UI, swap; after the first) " +
-                  std::to_string(steady[steady.size() / 2]).substr(0, 6) + " ms at " + std::to_string(w) + "x" + std::to_string(h));
+                  std::to_string(steady[steady.size() / 2]).substr(0, 6) + " ms; scene " + std::to_string(w) + "x" + std::to_string(h) +
+                  (show_ui_ ? " left of the panel" : ", panel hidden"));
     }
     return 0;
 }
@@ -571,7 +645,8 @@ int run_viewer(const Scene& scene, const ViewerOptions& options) {
     std::vector<ScriptCommand> script;
     if (!options.script.empty()) script = load_script(options.script);
     ContextOptions co;
-    co.width = options.width;
+    // --size is the scene's size; the docked panel is added beside it.
+    co.width = options.width + static_cast<int>(kPanelWidth);
     co.height = options.height;
     co.vsync = options.vsync;
     co.title = "Candela - " + scene.source.filename().string();

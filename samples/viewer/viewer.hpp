@@ -1,6 +1,6 @@
 #pragma once
 // `candela view SCENE`: the interactive viewer. A GLFW window shows the raster frame; a Dear
-// ImGui panel holds the render path, every effect and knob of RenderSettings (the names of
+// ImGui panel docked to its right edge (the scene is drawn only left of it; H hides it) holds the render path, every effect and knob of RenderSettings (the names of
 // --set), the planned and culled passes with their reasons, per-pass GPU times and counters,
 // and shader errors. Shaders under --shader-dir reload when saved.
 #include <filesystem>
@@ -12,12 +12,12 @@
 namespace candela::viewer {
 
 struct ViewerOptions {
-    int width = 1280, height = 720;    // window size
+    int width = 1280, height = 720;    // the scene's size; the window is wider by the panel
     RenderSettings settings;
     std::string camera;                // scene camera to start with ("" = the first)
     std::filesystem::path shader_dir;  // watched and reloaded
     std::filesystem::path script;      // --script FILE (viewer/script.hpp)
-    std::filesystem::path screenshot;  // --screenshot OUT.png: the image (no UI) after the last frame
+    std::filesystem::path screenshot;  // --screenshot OUT.png: the scene's image (no UI) after the last frame
     std::filesystem::path window_shot; // --window-shot OUT.png: the whole window with the panel
     int frames = 0;                    // --frames N: quit after N frames (0: when closed)
     bool vsync = true;

@@ -1,0 +1,70 @@
+// The viewer's effect rows (issue 17): the checkbox is the user's switch, the status beside it is
+// what the planner made of it, and the two never contradict each other. Checked over every
+// decision the planner can produce, plus the real planner on a sample scene.
+#include <gtest/gtest.h>
+
+#include "../../samples/viewer/effect_status.hpp"
+#include "render/features.hpp"
+#include "render/settings.hpp"
+#include "scene/gltf_loader.hpp"
+
+namespace candela::viewer {
+namespace {
+
+bool starts_with(const std::string& s, const std::string& prefix) { return s.rfind(prefix, 0) == 0; }
+
+TEST(ViewerEffectStatus, TickedBoxNeverSaysOffAndUntickedNeverSaysRunningUnlessForced) {
+    for (int bits = 0; bits < 32; ++bits) {
+        const bool switch_on = bits & 1;
+        EffectDecision d;
+        d.name = "transparency";
+        d.enabled = bits & 2;
+        d.needed = bits & 4;
+        d.implemented = bits & 8;
+        d.planned = (bits & 16) && d.enabled && d.implemented;  // gating off may plan an unneeded effect
+        d.reason = d.planned ? "on: 2 BLEND materials" : d.needed ? "off: switched off (--effects); the scene has 2 BLEND materials"
+                                                                 : "off: no BLEND materials";
+        const EffectStatus s = effect_status(switch_on, d);
+        SCOPED_TRACE("bits " + std::to_string(bits) + ": " + s.label + " / " + s.detail);
+        EXPECT_FALSE(starts_with(s.label, "off")) << "the label says what happened, not the planner's prefix";
+        EXPECT_FALSE(starts_with(s.detail, "off:") || starts_with(s.detail, "on:")) << "the prefix is stripped";
+        EXPECT_FALSE(s.detail.empty());
+        if (d.planned) {
+            EXPECT_EQ(s.state, EffectState::running);
+            EXPECT_TRUE(starts_with(s.label, "running"));
+            // Running with the box unticked happens only when a debug view forces it: say so.
+            if (!switch_on) EXPECT_NE(s.label.find("debug view"), std::string::npos);
+        } else if (switch_on) {
+            EXPECT_EQ(s.state, EffectState::skipped);
+            EXPECT_TRUE(starts_with(s.label, "skipped: ")) << "a ticked box that does not run says why";
+            EXPECT_EQ(s.label.find("switched off"), std::string::npos);
+        } else {
+            EXPECT_EQ(s.state, EffectState::switched_off);
+            EXPECT_EQ(s.label, "switched off");
+            EXPECT_EQ(s.detail.find("switched off"), std::string::npos) << "said once, in the label";
+        }
+    }
+}
+
+TEST(ViewerEffectStatus, PlannerReasonsOnTheCornellBox) {
+    const Scene scene = load_gltf(std::string(CANDELA_SOURCE_DIR) + "/samples/scenes/cornell_box.gltf");
+    RenderSettings settings;  // every effect switched on
+    const Features on = analyze(scene, settings);
+    // The Cornell box has no BLEND material: the ticked transparency box is skipped, with the reason.
+    const EffectStatus transparency = effect_status(settings.transparency, on.transparency);
+    EXPECT_EQ(transparency.label, "skipped: not needed");
+    EXPECT_EQ(transparency.detail, "no BLEND materials");
+    const EffectStatus shadows = effect_status(settings.shadows, on.shadows);
+    EXPECT_EQ(shadows.label, "running");
+    EXPECT_FALSE(shadows.detail.empty());
+
+    settings.shadows = false;
+    const Features off = analyze(scene, settings);
+    const EffectStatus switched = effect_status(settings.shadows, off.shadows);
+    EXPECT_EQ(switched.label, "switched off");
+    EXPECT_NE(switched.detail.find("it would run"), std::string::npos) << switched.detail;
+    EXPECT_EQ(switched.detail.find("--effects"), std::string::npos) << switched.detail;
+}
+
+}  // namespace
+}  // namespace candela::viewer
