@@ -269,12 +269,12 @@ GpuScene::GpuScene(const Scene& scene) : scene_(scene) {
 
     const Environment& env = scene.environment;
     env_radiance_ = env.radiance * env.intensity;
-    if (!env.map.empty()) {
-        const ImageF map = read_image(env.map);
+    if (env.has_map()) {
+        const ImageF map = env.image ? *env.image : read_image(env.map);
         // Equirectangular: 360 by 180 degrees. Anything else (a cube cross, a photo) would be
         // stretched silently; say so instead.
         if (map.width != 2 * map.height)
-            throw bad_input(env.map.string() + ": an environment map must be equirectangular (width = 2 x height); it is " +
+            throw bad_input((env.image ? env.label : env.map.string()) + ": an environment map must be equirectangular (width = 2 x height); it is " +
                             std::to_string(map.width) + "x" + std::to_string(map.height));
         env_map_ = gl::Texture::create_2d(GL_RGBA32F, map.width, map.height, 0);
         glTextureSubImage2D(env_map_.id(), 0, 0, 0, map.width, map.height, GL_RGBA, GL_FLOAT, map.pixels.data());

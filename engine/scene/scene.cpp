@@ -137,6 +137,9 @@ Camera framing_camera(const Bounds& bounds) {
 Camera Scene::select_camera(const std::string& selector, float image_aspect) const {
     (void)image_aspect;
     if (selector.empty()) return cameras.empty() ? framing_camera(world_bounds()) : cameras.front();
+    // "auto" always means the framing camera, even in a file that has cameras (a file's own
+    // camera can cut the model off).
+    if (selector == "auto") return framing_camera(world_bounds());
     const bool numeric = std::all_of(selector.begin(), selector.end(), [](char c) { return c >= '0' && c <= '9'; });
     if (numeric && selector.size() < 9) {
         const size_t index = std::stoul(selector);
@@ -148,7 +151,7 @@ Camera Scene::select_camera(const std::string& selector, float image_aspect) con
     for (size_t i = 0; i < cameras.size(); ++i)
         names += (i ? ", " : "") + std::to_string(i) + " '" + cameras[i].name + "'";
     throw bad_input(source.string() + ": no camera '" + selector + "' (the scene has " +
-                    (cameras.empty() ? std::string("no cameras") : names) + ")");
+                    (cameras.empty() ? std::string("no cameras") : names) + "; 'auto' frames the bounds)");
 }
 
 glm::mat4 projection_matrix(const Camera& camera, float image_aspect) {

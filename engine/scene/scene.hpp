@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <limits>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -156,12 +157,18 @@ struct Node {
     bool mirrored() const { return glm::determinant(glm::mat3(world)) < 0.0f; }
 };
 
+struct ImageF;
+
 struct Environment {
     glm::vec3 radiance{0.0f};  // constant environment
     std::filesystem::path map;  // equirectangular .hdr/.exr, empty if none
+    // An equirectangular map made in memory (the default rig's sky); used instead of `map`.
+    std::shared_ptr<const ImageF> image;
+    std::string label;  // what `info` calls an in-memory map
     float intensity = 1.0f;
+    bool has_map() const { return !map.empty() || image != nullptr; }
     bool present() const {
-        return !map.empty() || glm::any(glm::greaterThan(radiance * intensity, glm::vec3(0.0f)));
+        return has_map() || glm::any(glm::greaterThan(radiance * intensity, glm::vec3(0.0f)));
     }
 };
 
@@ -220,7 +227,8 @@ struct Scene {
     std::vector<PlacedLight> placed_lights() const;
 
     // The camera to render from: glTF camera by index or name (throws bad_input if unknown);
-    // an empty selector picks the first camera, else a framing camera from the bounds.
+    // an empty selector picks the first camera, else a framing camera from the bounds; "auto" is
+    // always the framing camera.
     Camera select_camera(const std::string& selector, float image_aspect) const;
 };
 

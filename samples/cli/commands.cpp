@@ -26,6 +26,7 @@
 #include "scene/features.hpp"
 #include "scene/generate.hpp"
 #include "scene/gltf_loader.hpp"
+#include "scene/lighting.hpp"
 #include "accuracy.hpp"
 #include "shader/file_watcher.hpp"
 #include "shader/program_catalog.hpp"
@@ -195,9 +196,36 @@ Scene load_scene(const std::string& path, bool strict) {
     return scene;
 }
 
+// --lighting auto|file|default, then --environment FILE|none over what it chose (the rig's sky
+// or the file's environment). The camera orients the rig's key light.
+LightingChoice setup_lighting(Scene& scene, const Parsed& p, const std::string& camera, float aspect) {
+    LightingMode mode = LightingMode::auto_select;
+    if (p.has("--lighting")) {
+        const auto m = parse_lighting_mode(p.get("--lighting"));
+        if (!m) throw bad_input("--lighting '" + p.get("--lighting") + "' must be auto, file or default");
+        mode = *m;
+    }
+    LightingChoice choice = apply_lighting(scene, mode, scene.select_camera(camera, aspect));
+    if (p.has("--environment")) {
+        const std::string env = p.get("--environment");
+        if (env == "none") {
+            scene.environment = Environment{};
+            choice.reason += "; --environment none";
+        } else {
+            if (!fs::is_regular_file(env)) throw bad_input(env + ": --environment: no such file");
+            scene.environment = Environment{};
+            scene.environment.map = env;
+            choice.reason += "; environment from --environment " + env;
+        }
+    }
+    log::info("lighting: " + choice.reason);
+    return choice;
+}
+
 // Options shared by render and bench frame: scene, context, settings.
 struct SceneSetup {
     Scene scene;
+    LightingChoice lighting;
     StillOptions options;
     Backend backend = Backend::auto_select;
     bool debug = false;
@@ -213,7 +241,7 @@ fs::path shader_dir_option(const Parsed& p) {
     return dir;
 }
 
-const std::vector<std::string> kSetupOptions = {"--size", "--backend", "--camera", "--environment", "--effects",
+const std::vector<std::string> kSetupOptions = {"--size", "--backend", "--camera", "--environment", "--lighting", "--effects",
                                                 "--set", "--frames", "--warmup", "--path", "--output-buffer",
                                                 "--shader-dir"};
 const std::vector<std::string> kSetupFlags = {"--debug-gl", "--strict", "--verify-state", "--quiet"};
@@ -263,12 +291,8 @@ SceneSetup setup_scene(const Parsed& p, const std::string& scene_path, int defau
     s.debug = p.flags.count("--debug-gl") > 0 || (debug_env && std::string(debug_env) == "1");
     const auto t0 = std::chrono::steady_clock::now();
     s.scene = load_scene(scene_path, p.flags.count("--strict") > 0);
-    if (p.has("--environment")) {
-        const fs::path env = p.get("--environment");
-        if (!fs::is_regular_file(env)) throw bad_input(env.string() + ": --environment: no such file");
-        s.scene.environment.map = env;
-        s.scene.environment.intensity = 1.0f;
-    }
+    s.lighting = setup_lighting(s.scene, p, s.options.camera,
+                                static_cast<float>(s.options.width) / static_cast<float>(s.options.height));
     s.load_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     return s;
 }
@@ -657,7 +681,7 @@ int cmd_bench(const Args& args) {
 }
 
 int cmd_info(const Args& args) {
-    const Parsed p = parse(args, {"--effects", "--set", "--path"}, {"--strict", "--knobs"});
+    const Parsed p = parse(args, {"--effects", "--set", "--path", "--lighting", "--environment", "--camera"}, {"--strict", "--knobs"});
     if (p.flags.count("--knobs")) {
         for (const KnobInfo& k : knob_infos())
             std::printf("%-28s %-6s %-22s %s\n", k.name.c_str(), k.type.c_str(), k.range.c_str(), k.help.c_str());
@@ -668,7 +692,9 @@ int cmd_info(const Args& args) {
     if (p.has("--effects")) apply_effects(settings, p.get("--effects"));
     if (p.has("--path")) apply_knob(settings, "render.path=" + p.get("--path"));
     for (const std::string& knob : p.all("--set")) apply_knob(settings, knob);
-    const Scene scene = load_scene(p.positional[0], p.flags.count("--strict") > 0);
+    Scene scene = load_scene(p.positional[0], p.flags.count("--strict") > 0);
+    const std::string camera_choice = p.has("--camera") ? p.get("--camera") : "";
+    const LightingChoice lighting = setup_lighting(scene, p, camera_choice, 1.0f);
     int directional = 0, point = 0, spot = 0;
     for (const auto& pl : scene.placed_lights()) {
         directional += pl.light->type == LightType::directional;
@@ -700,8 +726,15 @@ int cmd_info(const Args& args) {
                     c.orthographic ? "orthographic" : (std::string("perspective yfov ") + fmt("%.3g", c.yfov)).c_str(),
                     pos.x, pos.y, pos.z);
     }
-    if (scene.cameras.empty()) std::printf("  (none: a framing camera is computed from the bounds)\n");
-    std::printf("environment: %s\n", !scene.environment.map.empty() ? scene.environment.map.string().c_str()
+    {
+        const Camera auto_cam = framing_camera(b);
+        const glm::vec3 pos(auto_cam.world[3]);
+        std::printf("  [auto] framing camera from the bounds, perspective yfov %.3g at (%.3g, %.3g, %.3g)%s\n", auto_cam.yfov,
+                    pos.x, pos.y, pos.z, scene.cameras.empty() ? " (the default: the file has no camera)" : "");
+    }
+    std::printf("lighting: %s\n", lighting.reason.c_str());
+    std::printf("environment: %s\n", scene.environment.image ? scene.environment.label.c_str()
+                                     : !scene.environment.map.empty() ? scene.environment.map.string().c_str()
                                      : scene.environment.present()
                                          ? ("constant (" + fmt("%.3g", scene.environment.radiance.r) + ", " +
                                             fmt("%.3g", scene.environment.radiance.g) + ", " +

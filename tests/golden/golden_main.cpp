@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "core/error.hpp"
 #include "gl/debug.hpp"
@@ -14,6 +15,7 @@
 #include "platform/context.hpp"
 #include "render/still.hpp"
 #include "scene/gltf_loader.hpp"
+#include "scene/lighting.hpp"
 
 namespace fs = std::filesystem;
 using namespace candela;
@@ -25,7 +27,7 @@ constexpr double kMaxFailingFraction = 0.001;
 
 int main(int argc, char** argv) {
     if (argc < 4) {
-        std::fprintf(stderr, "usage: candela_golden SCENE GOLDEN.png OUT_DIR --backend B [--path forward|deferred] [--size WxH] [--update]\n");
+        std::fprintf(stderr, "usage: candela_golden SCENE GOLDEN.png OUT_DIR --backend B [--path forward|deferred] [--size WxH] [--set KNOB=V] [--update]\n");
         return 2;
     }
     const fs::path scene_path = argv[1], golden = argv[2], out_dir = argv[3];
@@ -33,19 +35,25 @@ int main(int argc, char** argv) {
     StillOptions options;
     options.width = options.height = 256;
     bool update = false;
+    std::vector<std::string> knobs;
     for (int i = 4; i < argc; ++i) {
         const std::string a = argv[i];
         if (a == "--update") update = true;
         else if (a == "--backend" && i + 1 < argc) backend = parse_backend(argv[++i]).value_or(Backend::egl);
         else if (a == "--size" && i + 1 < argc) std::sscanf(argv[++i], "%dx%d", &options.width, &options.height);
         else if (a == "--path" && i + 1 < argc) options.settings.path = argv[++i];  // forward|deferred: one golden for both
+        else if (a == "--set" && i + 1 < argc) knobs.push_back(argv[++i]);
         else {
             std::fprintf(stderr, "candela_golden: unknown argument '%s'\n", a.c_str());
             return 2;
         }
     }
     try {
-        const Scene scene = load_gltf(scene_path);
+        for (const std::string& knob : knobs) apply_knob(options.settings, knob);
+        Scene scene = load_gltf(scene_path);
+        // As `candela render`: a file without lights gets the default rig (--lighting auto).
+        apply_lighting(scene, LightingMode::auto_select,
+                       scene.select_camera(options.camera, static_cast<float>(options.width) / static_cast<float>(options.height)));
         ContextOptions ctx_options;
         ctx_options.debug = true;
         ContextResult ctx = create_context(backend, ctx_options);
