@@ -1,5 +1,6 @@
 #version 450 core
 #include "../common/scene_data.glsl"
+#include "../lighting/material_uv.glsl"
 
 layout(location = 0) in vec3 in_position;
 layout(location = 1) in vec3 in_normal;
@@ -14,7 +15,6 @@ layout(location = 1) uniform mat3 u_normal_matrix;  // inverse transpose of the 
 layout(location = 0) out vec3 v_world_pos;
 layout(location = 1) out vec3 v_normal;
 layout(location = 2) out vec4 v_tangent;
-layout(location = 3) out vec4 v_uv;
 layout(location = 4) out vec4 v_color;
 
 // The depth prepasses and the shading pass are different programs; depth test EQUAL needs the
@@ -26,7 +26,7 @@ void main() {
     v_world_pos = world.xyz;
     v_normal = u_normal_matrix * in_normal;
     v_tangent = vec4(mat3(u_model) * in_tangent.xyz, in_tangent.w);
-    v_uv = vec4(in_uv0, in_uv1);
+    write_material_uvs(in_uv0, in_uv1);
     v_color = in_color;
     gl_Position = frame.view_proj * world;
 }

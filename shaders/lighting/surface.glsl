@@ -1,6 +1,7 @@
 // The material at a raster fragment (glTF textures, alpha mode, normal map), shared by the
 // forward shading and the G-buffer pass so that both see exactly the same surface.
-// Expects the varyings of forward/forward.vert and the per-draw uniforms below.
+// Expects the varyings of forward/forward.vert (texture coordinates: lighting/material_uv.glsl)
+// and the per-draw uniforms below.
 #include "../common/brdf.glsl"
 
 layout(location = 2) uniform int u_material;
@@ -15,8 +16,13 @@ layout(binding = 4) uniform sampler2D t_emissive;
 layout(location = 0) in vec3 v_world_pos;
 layout(location = 1) in vec3 v_normal;
 layout(location = 2) in vec4 v_tangent;
-layout(location = 3) in vec4 v_uv;
 layout(location = 4) in vec4 v_color;
+// Per texture slot: its texcoord set and KHR_texture_transform applied in the vertex stage
+// (lighting/material_uv.glsl explains why: helper lanes read 0 from the materials SSBO on llvmpipe).
+layout(location = 3) in vec4 v_slot_uv01;  // xy base colour, zw metallic-roughness
+layout(location = 5) in vec4 v_slot_uv23;  // xy normal, zw occlusion
+layout(location = 6) in vec2 v_slot_uv4;   // emissive
+layout(location = 7) flat in int v_material_bits;  // bits 0-4: slot textured, bit 5: alpha MASK
 
 struct Surface {
     BrdfInput brdf;
@@ -29,42 +35,45 @@ struct Surface {
     bool thin;           // thin-walled (KHR_materials_volume thickness 0)
 };
 
-vec2 slot_uv(MaterialData m, int slot, int set) {
-    vec3 uv = vec3(set == 1 ? v_uv.zw : v_uv.xy, 1.0);
-    return vec2(dot(m.uv_transform[slot * 2].xyz, uv), dot(m.uv_transform[slot * 2 + 1].xyz, uv));
-}
+bool slot_textured(int slot) { return (v_material_bits & (1 << slot)) != 0; }
+
+// Texture reads use implicit derivatives, which are defined only in uniform control flow and
+// which the helper lanes of a quad take part in. So every read below happens before any branch
+// on per-fragment values or on data read from the materials SSBO (0 in helper lanes on
+// llvmpipe), and before the alpha-mask discard; the branches around them depend only on the flat
+// material bits, which every lane of the draw sees.
 
 // Alpha mode MASK: discards fragments below the cutoff (the shadow pass needs only this).
 void alpha_test() {
+    if ((v_material_bits & 32) == 0) return;
+    float a = slot_textured(0) ? texture(t_base_color, v_slot_uv01.xy).a : 1.0;
     MaterialData m = materials[u_material];
-    if (int(m.params.z) != 1) return;
-    float a = m.base_color.a * v_color.a;
-    if (m.texcoord.x >= 0) a *= texture(t_base_color, slot_uv(m, 0, m.texcoord.x)).a;
-    if (a < m.params.y) discard;
+    if (m.base_color.a * v_color.a * a < m.params.y) discard;
 }
 
 // Evaluates the material; discards masked-out fragments.
 Surface fragment_surface() {
+    vec4 tex_base = slot_textured(0) ? texture(t_base_color, v_slot_uv01.xy) : vec4(1.0);
+    vec4 tex_mr = slot_textured(1) ? texture(t_metallic_roughness, v_slot_uv01.zw) : vec4(1.0);
+    vec3 tex_normal = slot_textured(2) ? texture(t_normal, v_slot_uv23.xy).xyz : vec3(0.5, 0.5, 1.0);
+    float tex_occlusion = slot_textured(3) ? texture(t_occlusion, v_slot_uv23.zw).r : 1.0;
+    vec3 tex_emission = slot_textured(4) ? texture(t_emissive, v_slot_uv4).rgb : vec3(1.0);
+
     MaterialData m = materials[u_material];
     Surface s;
-    vec4 base = m.base_color * v_color;
-    if (m.texcoord.x >= 0) base *= texture(t_base_color, slot_uv(m, 0, m.texcoord.x));
+    vec4 base = m.base_color * v_color * tex_base;
     s.alpha_mode = int(m.params.z);
-    if (s.alpha_mode == 1 && base.a < m.params.y) discard;
     s.alpha = base.a;
 
     float metallic = m.emission_metallic.a;
     float roughness = m.params.x;
-    if (m.texcoord.y >= 0) {
-        vec4 mr = texture(t_metallic_roughness, slot_uv(m, 1, m.texcoord.y));
-        roughness *= mr.g;
-        metallic *= mr.b;
-    }
+    roughness *= tex_mr.g;
+    metallic *= tex_mr.b;
 
     vec3 n = normalize(v_normal);
     // Mirrored nodes are drawn with reversed winding, so gl_FrontFacing already accounts for them.
     if (!gl_FrontFacing) n = -n;
-    if (m.texcoord.z >= 0) {
+    if (slot_textured(2)) {
         vec3 t = v_tangent.xyz - n * dot(n, v_tangent.xyz);
         float tl = length(t);
         if (tl > 1e-8) {
@@ -72,17 +81,15 @@ Surface fragment_surface() {
             // A mirroring model matrix reverses the handedness of the transformed frame.
             vec3 b = cross(n, t) * (v_tangent.w < 0.0 ? -1.0 : 1.0) * (gl_FrontFacing ? 1.0 : -1.0) *
                      (u_mirrored != 0 ? -1.0 : 1.0);
-            vec3 tn = texture(t_normal, slot_uv(m, 2, m.texcoord.z)).xyz * 2.0 - 1.0;
+            vec3 tn = tex_normal * 2.0 - 1.0;
             tn.xy *= m.params2.z;
             vec3 mapped = mat3(t, b, n) * tn;
             float ml = length(mapped);
             if (ml > 1e-8) n = mapped / ml;
         }
     }
-    s.occlusion = 1.0;
-    if (m.texcoord.w >= 0) s.occlusion = mix(1.0, texture(t_occlusion, slot_uv(m, 3, m.texcoord.w)).r, m.params2.w);
-    s.emission = m.emission_metallic.rgb;
-    if (m.texcoord2.x >= 0) s.emission *= texture(t_emissive, slot_uv(m, 4, m.texcoord2.x)).rgb;
+    s.occlusion = slot_textured(3) ? mix(1.0, tex_occlusion, m.params2.w) : 1.0;
+    s.emission = m.emission_metallic.rgb * tex_emission;
 
     s.brdf.base_color = base.rgb;
     s.brdf.metallic = saturate(metallic);
@@ -98,5 +105,6 @@ Surface fragment_surface() {
     float nv = dot(n, v);
     if (nv < 1e-4) n = normalize(n + v * (1e-4 - nv));
     s.n = n;
+    if (s.alpha_mode == 1 && base.a < m.params.y) discard;
     return s;
 }

@@ -1,6 +1,7 @@
 #version 450 core
 // Shadow-map pass: the forward vertex layout, projected by one shadow view.
 #include "../common/scene_data.glsl"
+#include "../lighting/material_uv.glsl"
 
 layout(location = 0) in vec3 in_position;
 layout(location = 1) in vec3 in_normal;
@@ -15,7 +16,6 @@ layout(location = 4) uniform mat4 u_view_proj;  // the shadow view
 layout(location = 0) out vec3 v_world_pos;
 layout(location = 1) out vec3 v_normal;
 layout(location = 2) out vec4 v_tangent;
-layout(location = 3) out vec4 v_uv;
 layout(location = 4) out vec4 v_color;
 
 void main() {
@@ -23,7 +23,7 @@ void main() {
     v_world_pos = world.xyz;
     v_normal = in_normal;
     v_tangent = in_tangent;
-    v_uv = vec4(in_uv0, in_uv1);
+    write_material_uvs(in_uv0, in_uv1);
     v_color = in_color;
     gl_Position = u_view_proj * world;
 }
