@@ -487,14 +487,19 @@ void Viewer::draw_ui(double frame_ms) {
         const EffectDecision* decisions[] = {&f.shadows, &f.ssao, &f.rsm, &f.transparency, &f.reflections};
         bool changed = false;
         // The checkbox is the user's switch (--effects); beside it, what the planner made of it,
-        // and below it the planner's reason, wrapped to the panel.
+        // and below it the planner's reason, wrapped to the panel. The status column starts
+        // after the longest effect name.
+        float name_width = 0.0f;
+        for (const std::string& n : effect_names()) name_width = std::max(name_width, ImGui::CalcTextSize(n.c_str()).x);
+        const ImGuiStyle& style = ImGui::GetStyle();
+        const float status_x = style.WindowPadding.x + ImGui::GetFrameHeight() + style.ItemInnerSpacing.x + name_width + style.ItemSpacing.x * 2.0f;
         for (size_t i = 0; i < 5; ++i) {
             const EffectStatus status = effect_status(*flags[i], *decisions[i]);
             changed |= ImGui::Checkbox(effect_names()[i].c_str(), flags[i]);
             if (ImGui::IsItemHovered())
                 ImGui::SetTooltip("switch %s on or off (--effects); the planner still skips it when the scene does not need it",
                                   effect_names()[i].c_str());
-            ImGui::SameLine(ImGui::GetFontSize() * 9.0f);
+            ImGui::SameLine(status_x);
             const ImVec4 colour = status.state == EffectState::running   ? ImVec4(0.45f, 0.85f, 0.45f, 1.0f)
                                   : status.state == EffectState::skipped ? ImVec4(0.95f, 0.75f, 0.35f, 1.0f)
                                                                          : ImGui::GetStyleColorVec4(ImGuiCol_TextDisabled);
