@@ -7,14 +7,18 @@
 namespace candela {
 namespace {
 
-EffectDecision decide(const char* name, bool enabled, bool needed, bool implemented, const std::string& need_reason) {
+// `gating` false (render.gating=off) plans a switched-on effect even when the scene does not need
+// it: the property test renders both ways and expects the same image.
+EffectDecision decide(const char* name, bool enabled, bool needed, bool implemented, const std::string& need_reason,
+                      bool gating) {
     EffectDecision d;
     d.name = name;
     d.enabled = enabled;
     d.needed = needed;
     d.implemented = implemented;
-    d.planned = enabled && needed && implemented;
-    if (!needed) d.reason = "off: " + need_reason;
+    d.planned = enabled && (needed || !gating) && implemented;
+    if (!needed && d.planned) d.reason = "on: render.gating=off (not called for: " + need_reason + ")";
+    else if (!needed) d.reason = "off: " + need_reason;
     else if (!enabled) d.reason = "off: switched off (--effects); the scene has " + need_reason;
     else if (!implemented) d.reason = "off: the scene has " + need_reason + ", but no pass implements it yet";
     else d.reason = "on: " + need_reason;
@@ -29,7 +33,7 @@ Features analyze(const Scene& scene, const RenderSettings& s) {
     f.environment = scene.environment.present();
     f.punctual_lights = static_cast<int>(scene.placed_lights().size());
     const SceneFeatures& sf = f.scene;
-    f.shadows = decide("shadows", s.shadows, sf.shadows.needed, true, sf.shadows.reason);
+    f.shadows = decide("shadows", s.shadows, sf.shadows.needed, true, sf.shadows.reason, s.gating);
     // Area-light pieces: arealight.samples per emissive primitive drawn.
     f.area_light_pieces = sf.emissive_primitives * s.arealight.samples;
     const int light_count = f.punctual_lights + f.area_light_pieces;
@@ -42,19 +46,20 @@ Features analyze(const Scene& scene, const RenderSettings& s) {
                         std::to_string(s.deferred.auto_lights) + " (deferred.auto_lights)";
     }
     f.ssao = decide("ssao", s.ssao || s.debug.view == "ao", f.environment, true,
-                    f.environment ? "ambient/environment light to occlude" : "no ambient or environment light to occlude");
+                    f.environment ? "ambient/environment light to occlude" : "no ambient or environment light to occlude", s.gating);
     // RSM renders from the lights' shadow views: it needs the shadow pass and a punctual light
     // with a shadow map (area-light pieces get none).
     const bool rsm_needed = f.shadows.planned && f.punctual_lights > 0 && s.shadow.max_lights > 0;
     f.rsm = decide("rsm", s.rsm || s.debug.view == "indirect", rsm_needed, true,
                    rsm_needed ? std::to_string(std::min(f.punctual_lights, s.rsm_knobs.max_lights)) + " shadowed punctual light(s) to bounce"
                    : f.punctual_lights == 0 ? "no punctual light (area-light pieces have no RSM)"
-                                           : "no shadow pass for the RSM to reuse the light views of");
+                                           : "no shadow pass for the RSM to reuse the light views of",
+                   s.gating || !f.shadows.planned);  // without shadow views there is nothing to run it on
     // Debug views show surface values of the nearest surface: blended ones count as opaque there,
     // as they do for the ray tracer's rays.
     f.transparency = decide("transparency", s.transparency && s.debug.view == "none", sf.transparency.needed, true,
-                            sf.transparency.reason);
-    f.reflections = decide("reflections", s.reflections, sf.reflections.needed, true, sf.reflections.reason);
+                            sf.transparency.reason, s.gating);
+    f.reflections = decide("reflections", s.reflections, sf.reflections.needed, true, sf.reflections.reason, s.gating);
     return f;
 }
 

@@ -103,6 +103,8 @@ const std::vector<Knob>& knobs() {
                  "depth-peeling layers"),
         make_choice("render.path", {"auto", "forward", "deferred"}, [](RenderSettings& s) -> std::string& { return s.path; },
                     "render path (--path); auto: deferred from deferred.auto_lights lights"),
+        make_bool("render.gating", [](RenderSettings& s) -> bool& { return s.gating; },
+                  "skip the effects the scene does not call for; off runs every switched-on effect (the image must not change)"),
         make_int("deferred.auto_lights", 1, 100000, [](RenderSettings& s) -> int& { return s.deferred.auto_lights; },
                  "--path auto renders deferred from this many lights (measured: see README)"),
         make_int("shadows.resolution", 64, 8192, [](RenderSettings& s) -> int& { return s.shadow.resolution; },

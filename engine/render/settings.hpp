@@ -22,6 +22,9 @@ struct RenderSettings {
     // Render path (`--path`): forward shades every light per fragment; deferred writes a G-buffer
     // and shades it in a tiled compute pass; auto picks deferred from `deferred.auto_lights` lights.
     std::string path = "auto";  // auto|forward|deferred
+    // Gating (`render.gating`): an effect the scene does not call for is not run. Off runs every
+    // switched-on effect anyway; the image must not change (the gating property test).
+    bool gating = true;
 
     struct Forward {
         bool depth_prepass = false;  // draw depth first, shade with depth test EQUAL

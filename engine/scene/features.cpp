@@ -42,9 +42,10 @@ SceneFeatures analyze_features(const Scene& scene, float reflection_roughness) {
         feat.reason = std::move(why);
     };
     const bool any_light = !lights.empty() || emissive > 0;
-    set(f.shadows, any_light && drawn_primitives >= 2,
+    // One primitive can shadow itself (a duck's head on its body), so any drawn geometry counts.
+    set(f.shadows, any_light && drawn_primitives >= 1,
         !any_light ? "no punctual or emissive lights"
-        : drawn_primitives < 2 ? "fewer than two primitives: nothing can shadow anything"
+        : drawn_primitives < 1 ? "no geometry to cast or receive shadows"
                                : std::to_string(lights.size()) + " punctual light(s) and " + std::to_string(emissive) +
                                      " emissive material(s) over " + std::to_string(drawn_primitives) + " primitives");
     set(f.transparency, blend > 0, blend ? std::to_string(blend) + " BLEND material(s)" : "no BLEND materials");
@@ -58,7 +59,8 @@ SceneFeatures analyze_features(const Scene& scene, float reflection_roughness) {
     set(f.emissive_area_lights, emissive > 0,
         emissive ? std::to_string(emissive) + " emissive material(s) (area lights for the ray tracer)" : "no emissive materials");
     set(f.environment, scene.environment.present(),
-        !scene.environment.map.empty() ? "map " + scene.environment.map.filename().string()
+        scene.environment.image          ? scene.environment.label
+        : !scene.environment.map.empty() ? "map " + scene.environment.map.filename().string()
         : scene.environment.present()  ? "constant radiance"
                                        : "no environment light");
     return f;

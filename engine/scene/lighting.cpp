@@ -1,5 +1,6 @@
 #include "scene/lighting.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -27,14 +28,20 @@ std::string own_lighting_summary(const Scene& scene) {
     auto add = [&](const std::string& what) { out += (out.empty() ? "" : ", ") + what; };
     const size_t punctual = scene.placed_lights().size();
     if (punctual) add(std::to_string(punctual) + " punctual light(s)");
-    // Emissive materials count only where a drawn primitive uses them.
+    // Emissive materials count only where a drawn primitive uses them, and only as HDR emitters:
+    // emission above 1 (glTF's way to author a light-emitting surface is
+    // KHR_materials_emissive_strength). Emission up to display white - labels, screens, glowing
+    // decals - shows itself but lights nothing much, so such a file still gets the rig.
     int emissive = 0;
     for (const Node& node : scene.nodes) {
         if (node.mesh < 0) continue;
-        for (const Primitive& p : scene.meshes[static_cast<size_t>(node.mesh)].primitives)
-            emissive += !p.indices.empty() && scene.material(p.material).is_emissive();
+        for (const Primitive& p : scene.meshes[static_cast<size_t>(node.mesh)].primitives) {
+            if (p.indices.empty() || !scene.material(p.material).is_emissive()) continue;
+            const glm::vec3 e = scene.material(p.material).emission();
+            emissive += std::max(e.r, std::max(e.g, e.b)) > 1.0f;
+        }
     }
-    if (emissive) add(std::to_string(emissive) + " emissive primitive(s)");
+    if (emissive) add(std::to_string(emissive) + " emissive primitive(s) brighter than 1");
     if (scene.environment.present()) add("an environment");
     return out;
 }
@@ -73,7 +80,7 @@ LightingChoice apply_lighting(Scene& scene, LightingMode mode, const Camera& vie
             choice.reason = "the file's own: " + own;
             return choice;
         }
-        choice.reason = "default rig (the file has no light, no emissive material and no environment; --lighting auto)";
+        choice.reason = "default rig (the file has no light, no emitter brighter than 1 and no environment; --lighting auto)";
         break;
     case LightingMode::default_rig:
         choice.reason = "default rig (--lighting default" + (own.empty() ? std::string(")") : "; the file's punctual lights and environment are not used)");

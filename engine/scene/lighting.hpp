@@ -27,8 +27,9 @@ enum class LightingMode {
 std::optional<LightingMode> parse_lighting_mode(const std::string& text);
 const char* to_string(LightingMode mode);
 
-// What lights the file itself brings: punctual lights placed in the scene, emissive materials
-// and the environment. Empty when the file has none.
+// What lights the file itself brings: punctual lights placed in the scene, emitters brighter
+// than 1 (HDR emission: KHR_materials_emissive_strength) and the environment. Empty when the
+// file has none.
 std::string own_lighting_summary(const Scene& scene);
 
 struct LightingChoice {

@@ -218,7 +218,6 @@ LightingChoice setup_lighting(Scene& scene, const Parsed& p, const std::string& 
             choice.reason += "; environment from --environment " + env;
         }
     }
-    log::info("lighting: " + choice.reason);
     return choice;
 }
 
@@ -293,6 +292,7 @@ SceneSetup setup_scene(const Parsed& p, const std::string& scene_path, int defau
     s.scene = load_scene(scene_path, p.flags.count("--strict") > 0);
     s.lighting = setup_lighting(s.scene, p, s.options.camera,
                                 static_cast<float>(s.options.width) / static_cast<float>(s.options.height));
+    log::info("lighting: " + s.lighting.reason);
     s.load_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     return s;
 }

@@ -1,0 +1,235 @@
+// Real content (issue 17): the public glTF models in tests/data/models, rendered as a new user
+// renders them (default options, default lighting), and the sample scenes.
+// - Raster against the path tracer, per model: the raster's image must agree with the tracer's in
+//   brightness and, pixel by pixel after a 4x4 box filter (which takes out most of the tracer's
+//   noise), in display values. A black image, a model left unlit, or texture speckle fails it.
+// - Gating is lossless: forcing every skipped effect on (render.gating=off) gives the same image
+//   within the golden tolerance, on every model and sample scene.
+// Every image is checked for NaN/Inf. Images are written to build/models-out for a look.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "core/log.hpp"
+#include "gl_fixture.hpp"
+#include "image/image.hpp"
+#include "render/features.hpp"
+#include "render/still.hpp"
+#include "rt/ray_tracer.hpp"
+#include "scene/gltf_loader.hpp"
+#include "scene/lighting.hpp"
+
+namespace fs = std::filesystem;
+
+namespace candela::test {
+namespace {
+
+const fs::path kSource = CANDELA_SOURCE_DIR;
+const fs::path kOut = fs::path(CANDELA_BINARY_DIR) / "models-out";
+
+// Every model folder's .gltf or .glb (one per folder), sorted by name.
+std::vector<fs::path> model_files() {
+    std::vector<fs::path> files;
+    for (const auto& dir : fs::directory_iterator(kSource / "tests" / "data" / "models")) {
+        if (!dir.is_directory()) continue;
+        for (const auto& f : fs::directory_iterator(dir.path()))
+            if (f.path().extension() == ".gltf" || f.path().extension() == ".glb") files.push_back(f.path());
+    }
+    std::sort(files.begin(), files.end());
+    return files;
+}
+
+std::vector<fs::path> sample_scenes() {
+    std::vector<fs::path> files;
+    for (const auto& f : fs::directory_iterator(kSource / "samples" / "scenes"))
+        if (f.path().extension() == ".gltf") files.push_back(f.path());
+    std::sort(files.begin(), files.end());
+    return files;
+}
+
+// The scene as `candela render FILE` sees it: loaded, then lit by --lighting auto.
+Scene load_as_user(const fs::path& file, int w, int h) {
+    Scene scene = load_gltf(file);
+    apply_lighting(scene, LightingMode::auto_select, scene.select_camera("", static_cast<float>(w) / static_cast<float>(h)));
+    return scene;
+}
+
+float luminance(const float* p) { return 0.2126f * p[0] + 0.7152f * p[1] + 0.0722f * p[2]; }
+
+double mean_luminance(const ImageF& img) {
+    double sum = 0;
+    for (int y = 0; y < img.height; ++y)
+        for (int x = 0; x < img.width; ++x) sum += luminance(img.at(x, y));
+    return sum / (static_cast<double>(img.width) * img.height);
+}
+
+// Mean over k x k blocks of the display values (exposure 0, ACES, sRGB): what a viewer sees,
+// with the tracer's per-pixel noise averaged down.
+ImageF display_blocks(const ImageF& linear, int k) {
+    const ImageF d = to_display(linear, 0.0f);
+    ImageF out(d.width / k, d.height / k, 3);
+    for (int y = 0; y < out.height; ++y)
+        for (int x = 0; x < out.width; ++x)
+            for (int c = 0; c < 3; ++c) {
+                double s = 0;
+                for (int j = 0; j < k; ++j)
+                    for (int i = 0; i < k; ++i) s += d.at(x * k + i, y * k + j)[c];
+                out.at(x, y)[c] = static_cast<float>(s / (k * k));
+            }
+    return out;
+}
+
+struct Agreement {
+    double mean_ratio = 0;       // mean luminance, raster / tracer (linear)
+    double mean_abs_display = 0; // mean |raster - tracer| of 4x4-block display values, all channels
+    double p99_abs_display = 0;  // its 99th percentile over blocks (largest channel per block)
+    double tracer_display_mean = 0;
+};
+
+Agreement agreement(const ImageF& raster, const ImageF& traced) {
+    Agreement a;
+    a.mean_ratio = mean_luminance(raster) / std::max(mean_luminance(traced), 1e-12);
+    const ImageF r = display_blocks(raster, 4), t = display_blocks(traced, 4);
+    std::vector<double> worst;
+    double sum = 0, tsum = 0;
+    for (int y = 0; y < r.height; ++y)
+        for (int x = 0; x < r.width; ++x) {
+            double w = 0;
+            for (int c = 0; c < 3; ++c) {
+                const double d = std::fabs(r.at(x, y)[c] - t.at(x, y)[c]);
+                sum += d;
+                w = std::max(w, d);
+                tsum += t.at(x, y)[c];
+            }
+            worst.push_back(w);
+        }
+    const double n = static_cast<double>(r.width) * r.height * 3;
+    a.mean_abs_display = sum / n;
+    a.tracer_display_mean = tsum / n;
+    std::sort(worst.begin(), worst.end());
+    a.p99_abs_display = worst[static_cast<size_t>(0.99 * static_cast<double>(worst.size() - 1))];
+    return a;
+}
+
+// Bounds of the raster-vs-tracer agreement. The raster lacks multiple bounces and shadows the
+// sky only by SSAO, so it is not expected to match; these bounds sit above the measured values
+// of every model (the note of issue 17 lists them) and far below what a black, unlit or speckled
+// image gives.
+constexpr double kMinMeanRatio = 0.85, kMaxMeanRatio = 1.15;
+constexpr double kMinTracerDisplay = 0.3;  // the model is lit: not a black image
+struct Bound {
+    const char* model;
+    double mean_abs, p99_abs;
+};
+// Display-value differences: the default, and the models whose raster differs more for known
+// reasons, each about 1.5x its measured value. Measured at 128x128, 16 spp (issue 17 note): most
+// models 0.001-0.008 mean / 0.02-0.13 p99. Before the fixes of issue 17, FlightHelmet's texture
+// speckle measured 0.0147 / 0.185 and NormalTangentMirrorTest's black rings 0.0183 / 0.233:
+// both fail the default bound.
+constexpr Bound kDefaultBound{"", 0.010, 0.15};
+constexpr Bound kBounds[] = {
+    // The smooth black "coating only" column: the tracer's 16 spp are noisy there, the raster's
+    // split-sum reflection is smooth; clearcoat itself is ignored by both (not implemented).
+    {"ClearCoatTest", 0.022, 0.30},
+    // Dark creases shadowed by the key light's PCSS penumbrae, sharper in the tracer.
+    {"MorphStressTest", 0.014, 0.30},
+    // Blended layers over the opaque ones: the tracer composites stochastically.
+    {"AlphaBlendModeTest", 0.013, 0.21},
+};
+Bound bound_for(const std::string& model) {
+    for (const Bound& b : kBounds)
+        if (model == b.model) return b;
+    return kDefaultBound;
+}
+
+class ModelTest : public GlContextTest {};
+
+TEST_P(ModelTest, EveryModelRasterAgreesWithThePathTracer) {
+    const int w = 128, h = 128;
+    fs::create_directories(kOut);
+    const ShaderLibrary lib(ShaderLibrary::default_root());
+    int checked = 0;
+    for (const fs::path& file : model_files()) {
+        SCOPED_TRACE(file.filename().string());
+        const Scene scene = load_as_user(file, w, h);
+        StillOptions o;
+        o.width = w;
+        o.height = h;
+        const StillResult raster = render_still(scene, lib, o);
+        ASSERT_EQ(count_nonfinite(raster.radiance), 0u);
+        rt::Options ro;
+        ro.mode = rt::Mode::path;
+        ro.spp = 16;
+        GpuScene gpu(scene);
+        rt::RayTracer tracer(lib, scene, gpu, ro);
+        const rt::Result traced = tracer.render(scene.select_camera("", 1.0f), w, h);
+        ASSERT_EQ(count_nonfinite(traced.image), 0u);
+        EXPECT_EQ(traced.nonfinite_samples, 0u);
+        const std::string stem = file.stem().string() + "." + to_string(GetParam());
+        write_image(kOut / (stem + ".raster.png"), raster.radiance);
+        write_image(kOut / (stem + ".path.png"), traced.image);
+        const Agreement a = agreement(raster.radiance, traced.image);
+        std::printf("%-26s mean raster/path %.3f  |display diff| mean %.4f p99 %.4f  path display mean %.3f\n",
+                    file.stem().string().c_str(), a.mean_ratio, a.mean_abs_display, a.p99_abs_display, a.tracer_display_mean);
+        EXPECT_GT(a.tracer_display_mean, kMinTracerDisplay) << "the model is not lit";
+        EXPECT_GT(a.mean_ratio, kMinMeanRatio);
+        EXPECT_LT(a.mean_ratio, kMaxMeanRatio);
+        const Bound bound = bound_for(file.stem().string());
+        EXPECT_LT(a.mean_abs_display, bound.mean_abs);
+        EXPECT_LT(a.p99_abs_display, bound.p99_abs);
+        ++checked;
+    }
+    EXPECT_GE(checked, 14);
+}
+
+// An effect skipped because the scene does not call for it must not change the image when forced.
+TEST_P(ModelTest, GatingNeverChangesThePicture) {
+    const int w = 128, h = 128;
+    const ShaderLibrary lib(ShaderLibrary::default_root());
+    std::vector<fs::path> files = sample_scenes();
+    for (const fs::path& f : model_files()) files.push_back(f);
+    int forced_somewhere = 0;
+    for (const fs::path& file : files) {
+        SCOPED_TRACE(file.filename().string());
+        const Scene scene = load_as_user(file, w, h);
+        StillOptions gated;
+        gated.width = w;
+        gated.height = h;
+        gated.output = FrameOutput::display;
+        StillOptions forced = gated;
+        apply_knob(forced.settings, "render.gating=off");
+        const StillResult a = render_still(scene, lib, gated);
+        const StillResult b = render_still(scene, lib, forced);
+        ASSERT_EQ(count_nonfinite(a.radiance), 0u);
+        ASSERT_EQ(count_nonfinite(b.radiance), 0u);
+        int skipped = 0;
+        std::string which;
+        for (const EffectDecision* d : a.features.effects())
+            if (d->enabled && !d->planned) ++skipped, which += " " + d->name;
+        for (const EffectDecision* d : b.features.effects())
+            if (d->enabled && d->implemented && d->name != "rsm") EXPECT_TRUE(d->planned) << d->name << " not forced on";
+        forced_somewhere += skipped > 0;
+        ImageF da(w, h, 3), db(w, h, 3);
+        for (size_t i = 0; i < static_cast<size_t>(w) * h; ++i)
+            for (int c = 0; c < 3; ++c) {
+                da.pixels[i * 3 + c] = a.display[i * 4 + c] / 255.0f;
+                db.pixels[i * 3 + c] = b.display[i * 4 + c] / 255.0f;
+            }
+        const CompareResult r = compare(db, da, 2.0 / 255.0);
+        std::printf("%-26s skipped:%-40s forced vs gated: %zu pixels (%.3f %%) beyond 2/255, max %.4f\n",
+                    file.stem().string().c_str(), which.empty() ? " none" : which.c_str(), r.failing_pixels,
+                    100.0 * r.failing_fraction, r.max_abs);
+        EXPECT_LE(r.failing_fraction, 0.001) << "forcing" << which << " on changed the image";
+    }
+    EXPECT_GT(forced_somewhere, 0) << "no scene skipped any effect: the property was not exercised";
+}
+
+INSTANTIATE_TEST_SUITE_P(Backends, ModelTest, ::testing::Values(Backend::egl), backend_name);
+
+}  // namespace
+}  // namespace candela::test
