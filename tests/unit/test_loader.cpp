@@ -191,6 +191,7 @@ TEST(Loader, FactorsOutsideTheirRangeAreClampedWithAWarning) {
     GltfBuilder b;
     b.json()["materials"] = {{{"pbrMetallicRoughness", {{"baseColorFactor", {2.0, 0.5, -1.0, 1.0}}, {"roughnessFactor", 7.0}}},
                               {"extensions", {{"KHR_materials_ior", {{"ior", 40.0}}}}}}};
+    b.json()["extensionsUsed"] = {"KHR_materials_ior"};  // undeclared, it would be a fifth warning
     b.add_node({{"mesh", b.add_quad_mesh(0)}});
     const int before = log::warning_count();
     const Scene scene = load_gltf(b.write(test::test_dir("clamp"), "clamp"));
@@ -465,6 +466,95 @@ TEST(Loader, BinaryGlbLoadsLikeGltf) {
     const auto cut = gltf.parent_path() / "cut.glb";
     std::ofstream(cut, std::ios::binary) << bytes.substr(0, bytes.size() - 20);
     EXPECT_THROW(load_gltf(cut), Error);
+}
+
+// Issue 17: every glTF feature Candela ignores is named once per kind, in Scene::ignored and as
+// one warning naming the file and the JSON path of its first occurrence.
+const fs::path kModels = fs::path(CANDELA_SOURCE_DIR) / "tests" / "data" / "models";
+
+struct Loaded {
+    Scene scene;
+    int warnings;
+    std::string err;
+};
+Loaded load_capturing(const fs::path& file) {
+    const log::Level saved = log::level();
+    log::set_level(log::Level::warn);
+    testing::internal::CaptureStderr();
+    const int before = log::warning_count();
+    Loaded out;
+    try {
+        out.scene = load_gltf(file);
+    } catch (...) {
+        out.err = testing::internal::GetCapturedStderr();
+        log::set_level(saved);
+        throw;
+    }
+    out.warnings = log::warning_count() - before;
+    out.err = testing::internal::GetCapturedStderr();
+    log::set_level(saved);
+    return out;
+}
+
+TEST(Loader, IgnoredSkinAndAnimationsAreNamedOnce) {
+    const Loaded fox = load_capturing(kModels / "Fox" / "Fox.glb");
+    EXPECT_EQ(fox.scene.ignored, (std::vector<std::string>{"1 skin", "3 animations"}));
+    EXPECT_EQ(fox.warnings, 2) << fox.err;
+    EXPECT_NE(fox.err.find("Fox.glb: skins[0]: 1 skin ignored (not implemented)"), std::string::npos) << fox.err;
+    EXPECT_NE(fox.err.find("Fox.glb: animations[0]: 3 animations ignored (not implemented)"), std::string::npos) << fox.err;
+    EXPECT_GT(fox.scene.triangle_count(), 100u);  // the mesh itself still loads, in its bind pose
+}
+
+TEST(Loader, IgnoredExtensionIsNamedWithTheObjectsUsingIt) {
+    const Loaded cc = load_capturing(kModels / "ClearCoatTest" / "ClearCoatTest.gltf");
+    EXPECT_EQ(cc.scene.ignored, (std::vector<std::string>{"KHR_materials_clearcoat on 6 materials"}));
+    EXPECT_EQ(cc.warnings, 1) << cc.err;
+    EXPECT_NE(cc.err.find("ClearCoatTest.gltf: materials[1].extensions.KHR_materials_clearcoat: KHR_materials_clearcoat on 6 materials"),
+              std::string::npos) << cc.err;
+}
+
+TEST(Loader, IgnoredMorphTargetsAreNamed) {
+    const Loaded cube = load_capturing(kModels / "AnimatedMorphCube" / "AnimatedMorphCube.glb");
+    EXPECT_EQ(cube.scene.ignored, (std::vector<std::string>{"1 animation", "morph targets on 1 mesh"}));
+    EXPECT_EQ(cube.warnings, 2) << cube.err;
+    EXPECT_NE(cube.err.find("meshes[0].primitives[0].targets: morph targets on 1 mesh ignored"), std::string::npos) << cube.err;
+}
+
+// The test models and the sample scenes warn about nothing but the features they use that
+// Candela ignores (the validation adds no noise on good files).
+TEST(Loader, ModelsWarnOnlyAboutIgnoredFeatures) {
+    std::vector<fs::path> files;
+    for (const auto& e : fs::recursive_directory_iterator(kModels))
+        if (e.path().extension() == ".gltf" || e.path().extension() == ".glb") files.push_back(e.path());
+    for (const auto& e : fs::directory_iterator(kScenes))
+        if (e.path().extension() == ".gltf") files.push_back(e.path());
+    ASSERT_GE(files.size(), 20u);
+    for (const fs::path& f : files) {
+        SCOPED_TRACE(f.string());
+        const Loaded l = load_capturing(f);
+        EXPECT_EQ(l.warnings, static_cast<int>(l.scene.ignored.size())) << l.err;
+    }
+}
+
+TEST(Loader, UnimplementedRequiredExtensionIsRejected) {
+    EXPECT_NE(load_error(kBroken / "required_extension.gltf").find("required_extension.gltf: extensionsRequired: 'KHR_materials_clearcoat' is not supported"),
+              std::string::npos);
+}
+
+TEST(Loader, TexCoordAboveOneIsAnIgnoredFeature) {
+    test::GltfBuilder b;
+    b.add_node({{"mesh", b.add_quad_mesh()}});
+    auto gltf = b.write(test::test_dir("texcoord2"), "quad");
+    nlohmann::json doc = nlohmann::json::parse(std::ifstream(gltf));
+    doc["images"] = {{{"uri", "does_not_matter.png"}}};
+    doc["textures"] = {{{"source", 0}}};
+    doc["materials"] = {{{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}, {"texCoord", 2}}}}}}};
+    doc["meshes"][0]["primitives"][0]["material"] = 0;
+    std::ofstream(gltf) << doc.dump();
+    const Loaded l = load_capturing(gltf);
+    EXPECT_EQ(l.scene.ignored, (std::vector<std::string>{"texture coordinate sets above 1 on 1 texture reference"}));
+    EXPECT_NE(l.err.find("materials[0].pbrMetallicRoughness.baseColorTexture: texture coordinate sets above 1"), std::string::npos) << l.err;
+    EXPECT_EQ(l.scene.materials[0].base_color_texture.texcoord, 0);
 }
 
 }  // namespace
