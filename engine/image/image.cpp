@@ -103,6 +103,61 @@ std::size_t count_nonfinite(const ImageF& image) {
     return static_cast<std::size_t>(std::count_if(image.pixels.begin(), image.pixels.end(), [](float v) { return !std::isfinite(v); }));
 }
 
+namespace {
+double mean_luminance(const ImageF& img) {
+    double sum = 0;
+    for (int y = 0; y < img.height; ++y)
+        for (int x = 0; x < img.width; ++x) {
+            const float* p = img.at(x, y);
+            sum += 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2];
+        }
+    return sum / std::max(1.0, static_cast<double>(img.width) * img.height);
+}
+
+ImageF display_blocks(const ImageF& linear, int k) {
+    const ImageF d = to_display(linear, 0.0f);
+    ImageF out(d.width / k, d.height / k, 3);
+    for (int y = 0; y < out.height; ++y)
+        for (int x = 0; x < out.width; ++x)
+            for (int c = 0; c < 3; ++c) {
+                double s = 0;
+                for (int j = 0; j < k; ++j)
+                    for (int i = 0; i < k; ++i) s += d.at(x * k + i, y * k + j)[c];
+                out.at(x, y)[c] = static_cast<float>(s / (k * k));
+            }
+    return out;
+}
+}  // namespace
+
+BlockAgreement block_agreement(const ImageF& a, const ImageF& b, int k) {
+    if (a.width != b.width || a.height != b.height)
+        throw bad_input("images differ in size: " + std::to_string(a.width) + "x" + std::to_string(a.height) + " vs " +
+                        std::to_string(b.width) + "x" + std::to_string(b.height));
+    if (k < 1 || a.width < k || a.height < k) throw bad_input("--blocks " + std::to_string(k) + " must be in [1, image size]");
+    BlockAgreement r;
+    r.luminance_ratio = mean_luminance(a) / std::max(mean_luminance(b), 1e-12);
+    const ImageF da = display_blocks(a, k), db = display_blocks(b, k);
+    std::vector<double> worst;
+    double sum = 0, bsum = 0;
+    for (int y = 0; y < da.height; ++y)
+        for (int x = 0; x < da.width; ++x) {
+            double w = 0;
+            for (int c = 0; c < 3; ++c) {
+                const double d = std::fabs(static_cast<double>(da.at(x, y)[c]) - db.at(x, y)[c]);
+                sum += d;
+                w = std::max(w, d);
+                bsum += db.at(x, y)[c];
+            }
+            worst.push_back(w);
+        }
+    const double n = static_cast<double>(da.width) * da.height * 3;
+    r.mean_abs = sum / n;
+    r.b_display_mean = bsum / n;
+    std::sort(worst.begin(), worst.end());
+    r.p99_abs = worst[static_cast<size_t>(0.99 * static_cast<double>(worst.size() - 1))];
+    return r;
+}
+
 CompareResult compare(const ImageF& actual, const ImageF& expected, double tolerance) {
     if (actual.width != expected.width || actual.height != expected.height)
         throw bad_input("images differ in size: " + std::to_string(actual.width) + "x" + std::to_string(actual.height) +

@@ -58,6 +58,17 @@ struct CompareResult {
 // Compares RGB of two images of equal size (throws bad_input otherwise).
 CompareResult compare(const ImageF& actual, const ImageF& expected, double tolerance);
 
+// How a raster image agrees with a noisy reference (the path tracer) as a viewer sees them: both
+// tone-mapped to display values (exposure 0), averaged over k x k blocks (which takes out most of
+// the reference's per-pixel noise), then compared. Used by model_tests and `compare --blocks K`.
+struct BlockAgreement {
+    double mean_abs = 0;        // mean |a - b| over blocks and RGB channels
+    double p99_abs = 0;         // 99th percentile over blocks of the largest channel difference
+    double luminance_ratio = 0; // mean linear luminance of a / of b
+    double b_display_mean = 0;  // mean display value of b (a black or unlit reference is ~0)
+};
+BlockAgreement block_agreement(const ImageF& a, const ImageF& b, int k);
+
 // Per-pixel max channel difference as a heat map (black 0 -> blue -> green -> yellow -> red at
 // `scale`), display values.
 ImageF heatmap(const ImageF& actual, const ImageF& expected, double scale);

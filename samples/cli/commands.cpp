@@ -50,7 +50,7 @@ void print_usage() {
         "                 [--spp-shard K/N] [--time-limit S] [--shader-dir DIR]\n"
         "  candela merge OUT.exr SHARD.exr...\n"
         "  candela info SCENE [--effects ...] [--set ...] [--lighting L] [--environment E] [--camera C] [--strict]\n"
-        "  candela compare A B [--heatmap OUT.png] [--tolerance T] [--max-failing F] [--check]\n"
+        "  candela compare A B [--heatmap OUT.png] [--tolerance T] [--max-failing F] [--check] [--blocks K]\n"
         "  candela bench frame SCENE [--effects LIST ...] [--path P ...] [--size WxH] [--frames N] [--warmup N] [--json FILE]\n"
         "  candela bench rays SCENE|generated:N ... [--size WxH] [--spp N] [--repeat N]\n"
         "  candela bench reload SCENE [--size WxH] [--count N] [--shader-dir DIR]\n"
@@ -92,7 +92,9 @@ void print_usage() {
         "info     counts, bounds, cameras, lights, the effects the scene calls for and the planned passes.\n"
         "compare  RMSE, relative MSE, PSNR, max difference and the pixels beyond --tolerance\n"
         "         (default 2/255) of A against B; --check exits 4 if more than --max-failing (default\n"
-        "         0.001 = 0.1 %) of the pixels fail.\n"
+        "         0.001 = 0.1 %) of the pixels fail. --blocks K also compares A with a noisy reference B\n"
+        "         as a viewer sees them: display values averaged over KxK blocks (mean and 99th\n"
+        "         percentile of the difference) and the ratio of mean luminances.\n"
         "bench    rays: primary, AO and diffuse-bounce ray rates of the ray tracer (SCENE may be\n"
         "         generated:N triangles).\n"
         "         frame: median frame time and per-pass GPU time of each --effects variant (default\n"
@@ -759,7 +761,7 @@ int cmd_info(const Args& args) {
 }
 
 int cmd_compare(const Args& args) {
-    const Parsed p = parse(args, {"--heatmap", "--tolerance", "--max-failing"}, {"--check"});
+    const Parsed p = parse(args, {"--heatmap", "--tolerance", "--max-failing", "--blocks"}, {"--check"});
     if (p.positional.size() != 2) throw bad_input("compare needs two images A B");
     const double tolerance = p.has("--tolerance") ? parse_float("--tolerance", p.get("--tolerance"), 0, 1e30f) : 2.0 / 255.0;
     const double max_failing = p.has("--max-failing") ? parse_float("--max-failing", p.get("--max-failing"), 0, 1) : 0.001;
@@ -772,6 +774,11 @@ int cmd_compare(const Args& args) {
     std::printf("rmse %.6g\nrelative_mse %.6g\npsnr %.3f dB\nmax_abs %.6g\nfailing_pixels %zu (%.4f %%, tolerance %.6g)\nnonfinite %zu\n",
                 r.rmse, r.relative_mse, r.psnr, r.max_abs, r.failing_pixels, 100.0 * r.failing_fraction, tolerance,
                 r.nonfinite);
+    if (p.has("--blocks")) {
+        const BlockAgreement g = block_agreement(a, b, parse_int("--blocks", p.get("--blocks"), 1, 4096));
+        std::printf("block_mean_abs_display %.6g\nblock_p99_abs_display %.6g\nmean_luminance_ratio %.6g\n", g.mean_abs,
+                    g.p99_abs, g.luminance_ratio);
+    }
     if (p.has("--heatmap")) write_display_image(p.get("--heatmap"), heatmap(a, b, std::max(tolerance * 4, 1e-6)));
     if (p.flags.count("--check") && (r.failing_fraction > max_failing || r.nonfinite > 0)) return 4;
     return 0;
