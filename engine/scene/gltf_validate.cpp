@@ -832,8 +832,9 @@ private:
     }
 
     void check_samplers() {
-        for (auto [i, s] : items("samplers")) {
-            const std::string p = at("samplers", i);
+        for (const auto& [index, sampler] : items("samplers")) {
+            const json* s = sampler;  // a lambda cannot capture a structured binding before C++20's clang 16
+            const std::string p = at("samplers", index);
             auto in = [&](const char* key, std::initializer_list<int64_t> values) {
                 const auto v = integer(*s, key, p, false, 0);
                 if (v && std::find(values.begin(), values.end(), *v) == values.end())
