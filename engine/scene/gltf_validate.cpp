@@ -566,7 +566,8 @@ private:
                 if (!used(name) && undeclared.insert(name).second) warn(p, "'" + name + "' is not declared in extensionsUsed");
                 const auto kinds = allowed_kinds(name);
                 if (!kinds.empty() && std::find(kinds.begin(), kinds.end(), kind) == kinds.end())
-                    warn(p, name + " is not defined on " + (kind == "root" ? std::string("the top level") : "a " + kind) + "; ignored");
+                    warn(p, name + " is not defined on " +
+                                (kind == "root" ? std::string("the top level") : (std::strchr("aeiou", kind[0]) ? "an " : "a ") + kind) + "; ignored");
                 else if (starts_with(name, "KHR_materials_") && it->is_object())
                     for (const Range& r : kExtensionRanges) {
                         if (name != r.ext) continue;
