@@ -165,21 +165,8 @@ std::string grid_case_name(const ::testing::TestParamInfo<GridCase>& info) {
     return to_string(info.param.backend) + std::string("_") + info.param.path + "_" + to_string(info.param.material);
 }
 
-class TexturedGridTest : public ::testing::TestWithParam<GridCase> {
-protected:
-    void SetUp() override {
-        ContextOptions options;
-        options.debug = true;
-        ContextResult r = create_context(GetParam().backend, options);
-        ASSERT_TRUE(r.context) << r.error;
-        context_ = std::move(r.context);
-        gl::reset_debug_error_count();
-    }
-    void TearDown() override {
-        if (context_) EXPECT_EQ(gl::debug_error_count(), 0) << "GL errors during the test";
-    }
-    std::unique_ptr<Context> context_;
-};
+Backend grid_backend(const GridCase& c) { return c.backend; }
+class TexturedGridTest : public test::GlContextTestOf<GridCase, grid_backend> {};
 
 // Linear radiance of `scene_path` at n x n on the case's path (no SSAO: it would differ by mesh
 // only through its own noise, and is not what this test is about).
