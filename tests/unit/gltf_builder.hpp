@@ -2,6 +2,7 @@
 // Builds small glTF files for tests: JSON through nlohmann, one binary buffer written next to it.
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -78,12 +79,27 @@ public:
         if (!bin_.empty()) json_["buffers"] = {{{"uri", name + ".bin"}, {"byteLength", bin_.size()}}};
         std::ofstream(dir / (name + ".bin"), std::ios::binary).write(reinterpret_cast<const char*>(bin_.data()),
                                                                       static_cast<std::streamsize>(bin_.size()));
+        declare_extensions(json_);  // glTF requires every extension in use to be in extensionsUsed
         const auto path = dir / (name + ".gltf");
         std::ofstream(path) << json_.dump(1);
         return path;
     }
 
 private:
+    void declare_extensions(const nlohmann::json& root) {
+        std::vector<std::string> names;
+        auto collect = [&](auto&& self, const nlohmann::json& v) -> void {
+            if (v.is_object() && v.contains("extensions") && v["extensions"].is_object())
+                for (const auto& [ext, _] : v["extensions"].items()) names.push_back(ext);
+            if (v.is_structured())
+                for (const auto& child : v) self(self, child);
+        };
+        collect(collect, root);
+        for (const std::string& ext : names) {
+            auto& used = json_["extensionsUsed"];
+            if (std::find(used.begin(), used.end(), ext) == used.end()) used.push_back(ext);
+        }
+    }
     nlohmann::json json_;
     std::vector<unsigned char> bin_;
 };
