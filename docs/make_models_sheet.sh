@@ -21,20 +21,20 @@ device=$($candela render samples/scenes/cornell_box.gltf -o "$tmp/probe.png" --s
   echo "values (0..1), and the mean luminance ratio raster/path (as \`model_tests\` measures them)."
   echo "Frame: the raster's median frame time of 5 at 1280x720 (\`--frames 5 --warmup 1 --timings\`)."
   echo
-  echo "| model | triangles | mean |diff| | p99 |diff| | raster/path mean | frame ms (1280x720) |"
+  echo "| model | triangles | mean abs diff | p99 abs diff | raster/path mean | frame ms (1280x720) |"
   echo "|---|---|---|---|---|---|"
 } > "$tmp/models.md"
 pairs=()
-for f in tests/data/models/*/*.gltf tests/data/models/*/*.glb; do
+for f in $(ls -1 tests/data/models/*/*.gltf tests/data/models/*/*.glb | sort); do
   n=$(basename "${f%.*}")
   $candela render "$f" -o "$tmp/$n.raster.exr" --size ${size}x${size} --quiet
   $candela render "$f" -o "$tmp/$n.path.exr" --size ${size}x${size} --raytrace path --spp "$spp" --quiet
-  for k in raster path; do
-    $candela compare "$tmp/$n.$k.exr" "$tmp/$n.$k.exr" --check >/dev/null  # exits 4 on NaN/Inf
-    oiiotool "$tmp/$n.$k.exr" --tocolorspace sRGB -o "$tmp/$n.$k.png"  # for the sheet only
-  done
+  for k in raster path; do $candela compare "$tmp/$n.$k.exr" "$tmp/$n.$k.exr" --check >/dev/null; done  # NaN/Inf: exit 4
+  # The sheet shows what `candela render x.png` writes (exposure 0, ACES, sRGB): render again.
+  $candela render "$f" -o "$tmp/$n.raster.png" --size ${size}x${size} --quiet
+  $candela render "$f" -o "$tmp/$n.path.png" --size ${size}x${size} --raytrace path --spp "$spp" --quiet
   oiiotool "$tmp/$n.raster.png" "$tmp/$n.path.png" --mosaic:pad=2 2x1 \
-    --text:x=6:y=18:size=15:color=0.05,0.05,0.05 "$n" -o "$tmp/$n.pair.png"
+    --text:x=6:y=18:size=15:color=0.05,0.05,0.05:font=DejaVuSans "$n" -o "$tmp/$n.pair.png"
   pairs+=("$tmp/$n.pair.png")
   frame=$($candela render "$f" -o "$tmp/t.png" --size 1280x720 --frames 5 --warmup 1 --timings --quiet 2>&1 |
           sed -n 's/.*frame \([0-9.]*\) (median of 5).*/\1/p')
@@ -43,7 +43,7 @@ for f in tests/data/models/*/*.gltf tests/data/models/*/*.glb; do
   mean=$(echo "$stats" | sed -n 's/.*block_mean_abs_display \([0-9.e-]*\).*/\1/p')
   p99=$(echo "$stats" | sed -n 's/.*block_p99_abs_display \([0-9.e-]*\).*/\1/p')
   ratio=$(echo "$stats" | sed -n 's/.*mean_luminance_ratio \([0-9.e-]*\).*/\1/p')
-  echo "| $n | $tris | $mean | $p99 | $ratio | $frame |" >> "$tmp/models.md"
+  printf '| %s | %s | %.4f | %.3f | %.3f | %s |\n' "$n" "$tris" "$mean" "$p99" "$ratio" "$frame" >> "$tmp/models.md"
   echo "$n done" >&2
 done
 oiiotool "${pairs[@]}" --mosaic:pad=4 3x5 -o docs/models.png
