@@ -425,6 +425,7 @@ int cmd_view(const Args& args) {
     o.height = s.options.height;
     o.settings = s.options.settings;
     o.camera = s.options.camera;
+    o.lighting = s.lighting.reason;
     o.shader_dir = s.shader_dir;
     o.frames = p.has("--frames") ? s.options.frames : 0;
     o.vsync = !p.flags.count("--no-vsync");

@@ -455,6 +455,7 @@ void Viewer::draw_ui(double frame_ms) {
     std::vector<double> sorted(frame_times_.begin(), frame_times_.end());
     std::sort(sorted.begin(), sorted.end());
     ImGui::Text("frame %.1f ms (median of %zu)  %s", sorted[sorted.size() / 2], sorted.size(), controller_.fly_mode ? "fly" : "orbit");
+    if (!o_.lighting.empty()) ImGui::TextWrapped("lighting: %s", o_.lighting.c_str());
     ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyleColorVec4(ImGuiCol_TextDisabled));
     ImGui::TextWrapped("drag: turn  shift/middle drag: pan  wheel: zoom  WASDQE: move  F: frame  Tab: fly  P: screenshot  "
                        "H: hide this panel");

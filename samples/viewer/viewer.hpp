@@ -22,6 +22,7 @@ struct ViewerOptions {
     int frames = 0;                    // --frames N: quit after N frames (0: when closed)
     bool vsync = true;
     float exposure_ev = 0.0f;
+    std::string lighting;  // which lighting the scene got and why (scene/lighting.hpp), shown in the panel
 };
 
 // Runs until the window closes, the script quits or --frames have passed. Returns the exit code:
