@@ -85,7 +85,6 @@ LightingChoice apply_lighting(Scene& scene, LightingMode mode, const Camera& vie
     case LightingMode::default_rig:
         choice.reason = "default rig (--lighting default" + (own.empty() ? std::string(")") : "; the file's punctual lights and environment are not used)");
         for (Node& node : scene.nodes) node.light = -1;
-        scene.environment = Environment{};
         break;
     }
     choice.rig = true;
@@ -97,7 +96,10 @@ LightingChoice apply_lighting(Scene& scene, LightingMode mode, const Camera& vie
     // (0.7), i.e. about 40 degrees above the view and 30 degrees left of it.
     const glm::mat3 frame(view.world);
     const glm::vec3 right = glm::normalize(frame[0]), up = glm::normalize(frame[1]), back = glm::normalize(frame[2]);
-    const glm::vec3 to_light = glm::normalize(0.85f * up - 0.5f * right + 0.7f * back);
+    glm::vec3 to_light = glm::normalize(0.85f * up - 0.5f * right + 0.7f * back);
+    // A degenerate camera frame (a zero scale on the camera's node) must not make the light NaN:
+    // then the same direction in world axes, as seen by a camera looking down -Z.
+    if (glm::any(glm::isnan(to_light)) || glm::any(glm::isinf(to_light))) to_light = glm::normalize(glm::vec3(-0.5f, 0.85f, 0.7f));
     Light key;
     key.name = "default key light";
     key.type = LightType::directional;

@@ -172,6 +172,29 @@ TEST_P(ModelTest, GatingNeverChangesThePicture) {
     EXPECT_GT(forced_somewhere, 0) << "no scene skipped any effect: the property was not exercised";
 }
 
+// The rig's key light follows the camera; a degenerate camera frame (zero scale) still gives a
+// finite, unit light direction, and --lighting default replaces the file's lights and sky.
+TEST(DefaultLighting, RigIsFiniteForADegenerateCameraAndReplacesTheFileLightsOnRequest) {
+    Scene scene = load_gltf(kSource / "samples" / "scenes" / "cornell_point.gltf");
+    ASSERT_EQ(scene.placed_lights().size(), 1u);
+    Camera degenerate;
+    degenerate.world = glm::mat4(0.0f);
+    const LightingChoice choice = apply_lighting(scene, LightingMode::default_rig, degenerate);
+    EXPECT_TRUE(choice.rig);
+    const auto lights = scene.placed_lights();
+    ASSERT_EQ(lights.size(), 1u) << "the file's point light is dropped, the key light added";
+    EXPECT_EQ(lights[0].light->type, LightType::directional);
+    EXPECT_FALSE(glm::any(glm::isnan(lights[0].direction)));
+    EXPECT_NEAR(glm::length(lights[0].direction), 1.0f, 1e-5f);
+    EXPECT_LT(lights[0].direction.y, 0.0f) << "the key light shines downwards";
+    EXPECT_TRUE(scene.environment.image != nullptr);
+
+    Scene own = load_gltf(kSource / "samples" / "scenes" / "cornell_point.gltf");
+    const LightingChoice kept = apply_lighting(own, LightingMode::auto_select, own.select_camera("", 1.0f));
+    EXPECT_FALSE(kept.rig) << kept.reason;
+    EXPECT_EQ(own.placed_lights().size(), 1u);
+}
+
 INSTANTIATE_TEST_SUITE_P(Backends, ModelTest, ::testing::Values(Backend::egl), backend_name);
 
 }  // namespace
