@@ -1,5 +1,6 @@
 #pragma once
-// The `candela` command's subcommands. Each returns the process exit code
+// The `candela` command's subcommands, one file each (cmd_render.cpp, cmd_info.cpp, ...; the
+// shared option parser and scene set-up are in options.hpp). Each returns the process exit code
 // (shared/DESIGN.md section 4: 0 ok, 1 internal error, 2 bad input, 3 no usable OpenGL;
 // 4: `compare --check` found images beyond tolerance).
 #include <string>
@@ -16,6 +17,7 @@ int cmd_bench(const Args& args);
 int cmd_merge(const Args& args);
 int cmd_shaders(const Args& args);
 int cmd_view(const Args& args);
+// The --help text (options.cpp).
 void print_usage();
 
 }  // namespace candela::cli

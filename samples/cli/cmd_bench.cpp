@@ -1,0 +1,213 @@
+// `candela bench`: frame (median frame time of effect or render-path variants), rays (ray-tracer
+// ray rates), reload (shader save to new frame) and accuracy (samples/cli/accuracy.cpp).
+#include "commands.hpp"
+
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <unistd.h>
+
+#include <nlohmann/json.hpp>
+
+#include "accuracy.hpp"
+#include "core/error.hpp"
+#include "core/log.hpp"
+#include "options.hpp"
+#include "profile/stats.hpp"
+#include "render/renderer.hpp"
+#include "render/settings.hpp"
+#include "render/still.hpp"
+#include "rt/ray_rates.hpp"
+#include "shader/file_watcher.hpp"
+
+namespace candela::cli {
+namespace fs = std::filesystem;
+
+namespace {
+
+// `candela bench rays SCENE...`: ray rates of the compute-shader tracer. SCENE may be a glTF
+// file or generated:N (a bumpy sphere of about N triangles).
+int bench_rays(const Args& args) {
+    const Parsed p = parse(args, {"--size", "--spp", "--backend", "--repeat"}, {"--quiet"});
+    if (p.positional.empty()) throw bad_input("bench rays needs at least one SCENE (a .gltf or generated:N)");
+    if (p.flags.count("--quiet")) log::set_level(log::Level::warn);
+    int w = 512, h = 512;
+    if (p.has("--size")) parse_size(p.get("--size"), w, h);
+    const int spp = p.has("--spp") ? parse_int("--spp", p.get("--spp"), 1, 4096) : 8;
+    const int repeats = p.has("--repeat") ? parse_int("--repeat", p.get("--repeat"), 1, 100) : 3;
+    SceneSetup s;
+    s.backend = backend_option(p, false);
+    ContextResult ctx = open_context(s);
+    if (!ctx.context) return static_cast<int>(ExitCode::no_gl);
+    const ShaderLibrary shaders(s.shader_dir);
+    std::printf("device: %s (%s); %dx%d, %d spp per mode, medians of %d runs after one warm-up sample\n",
+                ctx.context->device_string().c_str(), to_string(ctx.context->backend()), w, h, spp, repeats);
+    std::printf("%-28s %10s %10s %10s %12s %12s %12s %10s %10s\n", "scene", "triangles", "bvh ms", "SAH", "primary Mr/s",
+                "AO Mr/s", "bounce Mr/s", "nodes/ray", "prims/ray");
+    for (const std::string& name : p.positional) {
+        const Scene scene = load_scene(name, false);
+        GpuScene gpu(scene);
+        const Camera camera = scene.select_camera("", static_cast<float>(w) / static_cast<float>(h));
+        const rt::RayRates r = rt::measure_ray_rates(shaders, scene, gpu, camera, w, h, spp, repeats);
+        std::printf("%-28s %10zu %10.1f %10.2f %12.2f %12.2f %12.2f %10.1f %10.1f\n",
+                    name.substr(name.size() > 28 ? name.size() - 28 : 0).c_str(), r.triangles, r.bvh.build_ms, r.bvh.sah_cost,
+                    r.primary_mrays, r.ao_mrays, r.bounce_mrays, r.nodes_per_ray, r.primitives_per_ray);
+    }
+    return 0;
+}
+
+// The time from a shader file's save to the first frame drawn with the rebuilt program: a copy
+// of the shaders is edited (a comment appended to lighting/shading.glsl, which the shading
+// programs include) and the watcher, the reload and one frame run as in the viewer.
+int bench_reload(const Args& args) {
+    std::vector<std::string> with_value = kSceneSetupOptions;
+    with_value.push_back("--count");
+    const Parsed p = parse(args, with_value, kSceneSetupFlags);
+    if (p.positional.size() != 1) throw bad_input("bench reload needs exactly one SCENE");
+    SceneSetup s = setup_scene(p, p.positional[0], 1280, 720);
+    const int count = p.has("--count") ? parse_int("--count", p.get("--count"), 1, 1000) : 10;
+    ContextResult ctx = open_context(s);
+    if (!ctx.context) return static_cast<int>(ExitCode::no_gl);
+    const fs::path dir = fs::temp_directory_path() / ("candela_reload_" + std::to_string(::getpid()));
+    fs::remove_all(dir);
+    fs::copy(s.shader_dir, dir, fs::copy_options::recursive);
+    struct Cleanup {
+        fs::path dir;
+        ~Cleanup() {
+            std::error_code ec;
+            fs::remove_all(dir, ec);
+        }
+    } cleanup{dir};
+    const ShaderLibrary shaders(dir);
+    GpuScene gpu(s.scene);
+    Renderer renderer(shaders, s.scene, gpu, s.options.settings);
+    const Camera camera = s.scene.select_camera(s.options.camera, static_cast<float>(s.options.width) / static_cast<float>(s.options.height));
+    FileWatcher watcher(dir);
+    for (int i = 0; i < 2; ++i) renderer.render(camera, s.options.width, s.options.height, FrameOutput::display);
+    glFinish();
+    const fs::path file = dir / "lighting" / "shading.glsl";
+    std::vector<double> total, rebuild, frame;
+    for (int i = 0; i < count; ++i) {
+        { std::ofstream(file, std::ios::app) << "// edit " << i << "\n"; }
+        const auto t0 = std::chrono::steady_clock::now();
+        std::vector<fs::path> changed;
+        while ((changed = watcher.poll()).empty())
+            if (std::chrono::steady_clock::now() - t0 > std::chrono::seconds(10)) throw Error(ExitCode::internal, "bench reload: the watcher saw no change in 10 s");
+        const ShaderReload r = renderer.reload_shaders(changed);
+        if (!r.errors.empty()) throw Error(ExitCode::internal, r.errors[0]);
+        const auto t1 = std::chrono::steady_clock::now();
+        renderer.render(camera, s.options.width, s.options.height, FrameOutput::display);
+        glFinish();
+        const auto t2 = std::chrono::steady_clock::now();
+        rebuild.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
+        frame.push_back(std::chrono::duration<double, std::milli>(t2 - t1).count());
+        total.push_back(std::chrono::duration<double, std::milli>(t2 - t0).count());
+    }
+    std::printf("device: %s (%s), %s at %dx%d, %d saves of lighting/shading.glsl (watcher: %s)\n", ctx.context->device_string().c_str(),
+                to_string(ctx.context->backend()), p.positional[0].c_str(), s.options.width, s.options.height, count,
+                watcher.uses_inotify() ? "inotify" : "polling");
+    std::printf("save -> new frame: median %.1f ms (notice + rebuild %.1f ms, first frame with the new program %.1f ms)\n",
+                median(total), median(rebuild), median(frame));
+    return check_gl_errors(s);
+}
+
+// `candela bench accuracy [SCENE...] -o DIR`: the options of run_accuracy().
+int bench_accuracy(const Args& args) {
+    const Parsed p = parse(args, {"-o", "--report", "--shader-dir", "--backend"}, {"--quick", "--quiet"});
+    if (!p.has("-o")) throw bad_input("bench accuracy needs -o DIR");
+    if (p.flags.count("--quiet")) log::set_level(log::Level::warn);
+    AccuracyOptions o;
+    o.scenes = p.positional;
+    for (const std::string& s : o.scenes)
+        if (!fs::is_regular_file(s)) throw bad_input(s + ": no such file");
+    o.out = p.get("-o");
+    if (p.has("--report")) o.report = p.get("--report");
+    o.quick = p.flags.count("--quick") > 0;
+    o.shader_dir = shader_dir_option(p);
+    // The sample scenes sit beside the built-in shaders in the source tree.
+    o.scene_dir = fs::path(ShaderLibrary::default_root()).parent_path() / "samples" / "scenes";
+    o.backend = backend_option(p, false);
+    o.command_line = "candela bench accuracy";
+    // Absolute paths are recorded by their file name only (the report names no machine's paths).
+    for (const std::string& a : args)
+        o.command_line += " " + (a.find('/') != std::string::npos && fs::path(a).is_absolute() ? fs::path(a).filename().string() : a);
+    return run_accuracy(o);
+}
+
+// `candela bench frame SCENE`: the variants (--effects values, or --path values) rendered
+// interleaved, frame by frame.
+int bench_frame(const Args& args) {
+    std::vector<std::string> with_value = kSceneSetupOptions;
+    with_value.push_back("--json");
+    const Parsed p = parse(args, with_value, kSceneSetupFlags);
+    if (p.positional.size() != 1) throw bad_input("bench frame needs exactly one SCENE");
+    SceneSetup s = setup_scene(p, p.positional[0], 1280, 720);
+    if (!p.has("--frames")) s.options.frames = 20;
+    if (!p.has("--warmup")) s.options.warmup = 3;
+    s.options.output = FrameOutput::display;  // what a viewer's frame includes
+    // Each --effects value is one variant; the variants are measured interleaved, frame by frame,
+    // so that they see the same machine conditions.
+    std::vector<std::string> variants = p.all("--effects");
+    const std::vector<std::string> paths = p.all("--path");
+    const bool path_variants = paths.size() >= 2;
+    if (path_variants && variants.size() > 1) throw bad_input("bench frame: several --path values take at most one --effects");
+    if (path_variants) {
+        const std::string effects = variants.empty() ? "all" : variants[0];
+        variants.clear();
+        for (const auto& path : paths) variants.push_back(effects + " --path " + path);
+    }
+    if (variants.empty()) variants = {"all", "none"};
+    ContextResult ctx = open_context(s);
+    if (!ctx.context) return static_cast<int>(ExitCode::no_gl);
+    const ShaderLibrary shaders(s.shader_dir);
+    std::vector<StillOptions> options(variants.size(), s.options);
+    std::vector<std::unique_ptr<FrameLoop>> loops;
+    for (size_t v = 0; v < variants.size(); ++v) {
+        const size_t space = variants[v].find(" --path ");
+        apply_effects(options[v].settings, variants[v].substr(0, space));
+        if (space != std::string::npos) apply_knob(options[v].settings, "render.path=" + variants[v].substr(space + 8));
+        for (const std::string& knob : p.all("--set")) apply_knob(options[v].settings, knob);
+        loops.push_back(std::make_unique<FrameLoop>(s.scene, shaders, options[v]));
+    }
+    for (auto& loop : loops) loop->warmup(s.options.warmup);
+    for (int f = 0; f < s.options.frames; ++f)
+        for (auto& loop : loops) loop->measure_frame();
+    std::vector<StillResult> results;
+    for (auto& loop : loops) results.push_back(loop->finish());
+    std::printf("device: %s (%s)\nscene: %s at %dx%d, %d frames per variant after %d warm-up\n",
+                ctx.context->device_string().c_str(), to_string(ctx.context->backend()), p.positional[0].c_str(),
+                s.options.width, s.options.height, s.options.frames, s.options.warmup);
+    nlohmann::json all = nlohmann::json::array();
+    for (size_t v = 0; v < variants.size(); ++v) {
+        const auto [q1, q3] = quartiles(results[v].frame_ms);
+        std::printf("effects=%-12s frame median %8.2f ms  IQR [%.2f, %.2f]  graph %.3f ms  passes:", variants[v].c_str(),
+                    results[v].median_frame_ms(), q1, q3, results[v].report.graph_ms);
+        for (const auto& ps : results[v].report.passes) std::printf(" %s %.2f", ps.name.c_str(), ps.gpu_ms);
+        std::printf(" (GPU ms, median)\n");
+        all.push_back(stats_json({ctx.context->device_string(), to_string(ctx.context->backend()), p.positional[0]},
+                                 options[v], results[v]));
+    }
+    if (variants.size() >= 2)
+        std::printf("ratio %s / %s = %.3f\n", variants[0].c_str(), variants[1].c_str(),
+                    results[0].median_frame_ms() / results[1].median_frame_ms());
+    if (p.has("--json")) write_json(p.get("--json"), all);
+    return check_gl_errors(s);
+}
+
+}  // namespace
+
+int cmd_bench(const Args& args) {
+    const std::string which = args.empty() ? "" : args[0];
+    const Args rest = args.empty() ? Args{} : Args(args.begin() + 1, args.end());
+    if (which == "frame") return bench_frame(rest);
+    if (which == "rays") return bench_rays(rest);
+    if (which == "reload") return bench_reload(rest);
+    if (which == "accuracy") return bench_accuracy(rest);
+    throw bad_input("bench needs a benchmark: 'candela bench frame SCENE' or 'candela bench rays SCENE...'");
+}
+
+}  // namespace candela::cli

@@ -1,0 +1,87 @@
+// `candela info`: what a scene holds and what the renderer would do with it (`--knobs`: every knob).
+#include "commands.hpp"
+
+#include <cstdio>
+#include <string>
+
+#include "core/error.hpp"
+#include "options.hpp"
+#include "render/features.hpp"
+#include "render/settings.hpp"
+
+namespace candela::cli {
+
+int cmd_info(const Args& args) {
+    const Parsed p = parse(args, {"--effects", "--set", "--path", "--lighting", "--environment", "--camera"}, {"--strict", "--knobs"});
+    if (p.flags.count("--knobs")) {
+        for (const KnobInfo& k : knob_infos())
+            std::printf("%-28s %-6s %-22s %s\n", k.name.c_str(), k.type.c_str(), k.range.c_str(), k.help.c_str());
+        return 0;
+    }
+    if (p.positional.size() != 1) throw bad_input("info needs exactly one SCENE");
+    RenderSettings settings;
+    if (p.has("--effects")) apply_effects(settings, p.get("--effects"));
+    if (p.has("--path")) apply_knob(settings, "render.path=" + p.get("--path"));
+    for (const std::string& knob : p.all("--set")) apply_knob(settings, knob);
+    Scene scene = load_scene(p.positional[0], p.flags.count("--strict") > 0);
+    const std::string camera_choice = p.has("--camera") ? p.get("--camera") : "";
+    const LightingChoice lighting = setup_lighting(scene, p, camera_choice, 1.0f);
+    int directional = 0, point = 0, spot = 0;
+    for (const auto& pl : scene.placed_lights()) {
+        directional += pl.light->type == LightType::directional;
+        point += pl.light->type == LightType::point;
+        spot += pl.light->type == LightType::spot;
+    }
+    int valid_images = 0;
+    for (const Image& img : scene.images) valid_images += img.valid && img.name != "fallback";
+    const Bounds b = scene.world_bounds();
+    std::printf("scene: %s\n", scene.source.string().c_str());
+    std::printf("nodes: %zu  meshes: %zu  triangles: %zu  materials: %zu  textures: %d (%d missing)\n",
+                scene.nodes.size(), scene.meshes.size(), scene.triangle_count(), scene.materials.size(), valid_images,
+                scene.sanitized.missing_textures);
+    std::printf("lights: %d directional, %d point, %d spot\n", directional, point, spot);
+    if (!scene.ignored.empty()) {
+        std::string list;
+        for (const std::string& what : scene.ignored) list += (list.empty() ? "" : "; ") + what;
+        std::printf("ignored (not implemented): %s\n", list.c_str());
+    }
+    if (b.empty()) std::printf("bounds: empty\n");
+    else
+        std::printf("bounds: min (%.4g, %.4g, %.4g)  max (%.4g, %.4g, %.4g)\n", b.min.x, b.min.y, b.min.z, b.max.x,
+                    b.max.y, b.max.z);
+    std::printf("cameras: %zu\n", scene.cameras.size());
+    for (size_t i = 0; i < scene.cameras.size(); ++i) {
+        const Camera& c = scene.cameras[i];
+        const glm::vec3 pos(c.world[3]);
+        std::printf("  [%zu] '%s' %s at (%.3g, %.3g, %.3g)\n", i, c.name.c_str(),
+                    c.orthographic ? "orthographic" : (std::string("perspective yfov ") + format_number("%.3g", c.yfov)).c_str(),
+                    pos.x, pos.y, pos.z);
+    }
+    {
+        const Camera auto_cam = framing_camera(b);
+        const glm::vec3 pos(auto_cam.world[3]);
+        std::printf("  [auto] framing camera from the bounds, perspective yfov %.3g at (%.3g, %.3g, %.3g)%s\n", auto_cam.yfov,
+                    pos.x, pos.y, pos.z, scene.cameras.empty() ? " (the default: the file has no camera)" : "");
+    }
+    std::printf("lighting: %s\n", lighting.reason.c_str());
+    std::printf("environment: %s\n", scene.environment.image ? scene.environment.label.c_str()
+                                     : !scene.environment.map.empty() ? scene.environment.map.string().c_str()
+                                     : scene.environment.present()
+                                         ? ("constant (" + format_number("%.3g", scene.environment.radiance.r) + ", " +
+                                            format_number("%.3g", scene.environment.radiance.g) + ", " +
+                                            format_number("%.3g", scene.environment.radiance.b) + ")").c_str()
+                                         : "none");
+    const Features features = analyze(scene, settings);
+    std::printf("scene features:\n");
+    for (const Feature* feat : features.scene.all())
+        std::printf("  %-22s %-4s %s\n", (feat->name + ":").c_str(), feat->needed ? "yes" : "no", feat->reason.c_str());
+    std::printf("effects:\n");
+    for (const EffectDecision* d : features.effects())
+        std::printf("  %-22s %s\n", (d->name + ":").c_str(), d->reason.c_str());
+    std::printf("planned passes:\n");
+    for (const PlannedPass& pass : plan_passes(features, settings))
+        std::printf("  %-22s %s\n", pass.name.c_str(), pass.why.c_str());
+    return 0;
+}
+
+}  // namespace candela::cli

@@ -1,0 +1,129 @@
+// `candela render`: one still image of a scene, by the rasterizer or (--raytrace) the ray tracer.
+#include "commands.hpp"
+
+#include <cctype>
+#include <chrono>
+#include <cstdint>
+#include <cstdio>
+
+#include <unistd.h>
+
+#include <nlohmann/json.hpp>
+
+#include "core/error.hpp"
+#include "core/log.hpp"
+#include "image/image.hpp"
+#include "options.hpp"
+#include "profile/stats.hpp"
+#include "render/still.hpp"
+#include "rt/ray_tracer.hpp"
+
+namespace candela::cli {
+namespace fs = std::filesystem;
+
+namespace {
+
+// --raytrace MODE: the image comes from the compute-shader ray tracer. Its options come from the
+// command line and from the rt.* knobs, debug.light (visibility mode) and the AO radius.
+int raytrace(const Parsed& p, const SceneSetup& s, const fs::path& out_path, float exposure) {
+    rt::Options o;
+    const auto mode = rt::parse_mode(p.get("--raytrace"));
+    if (!mode) throw bad_input("--raytrace '" + p.get("--raytrace") + "' must be whitted, path, direct, indirect, ao, primary or visibility");
+    o.mode = *mode;
+    if (p.has("--spp")) o.spp = parse_int("--spp", p.get("--spp"), 1, 1 << 24);
+    if (p.has("--max-depth")) o.max_depth = parse_int("--max-depth", p.get("--max-depth"), 0, 64);
+    if (p.has("--seed")) o.seed = static_cast<std::uint32_t>(parse_int("--seed", p.get("--seed"), 0, 2147483647));
+    if (p.has("--time-limit")) o.time_limit_s = parse_float("--time-limit", p.get("--time-limit"), 0.0f, 1e9f);
+    if (p.has("--spp-shard")) {
+        int k = -1, n = -1;
+        char rest = 0;
+        if (std::sscanf(p.get("--spp-shard").c_str(), "%d/%d%c", &k, &n, &rest) != 2 || n < 1 || k < 0 || k >= n)
+            throw bad_input("--spp-shard '" + p.get("--spp-shard") + "' must be K/N with 0 <= K < N");
+        o.shard = k;
+        o.shard_count = n;
+    }
+    o.ao_radius = s.options.settings.ao.radius;
+    o.whitted_max_roughness = s.options.settings.rt.whitted_max_roughness;
+    o.indirect_occlusion = s.options.settings.rt.indirect_occlusion;
+    o.visibility_light = s.options.settings.debug.light;
+    o.env_importance = s.options.settings.rt.env_importance;
+    o.jitter = s.options.settings.rt.jitter == "auto" ? -1 : s.options.settings.rt.jitter == "on" ? 1 : 0;
+    o.progress = true;
+    const ShaderLibrary shaders(s.shader_dir);
+    GpuScene gpu(s.scene);
+    rt::RayTracer tracer(shaders, s.scene, gpu, o);
+    const float aspect = static_cast<float>(s.options.width) / static_cast<float>(s.options.height);
+    const rt::Result r = tracer.render(s.scene.select_camera(s.options.camera, aspect), s.options.width, s.options.height);
+    const rt::BvhStats& b = tracer.scene().geometry().bvh.stats;
+    log::info(std::string("ray traced '") + rt::to_string(o.mode) + "' [" + r.defines + "]: " + std::to_string(r.samples) +
+              " spp in " + format_number("%.1f", r.trace_ms) + " ms; BVH " + std::to_string(b.node_count) + " nodes, depth " +
+              std::to_string(b.max_depth) + ", SAH " + format_number("%.2f", b.sah_cost) + ", built in " + format_number("%.1f", b.build_ms) + " ms" +
+              (r.stopped_early ? " (stopped by --time-limit)" : ""));
+    if (r.nonfinite_samples) log::warn(std::to_string(r.nonfinite_samples) + " non-finite samples were replaced by 0");
+    write_image(out_path, r.image, exposure);
+    return check_gl_errors(s);
+}
+
+}  // namespace
+
+int cmd_render(const Args& args) {
+    std::vector<std::string> with_value = kSceneSetupOptions;
+    with_value.insert(with_value.end(), {"-o", "--output", "--exposure", "--stats", "--raytrace", "--spp", "--max-depth",
+                                         "--seed", "--spp-shard", "--time-limit"});
+    std::vector<std::string> flags = kSceneSetupFlags;
+    flags.push_back("--timings");
+    const Parsed p = parse(args, with_value, flags);
+    if (p.positional.size() != 1) throw bad_input("render needs exactly one SCENE (got " + std::to_string(p.positional.size()) + ")");
+    std::string out = p.has("-o") ? p.get("-o") : p.has("--output") ? p.get("--output") : "";
+    if (out.empty()) throw bad_input("render needs -o OUT.png or -o OUT.exr");
+    const fs::path out_path(out);
+    {
+        std::string e = out_path.extension().string();
+        for (auto& c : e) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+        if (e != ".png" && e != ".exr") throw bad_input(out + ": the output must be .png or .exr");
+    }
+    const float exposure = p.has("--exposure") ? parse_float("--exposure", p.get("--exposure"), -32, 32) : 0.0f;
+    // Fail before rendering, not after: the output's directory must exist.
+    {
+        const fs::path dir = out_path.has_parent_path() ? out_path.parent_path() : fs::path(".");
+        if (!fs::is_directory(dir)) throw bad_input(out + ": cannot write: no directory " + dir.string());
+        if (access(dir.c_str(), W_OK) != 0) throw bad_input(out + ": cannot write: " + dir.string() + " is not writable");
+    }
+    SceneSetup s = setup_scene(p, p.positional[0], 512, 512);
+    // A .png gets its display transform on the GPU (the tonemap pass); an .exr is the HDR target.
+    const bool display = is_display_format(out_path);
+    s.options.output = display ? FrameOutput::display : FrameOutput::hdr;
+    s.options.exposure_ev = exposure;
+
+    auto t0 = std::chrono::steady_clock::now();
+    ContextResult ctx = open_context(s);
+    if (!ctx.context) return static_cast<int>(ExitCode::no_gl);
+    const double context_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+
+    const ShaderLibrary shaders(s.shader_dir);
+    if (p.has("--raytrace")) return raytrace(p, s, out_path, exposure);
+    const StillResult result = render_still(s.scene, shaders, s.options);
+    const std::size_t bad = count_nonfinite(result.radiance);
+    if (bad) log::warn(out + ": " + std::to_string(bad) + " non-finite values in the rendered radiance (written as 0 in .png)");
+    t0 = std::chrono::steady_clock::now();
+    if (display) write_display_rgba8(out_path, result.display, result.radiance.width, result.radiance.height);
+    else write_image(out_path, result.radiance, exposure);
+    const double write_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    if (p.has("--stats")) {
+        nlohmann::json j = stats_json({ctx.context->device_string(), to_string(ctx.context->backend()), p.positional[0]},
+                                      s.options, result);
+        j["setup_ms"]["load"] = s.load_ms;
+        j["setup_ms"]["context"] = context_ms;
+        j["setup_ms"]["write"] = write_ms;
+        write_json(p.get("--stats"), j);
+    }
+    if (p.flags.count("--timings"))
+        std::fprintf(stderr,
+                     "candela: timings (ms): load %.1f, context %.1f, upload %.1f, shaders %.1f, frame %.1f (median of %d), "
+                     "readback %.1f, write %.1f; %zu passes\n",
+                     s.load_ms, context_ms, result.upload_ms, result.shader_ms, result.median_frame_ms(), s.options.frames,
+                     result.readback_ms, write_ms, result.report.passes.size());
+    return check_gl_errors(s);
+}
+
+}  // namespace candela::cli

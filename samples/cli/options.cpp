@@ -1,0 +1,283 @@
+#include "options.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+
+#include "core/error.hpp"
+#include "core/log.hpp"
+#include "gl/debug.hpp"
+#include "render/settings.hpp"
+#include "scene/generate.hpp"
+#include "scene/gltf_loader.hpp"
+
+namespace candela::cli {
+namespace fs = std::filesystem;
+
+void print_usage() {
+    const std::string text =
+        "Candela: an OpenGL 4.5 renderer whose approximations are checked against its own ray tracer.\n"
+        "\n"
+        "usage:\n"
+        "  candela render SCENE -o OUT.(png|exr) [--size WxH] [--backend auto|egl|osmesa]\n"
+        "                 [--effects all|none|LIST] [--set KNOB=VALUE ...] [--camera N|NAME|auto]\n"
+        "                 [--exposure EV] [--lighting auto|file|default] [--environment FILE|none]\n"
+        "                 [--stats FILE.json] [--frames N] [--warmup N]\n"
+        "                 [--debug-gl] [--verify-state] [--timings] [--strict] [--quiet]\n"
+        "                 [--path auto|forward|deferred] [--output-buffer radiance|visibility]\n"
+        "                 [--raytrace whitted|path|direct|indirect|ao|primary|visibility] [--spp N] [--max-depth N] [--seed N]\n"
+        "                 [--spp-shard K/N] [--time-limit S] [--shader-dir DIR]\n"
+        "  candela merge OUT.exr SHARD.exr...\n"
+        "  candela info SCENE [--effects ...] [--set ...] [--lighting L] [--environment E] [--camera C] [--strict]\n"
+        "  candela compare A B [--heatmap OUT.png] [--tolerance T] [--max-failing F] [--check] [--blocks K]\n"
+        "  candela bench frame SCENE [--effects LIST ...] [--path P ...] [--size WxH] [--frames N] [--warmup N] [--json FILE]\n"
+        "  candela bench rays SCENE|generated:N ... [--size WxH] [--spp N] [--repeat N]\n"
+        "  candela bench reload SCENE [--size WxH] [--count N] [--shader-dir DIR]\n"
+        "  candela bench accuracy [SCENE...] -o DIR [--report FILE.md] [--quick]\n"
+        "  candela shaders check [--shader-dir DIR] [--backend auto|egl|osmesa]\n"
+        "  candela view SCENE [--size WxH] [--effects ...] [--set ...] [--path P] [--camera C] [--shader-dir DIR]\n"
+        "               [--script FILE] [--frames N] [--screenshot OUT.png] [--window-shot OUT.png] [--no-vsync]\n"
+        "\n"
+        "render   SCENE (.gltf/.glb) to OUT: .exr holds linear radiance; .png is exposure + ACES + sRGB.\n"
+        "         --size WxH (default 512x512), --backend (default auto: EGL, then OSMesa),\n"
+        "         --effects: all, none, or a comma list of shadows,ssao,rsm,transparency,reflections;\n"
+        "         --set effect.knob=value (repeatable; 'candela info --knobs' lists them),\n"
+        "         --camera glTF camera index or name (default: the first, else a framing camera;\n"
+        "         auto: always the framing camera), --exposure EV for .png (default 0),\n"
+        "         --lighting auto (default: the file's lights, or the default rig - a built-in sky and a\n"
+        "         key light - when the file has none), file (the file's only) or default (the rig only),\n"
+        "         --environment FILE (.hdr/.exr, equirectangular) replaces the environment, none removes\n"
+        "         it, --stats writes executed passes with GPU/CPU ms and\n"
+        "         counters, --frames N measured frames (median) after --warmup N, --debug-gl logs GL\n"
+        "         debug output and fails on GL errors, --verify-state checks GL state between passes,\n"
+        "         --timings prints where the time went, --strict treats loader warnings (missing\n"
+        "         texture, skipped primitive, repaired data) as errors (exit 2).\n"
+        "         --path forward|deferred (default auto: deferred from deferred.auto_lights lights),\n"
+        "         --output-buffer visibility writes the fraction of light debug.light reaching each\n"
+        "         pixel (shadow maps), to compare with --raytrace visibility (the exact answer).\n"
+        "         --raytrace renders with the compute-shader ray tracer instead: --spp samples per\n"
+        "         pixel (default 16), --max-depth bounces (whitted 5, path 8), --seed, --spp-shard K/N\n"
+        "         computes the samples s with s %% N == K (alpha holds the sample count) and\n"
+        "         --time-limit S stops at a sample boundary and still writes the image.\n"
+        "         --shader-dir DIR reads the GLSL sources from DIR instead of the built-in shaders/.\n"
+        "shaders  check: compiles every program and ray-tracer variant with glslang and links it\n"
+        "         with the GL driver; exit 1 if any fails.\n"
+        "view     the interactive viewer (a window: needs X; use xvfb-run or 'candela render' without\n"
+        "         one); --size is the scene's size, the panel is docked beside it. Shaders under\n"
+        "         --shader-dir reload when saved. --script FILE replays camera moves and setting\n"
+        "         changes (samples/viewer/script.hpp), --frames N quits after N frames,\n"
+        "         --screenshot writes the last frame's image, --window-shot the window with its panel.\n"
+        "merge    the sample-weighted mean of --spp-shard outputs: equal to one run with all samples.\n"
+        "info     counts, bounds, cameras, lights, the effects the scene calls for and the planned passes.\n"
+        "compare  RMSE, relative MSE, PSNR, max difference and the pixels beyond --tolerance\n"
+        "         (default 2/255) of A against B; --check exits 4 if more than --max-failing (default\n"
+        "         0.001 = 0.1 %) of the pixels fail. --blocks K also compares A with a noisy reference B\n"
+        "         as a viewer sees them: display values averaged over KxK blocks (mean and 99th\n"
+        "         percentile of the difference) and the ratio of mean luminances.\n"
+        "bench    rays: primary, AO and diffuse-bounce ray rates of the ray tracer (SCENE may be\n"
+        "         generated:N triangles).\n"
+        "         frame: median frame time and per-pass GPU time of each --effects variant (default\n"
+        "         all and none) or, with several --path values, of each render path, measured\n"
+        "         interleaved in one run (default 1280x720, 20 frames, 3 warm-up). SCENE may be\n"
+        "         generated:lights:N (N point lights over a floor with boxes).\n"
+        "         accuracy: every effect's knob sweep, timed and compared with the ray tracer's\n"
+        "         reference: DIR/results.csv, report.md, plots and image strips (--quick: small, CI).\n"
+        "         reload: median time from saving a shader file to the first frame drawn with the\n"
+        "         rebuilt programs (a copy of the shaders is edited; default 1280x720, 10 saves).\n"
+        "\n"
+        "exit codes: 0 ok, 1 internal error, 2 bad input (file, option), 3 no usable OpenGL 4.5,\n"
+        "            4 compare --check: images differ beyond the tolerance.\n";
+    std::fputs(text.c_str(), stdout);
+}
+
+Parsed parse(const Args& args, const std::vector<std::string>& with_value, const std::vector<std::string>& flags) {
+    Parsed p;
+    for (size_t i = 0; i < args.size(); ++i) {
+        const std::string& a = args[i];
+        if (a.size() > 1 && a[0] == '-') {
+            std::string name = a, value;
+            bool has_inline = false;
+            if (auto eq = a.find('='); eq != std::string::npos && a.rfind("--", 0) == 0) {
+                name = a.substr(0, eq);
+                value = a.substr(eq + 1);
+                has_inline = true;
+            }
+            if (std::find(flags.begin(), flags.end(), name) != flags.end()) {
+                p.flags[name] = true;
+                continue;
+            }
+            if (std::find(with_value.begin(), with_value.end(), name) == with_value.end())
+                throw bad_input("unknown option '" + name + "' (try 'candela --help')");
+            if (!has_inline) {
+                if (i + 1 >= args.size()) throw bad_input("option '" + name + "' needs a value");
+                value = args[++i];
+            }
+            p.values[name].push_back(value);
+        } else {
+            p.positional.push_back(a);
+        }
+    }
+    return p;
+}
+
+int parse_int(const std::string& option, const std::string& text, int lo, int hi) {
+    try {
+        size_t used = 0;
+        const long v = std::stol(text, &used);
+        if (used == text.size() && v >= lo && v <= hi) return static_cast<int>(v);
+    } catch (const std::exception&) {
+    }
+    throw bad_input(option + " '" + text + "' must be an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+}
+
+float parse_float(const std::string& option, const std::string& text, float lo, float hi) {
+    try {
+        size_t used = 0;
+        const float v = std::stof(text, &used);
+        if (used == text.size() && std::isfinite(v) && v >= lo && v <= hi) return v;
+    } catch (const std::exception&) {
+    }
+    throw bad_input(option + " '" + text + "' is not a number in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+}
+
+void parse_size(const std::string& text, int& w, int& h) {
+    unsigned long a = 0, b = 0;
+    char x = 0;
+    char rest = 0;
+    if (std::sscanf(text.c_str(), "%lu%c%lu%c", &a, &x, &b, &rest) != 3 || (x != 'x' && x != 'X') || a < 1 || b < 1 ||
+        a > 16384 || b > 16384)
+        throw bad_input("--size '" + text + "' must be WxH with 1 <= W, H <= 16384 (e.g. 512x512)");
+    w = static_cast<int>(a);
+    h = static_cast<int>(b);
+}
+
+Backend backend_option(const Parsed& p, bool quote_value) {
+    if (!p.has("--backend")) return Backend::auto_select;
+    const auto b = parse_backend(p.get("--backend"));
+    if (!b || *b == Backend::glfw)
+        throw bad_input(quote_value ? "--backend '" + p.get("--backend") + "' must be auto, egl or osmesa"
+                                    : "--backend must be auto, egl or osmesa");
+    return *b;
+}
+
+fs::path shader_dir_option(const Parsed& p) {
+    if (!p.has("--shader-dir")) return ShaderLibrary::default_root();
+    const fs::path dir = p.get("--shader-dir");
+    if (!fs::is_directory(dir)) throw bad_input("--shader-dir " + dir.string() + ": not a directory");
+    return dir;
+}
+
+std::string format_number(const char* format, double v) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, format, v);
+    return buf;
+}
+
+Scene load_scene(const std::string& path, bool strict) {
+    if (path.rfind("generated:lights:", 0) == 0) {
+        const std::string n = path.substr(17);
+        if (n.empty() || n.size() > 6 || n.find_first_not_of("0123456789") != std::string::npos || std::stoul(n) < 1)
+            throw bad_input(path + ": expected generated:lights:N with 1 <= N < 1e6 point lights");
+        return make_many_lights_scene(static_cast<int>(std::stoul(n)));
+    }
+    if (path.rfind("generated:", 0) == 0) {
+        const std::string n = path.substr(10);
+        if (n.empty() || n.size() > 9 || n.find_first_not_of("0123456789") != std::string::npos || std::stoul(n) < 2)
+            throw bad_input(path + ": expected generated:N with 2 <= N < 1e9 triangles");
+        return make_bumpy_sphere_scene(std::stoul(n));
+    }
+    const int before = log::warning_count();
+    Scene scene = load_gltf(path);
+    const int warnings = log::warning_count() - before;
+    if (strict && warnings > 0)
+        throw bad_input(path + ": " + std::to_string(warnings) + " loader warning(s) (see above) and --strict is set");
+    return scene;
+}
+
+LightingChoice setup_lighting(Scene& scene, const Parsed& p, const std::string& camera, float aspect) {
+    LightingMode mode = LightingMode::auto_select;
+    if (p.has("--lighting")) {
+        const auto m = parse_lighting_mode(p.get("--lighting"));
+        if (!m) throw bad_input("--lighting '" + p.get("--lighting") + "' must be auto, file or default");
+        mode = *m;
+    }
+    LightingChoice choice = apply_lighting(scene, mode, scene.select_camera(camera, aspect));
+    if (p.has("--environment")) {
+        const std::string env = p.get("--environment");
+        if (env == "none") {
+            scene.environment = Environment{};
+            choice.reason += "; --environment none";
+        } else {
+            if (!fs::is_regular_file(env)) throw bad_input(env + ": --environment: no such file");
+            scene.environment = Environment{};
+            scene.environment.map = env;
+            choice.reason += "; environment from --environment " + env;
+        }
+    }
+    return choice;
+}
+
+const std::vector<std::string> kSceneSetupOptions = {"--size", "--backend", "--camera", "--environment", "--lighting",
+                                                     "--effects", "--set", "--frames", "--warmup", "--path",
+                                                     "--output-buffer", "--shader-dir"};
+const std::vector<std::string> kSceneSetupFlags = {"--debug-gl", "--strict", "--verify-state", "--quiet"};
+
+SceneSetup setup_scene(const Parsed& p, const std::string& scene_path, int default_w, int default_h) {
+    SceneSetup s;
+    if (p.flags.count("--quiet")) log::set_level(log::Level::warn);
+    s.options.width = default_w;
+    s.options.height = default_h;
+    if (p.has("--size")) parse_size(p.get("--size"), s.options.width, s.options.height);
+    if (p.has("--camera")) s.options.camera = p.get("--camera");
+    s.shader_dir = shader_dir_option(p);
+    if (p.has("--frames")) s.options.frames = parse_int("--frames", p.get("--frames"), 1, 100000);
+    if (p.has("--warmup")) s.options.warmup = parse_int("--warmup", p.get("--warmup"), 0, 100000);
+    if (p.has("--effects")) apply_effects(s.options.settings, p.get("--effects"));
+    if (p.has("--path")) {
+        const std::string path = p.get("--path");
+        if (path != "auto" && path != "forward" && path != "deferred")
+            throw bad_input("--path '" + path + "' must be auto, forward or deferred");
+        s.options.settings.path = path;
+    }
+    if (p.has("--output-buffer")) {
+        const std::string b = p.get("--output-buffer");
+        if (b != "radiance" && b != "visibility" && b != "ao" && b != "indirect")
+            throw bad_input("--output-buffer '" + b + "' must be radiance, visibility (of light --set debug.light=K), ao or indirect");
+        s.options.settings.debug.view = b == "radiance" ? "none" : b;
+    }
+    for (const std::string& knob : p.all("--set")) apply_knob(s.options.settings, knob);
+    s.options.verify_state = p.flags.count("--verify-state") > 0;
+    s.backend = backend_option(p, true);
+    // CANDELA_DEBUG_GL=1 does the same as --debug-gl; the test suite sets it for every command.
+    const char* debug_env = std::getenv("CANDELA_DEBUG_GL");
+    s.debug = p.flags.count("--debug-gl") > 0 || (debug_env && std::string(debug_env) == "1");
+    const auto t0 = std::chrono::steady_clock::now();
+    s.scene = load_scene(scene_path, p.flags.count("--strict") > 0);
+    s.lighting = setup_lighting(s.scene, p, s.options.camera,
+                                static_cast<float>(s.options.width) / static_cast<float>(s.options.height));
+    log::info("lighting: " + s.lighting.reason);
+    s.load_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    return s;
+}
+
+ContextResult open_context(const SceneSetup& s) {
+    ContextOptions ctx_options;
+    ctx_options.debug = s.debug;
+    ContextResult ctx = create_context(s.backend, ctx_options);
+    if (ctx.context && !ctx.notice.empty()) log::warn(ctx.notice);
+    if (ctx.context) log::info(std::string("backend ") + to_string(ctx.context->backend()) + ": " + ctx.context->device_string());
+    else std::fprintf(stderr, "candela: error: no usable OpenGL: %s\n", ctx.error.c_str());
+    return ctx;
+}
+
+int check_gl_errors(const SceneSetup& s) {
+    if (s.debug && gl::debug_error_count() > 0) {
+        std::fprintf(stderr, "candela: error: %d GL error(s) (see above)\n", gl::debug_error_count());
+        return static_cast<int>(ExitCode::internal);
+    }
+    return 0;
+}
+
+}  // namespace candela::cli
