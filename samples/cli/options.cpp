@@ -17,6 +17,9 @@ namespace candela::cli {
 namespace fs = std::filesystem;
 
 void print_usage() {
+    // The effect names come from the engine's registry: the CLI names no effect.
+    std::string effect_list;
+    for (const std::string& name : effect_names()) effect_list += (effect_list.empty() ? "" : ",") + name;
     const std::string text =
         "Candela: an OpenGL 4.5 renderer whose approximations are checked against its own ray tracer.\n"
         "\n"
@@ -42,7 +45,7 @@ void print_usage() {
         "\n"
         "render   SCENE (.gltf/.glb) to OUT: .exr holds linear radiance; .png is exposure + ACES + sRGB.\n"
         "         --size WxH (default 512x512), --backend (default auto: EGL, then OSMesa),\n"
-        "         --effects: all, none, or a comma list of shadows,ssao,rsm,transparency,reflections;\n"
+        "         --effects: all, none, or a comma list of " + effect_list + ";\n"
         "         --set effect.knob=value (repeatable; 'candela info --knobs' lists them),\n"
         "         --camera glTF camera index or name (default: the first, else a framing camera;\n"
         "         auto: always the framing camera), --exposure EV for .png (default 0),\n"
