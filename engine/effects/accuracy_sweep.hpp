@@ -1,0 +1,51 @@
+#pragma once
+// An effect's accuracy sweep as data: which scene, which raster output against which tracer
+// mode, which knob settings to vary, and which of them the engine ships. `candela bench accuracy`
+// runs every registered effect's sweeps; it knows no effect by name.
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "rt/ray_tracer.hpp"
+
+namespace candela {
+
+struct Features;
+
+struct AccuracySweep {
+    // What the raster variant outputs and is compared: the radiance, or a debug buffer
+    // (debug.view=visibility of light 0, ao, indirect).
+    enum class Buffer { radiance, visibility, ao, indirect };
+
+    struct Variant {
+        std::string name;
+        std::string effects;             // --effects
+        std::vector<std::string> knobs;  // --set KNOB=VALUE
+    };
+
+    struct Reference {
+        rt::Mode mode = rt::Mode::direct;
+        int spp = 16;
+        int max_depth = -1;             // -1: the tracer's default
+        int jitter = -1;                // -1: rt.jitter=auto, 0 off, 1 on
+        bool indirect_occlusion = true;
+    };
+
+    std::string effect;                      // the report's section ("shadows", "shadows_colour", ...)
+    std::string scene;                       // sample scene file name (or generated:...)
+    Buffer buffer = Buffer::radiance;
+    std::vector<std::string> own_passes;     // the passes whose time is the effect's; empty: the frame
+    std::optional<Reference> reference;      // none: time only
+    std::optional<Reference> split;          // a second reference (RSM: without occlusion)
+    std::vector<Variant> variants;
+    std::string shipped;                     // the variant with the engine's defaults
+    std::string compared;                    // what is compared with what, for the report
+    std::string reading;                     // what the error is made of
+    std::function<bool(const Features&)> needed;  // the scene calls for the effect
+};
+
+// Every registered effect's sweeps, in registry order.
+std::vector<AccuracySweep> effect_accuracy_sweeps(bool quick);
+
+}  // namespace candela
