@@ -16,6 +16,7 @@
 
 #include "core/error.hpp"
 #include "core/log.hpp"
+#include "effects/accuracy_sweep.hpp"
 #include "image/image.hpp"
 #include "render/features.hpp"
 #include "render/renderer.hpp"
@@ -29,38 +30,7 @@ namespace {
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
-// What a raster variant outputs, and how it is compared.
-enum class Buffer { radiance, visibility, ao, indirect };
-
-struct Variant {
-    std::string name;
-    std::string effects;             // --effects
-    std::vector<std::string> knobs;  // --set
-};
-
-struct ReferenceSpec {
-    rt::Mode mode = rt::Mode::direct;
-    int spp = 16;
-    int max_depth = -1;
-    int jitter = -1;
-    bool indirect_occlusion = true;
-};
-
-// One effect's sweep on one scene.
-struct Sweep {
-    std::string effect;
-    std::string scene;                     // sample scene file name (or generated:...)
-    Buffer buffer = Buffer::radiance;
-    std::vector<std::string> own_passes;   // empty: every pass (the frame)
-    std::optional<ReferenceSpec> reference;  // none: time only
-    std::optional<ReferenceSpec> split;      // RSM: the reference without occlusion
-    std::vector<Variant> variants;
-    std::string shipped;                   // the variant with the engine's defaults
-    std::string compared;                  // what is compared with what, for the report
-    std::string reading;                   // what the error is made of
-    std::function<bool(const Features&)> needed;
-};
+using Buffer = AccuracySweep::Buffer;  // what a raster variant outputs, and how it is compared
 
 struct Row {
     std::string effect, variant, settings, scene;
@@ -87,158 +57,12 @@ std::string num(double v, const char* f = "%.4g") {
     return b;
 }
 
-// The sweeps. Each reading says what the error is made of; the numbers come from the run.
-std::vector<Sweep> make_sweeps(bool quick) {
-    std::vector<Sweep> sweeps;
-    const ReferenceSpec direct{rt::Mode::direct, quick ? 16 : 64};
+// The sweeps: every effect's own (effects/*/*_sweep.cpp), then the two that belong to no effect.
+// Each reading says what the error is made of; the numbers come from the run.
+std::vector<AccuracySweep> make_sweeps(bool quick) {
+    std::vector<AccuracySweep> sweeps = effect_accuracy_sweeps(quick);
     {
-        Sweep s;
-        s.effect = "shadows";
-        s.scene = "shadow_test.gltf";
-        s.buffer = Buffer::visibility;
-        s.own_passes = {"shadow_maps", "forward_opaque"};
-        s.reference = ReferenceSpec{rt::Mode::visibility, quick ? 4 : 16};
-        s.compared = "visibility of light 0 (the spot light): `--output-buffer visibility` vs `--raytrace visibility`";
-        s.reading = "The error is made of aliasing at shadow edges (resolution), the filter's penumbra against the "
-                    "light's true one (a light's size gives a real penumbra that hard and fixed "
-                    "PCF kernels miss), and light leaking or acne where the bias is wrong. The time is the shadow-map "
-                    "pass plus the shading pass that filters.";
-        const std::vector<int> resolutions = quick ? std::vector<int>{512, 1024} : std::vector<int>{512, 1024, 2048};
-        for (int r : resolutions)
-            for (const char* f : {"hard", "pcf", "pcss"})
-                s.variants.push_back({std::string(f) + " " + std::to_string(r), "shadows",
-                                      {"shadows.resolution=" + std::to_string(r), std::string("shadows.filter=") + f}});
-        if (!quick)
-            for (int k : {3, 9}) s.variants.push_back({"pcf" + std::to_string(k) + " 1024", "shadows", {"shadows.resolution=1024", "shadows.filter=pcf", "shadows.pcf_size=" + std::to_string(k)}});
-        for (const char* b : {"0", "4"})
-            s.variants.push_back({std::string("pcss 1024 normal_bias ") + b, "shadows", {"shadows.resolution=1024", "shadows.filter=pcss", std::string("shadows.normal_bias=") + b}});
-        s.shipped = "pcss 1024";
-        s.needed = [](const Features& f) { return f.shadows.needed && f.punctual_lights > 0; };
-        sweeps.push_back(s);
-    }
-    {
-        Sweep s;
-        s.effect = "shadows_colour";
-        s.scene = "shadow_test.gltf";
-        s.own_passes = {"shadow_maps", "forward_opaque"};
-        s.reference = direct;
-        s.compared = "final colour with shadows only vs `--raytrace direct` (exact visibility, one bounce)";
-        s.reading = "On top of the visibility error, the colour error holds what the raster path leaves out of "
-                    "direct light (the environment's occlusion, which SSAO would approximate and is off here) - "
-                    "a floor no shadow setting removes.";
-        for (const char* f : {"hard", "pcf", "pcss"}) s.variants.push_back({std::string(f) + " 1024", "shadows", {std::string("shadows.filter=") + f}});
-        s.shipped = "pcss 1024";
-        s.needed = [](const Features& f) { return f.shadows.needed; };
-        sweeps.push_back(s);
-    }
-    {
-        Sweep s;
-        s.effect = "area_lights";
-        s.scene = "cornell_box.gltf";
-        s.own_passes = {"shadow_maps", "forward_opaque"};
-        s.reference = direct;
-        s.compared = "final colour vs `--raytrace direct`; the rasterizer splits each emissive primitive into `arealight.samples` shadowed pieces";
-        s.reading = "Few pieces give banded, too-hard shadows and a wrong near-field falloff; each piece costs a "
-                    "shadow map and a light in the shading loop, so time grows linearly with the sample count - up to "
-                    "`shadows.max_lights` (16) shadowed lights: pieces beyond it get no shadow map, so 32 pieces cost "
-                    "little more than 16 and light through their occluders.";
-        for (int n : quick ? std::vector<int>{1, 4, 16} : std::vector<int>{1, 4, 16, 32})
-            s.variants.push_back({std::to_string(n) + " pieces", "shadows", {"arealight.samples=" + std::to_string(n)}});
-        s.shipped = "4 pieces";
-        s.needed = [](const Features& f) { return f.scene.emissive_area_lights.needed; };
-        sweeps.push_back(s);
-    }
-    {
-        Sweep s;
-        s.effect = "ssao";
-        s.scene = "shadow_test.gltf";
-        s.buffer = Buffer::ao;
-        s.own_passes = {"depth_normal_prepass", "ssao", "ssao_blur_x", "ssao_blur_y"};
-        s.reference = ReferenceSpec{rt::Mode::ao, quick ? 16 : 64};
-        s.compared = "AO buffer (`--output-buffer ao`) vs `--raytrace ao` at the same radius";
-        s.reading = "Screen space sees only the depth buffer: occluders behind the first surface or outside the "
-                    "view are missing (a bias more samples cannot fix), and few samples add noise that the "
-                    "depth-aware blur trades for smoothing across edges.";
-        const std::vector<int> samples = quick ? std::vector<int>{4, 16} : std::vector<int>{4, 8, 16, 32};
-        for (const char* res : {"half", "full"})
-            for (int blur : quick ? std::vector<int>{4} : std::vector<int>{0, 4})
-                for (int n : samples)
-                    s.variants.push_back({std::to_string(n) + " samples " + res + " blur " + std::to_string(blur), "ssao",
-                                          {"ssao.samples=" + std::to_string(n), std::string("ssao.resolution=") + res,
-                                           "ssao.blur=" + std::to_string(blur)}});
-        s.shipped = "16 samples half blur 4";
-        s.needed = [](const Features& f) { return f.environment; };
-        sweeps.push_back(s);
-    }
-    {
-        Sweep s;
-        s.effect = "rsm";
-        s.scene = "cornell_point.gltf";
-        s.buffer = Buffer::indirect;
-        s.own_passes = {"depth_normal_prepass", "rsm", "rsm_indirect"};
-        s.reference = ReferenceSpec{rt::Mode::indirect, quick ? 32 : 128};
-        s.split = ReferenceSpec{rt::Mode::indirect, quick ? 32 : 128, -1, -1, false};
-        s.compared = "one-bounce indirect light (`--output-buffer indirect`) vs `--raytrace indirect`; the column "
-                     "`rmse_no_occlusion` compares with the tracer's indirect light without visibility between the "
-                     "bounce points (RSM's own model), which isolates RSM's sampling error";
-        s.reading = "RSM's error is its sampling (few texels of the light's view per pixel: noise and blotches) plus "
-                    "the occlusion it ignores between the bounce point and the receiver (light leaks behind "
-                    "objects). Only the first shrinks with samples and resolution. A full-resolution gather has no "
-                    "bilateral upsampling to average its noise, so at equal samples it is noisier than the "
-                    "half-resolution one, and costs up to four times as much.";
-        for (int res : quick ? std::vector<int>{128, 256} : std::vector<int>{128, 256, 512})
-            for (int n : quick ? std::vector<int>{16, 64} : std::vector<int>{16, 64, 256})
-                for (const char* g : quick ? std::vector<const char*>{"half"} : std::vector<const char*>{"half", "full"})
-                    s.variants.push_back({std::to_string(n) + " samples " + std::to_string(res) + " " + g, "shadows,rsm",
-                                          {"rsm.resolution=" + std::to_string(res), "rsm.samples=" + std::to_string(n),
-                                           std::string("rsm.gather=") + g}});
-        s.shipped = "64 samples 256 half";
-        s.needed = [](const Features& f) { return f.shadows.needed && f.punctual_lights > 0; };
-        sweeps.push_back(s);
-    }
-    {
-        Sweep s;
-        s.effect = "transparency";
-        s.scene = "transparency.gltf";
-        s.own_passes = {"transparent", "transparent_peeling"};
-        s.reference = ReferenceSpec{rt::Mode::whitted, 1, 0, 0};
-        s.compared = "final colour vs `--raytrace whitted --max-depth 0` (every blended layer along the camera ray, in order)";
-        s.reading = "Sorting whole objects is wrong where they interpenetrate (alpha1 * alpha2 * |C1 - C2| in the "
-                    "overlap); depth peeling is exact up to its layer count. The floor common to all rows is the "
-                    "rest of the raster image (shadow filtering, area lights as pieces) against the tracer.";
-        s.variants = {{"sorted by object", "shadows,transparency", {"transparency.sort=object"}},
-                      {"sorted by triangle", "shadows,transparency", {"transparency.sort=triangle"}},
-                      {"peeling 2", "shadows,transparency", {"transparency.mode=peeling", "transparency.layers=2"}},
-                      {"peeling 4", "shadows,transparency", {"transparency.mode=peeling", "transparency.layers=4"}},
-                      {"peeling 8", "shadows,transparency", {"transparency.mode=peeling", "transparency.layers=8"}}};
-        s.shipped = "sorted by object";
-        s.needed = [](const Features& f) { return f.transparency.needed; };
-        sweeps.push_back(s);
-    }
-    {
-        Sweep s;
-        s.effect = "reflections";
-        s.scene = "reflections.gltf";
-        s.own_passes = {"env_probe", "forward_opaque"};
-        s.reference = ReferenceSpec{rt::Mode::whitted, 1, 1, 0};
-        s.compared = "final colour vs `--raytrace whitted --max-depth 1`; probes re-captured every frame (probe.update=every_frame) so their cost is measured";
-        s.reading = "Without probes a mirror shows the constant environment; a probe at the object's centre "
-                    "(infinite-distance lookup) gets directions right but parallax wrong; a box-projected probe "
-                    "is nearly exact on the walls of a box room. What remains is what the probe cannot see "
-                    "(the tracer's depth limit, objects inside the room) and the probe's resolution, which stops "
-                    "mattering once a probe texel is smaller than the mirror's pixels. Every row also carries the "
-                    "rest of the raster image's error (SSAO is off, shadows filtered), a floor near 0.07 here.";
-        s.variants.push_back({"static environment", "shadows", {}});
-        s.variants.push_back({"dynamic probe 128", "shadows,reflections", {"probe.placement=auto", "probe.update=every_frame"}});
-        for (int r : quick ? std::vector<int>{64, 128} : std::vector<int>{32, 64, 128, 256})
-            s.variants.push_back({"box probe " + std::to_string(r), "shadows,reflections",
-                                  {"probe.resolution=" + std::to_string(r), "probe.update=every_frame"}});
-        s.shipped = "box probe 128";
-        s.needed = [](const Features& f) { return f.reflections.needed; };
-        sweeps.push_back(s);
-    }
-    {
-        Sweep s;
+        AccuracySweep s;
         s.effect = "forward_deferred";
         s.compared = "time only: the whole frame without effects, forward vs deferred, by light count (generated:lights:N)";
         s.reading = "Forward shading loops over every light per fragment (overdraw included); deferred pays the "
@@ -246,7 +70,7 @@ std::vector<Sweep> make_sweeps(bool quick) {
         sweeps.push_back(s);
     }
     {
-        Sweep s;
+        AccuracySweep s;
         s.effect = "ray_tracer";
         s.scene = "cornell_box.gltf";
         s.compared = "`--raytrace path` at rising spp vs a high-spp render of itself: the price of the truth";
@@ -286,7 +110,7 @@ Scene load(const Run& c, const std::string& name) {
     return load_gltf(p);
 }
 
-rt::Result trace(const Run& c, const Scene& scene, GpuScene& gpu, const ReferenceSpec& r, int spp, std::uint32_t seed,
+rt::Result trace(const Run& c, const Scene& scene, GpuScene& gpu, const AccuracySweep::Reference& r, int spp, std::uint32_t seed,
                  const RenderSettings& settings) {
     rt::Options o;
     o.mode = r.mode;
@@ -311,7 +135,7 @@ struct Reference {
     int spp = 0;
 };
 
-Reference make_reference(const Run& c, const Scene& scene, GpuScene& gpu, const ReferenceSpec& r, const RenderSettings& s) {
+Reference make_reference(const Run& c, const Scene& scene, GpuScene& gpu, const AccuracySweep::Reference& r, const RenderSettings& s) {
     const rt::Result a = trace(c, scene, gpu, r, r.spp, 1, s);
     const rt::Result b = trace(c, scene, gpu, r, r.spp, 2, s);
     if (count_nonfinite(a.image) || count_nonfinite(b.image) || a.nonfinite_samples || b.nonfinite_samples)
@@ -338,7 +162,7 @@ void measure_errors(Row& row, const ImageF& img, const Reference& ref, Buffer bu
     row.at_noise_floor = ref.noise > 0.0 && row.rmse <= 1.5 * ref.noise;
 }
 
-RenderSettings variant_settings(const Sweep& s, const Variant& v) {
+RenderSettings variant_settings(const AccuracySweep& s, const AccuracySweep::Variant& v) {
     RenderSettings rs;
     apply_effects(rs, v.effects);
     for (const auto& k : v.knobs) apply_knob(rs, k);
@@ -350,10 +174,10 @@ RenderSettings variant_settings(const Sweep& s, const Variant& v) {
 
 // Times and images of the raster variants of one sweep on one scene (one renderer, so shader
 // compilation is paid once per program).
-void raster_rows(const Run& c, const Sweep& s, const Scene& scene, GpuScene& gpu, std::vector<Row>& rows) {
+void raster_rows(const Run& c, const AccuracySweep& s, const Scene& scene, GpuScene& gpu, std::vector<Row>& rows) {
     std::unique_ptr<Renderer> renderer;
     const Camera camera = scene.select_camera("", static_cast<float>(c.width) / static_cast<float>(c.height));
-    for (const Variant& v : s.variants) {
+    for (const AccuracySweep::Variant& v : s.variants) {
         const RenderSettings rs = variant_settings(s, v);
         if (!renderer) {
             renderer = std::make_unique<Renderer>(c.shaders, scene, gpu, rs);
@@ -531,15 +355,15 @@ int run_accuracy(const AccuracyOptions& o) {
     const ShaderLibrary shaders(o.shader_dir);
     Progress progress;
     Run c{o, shaders, o.quick ? 128 : 320, o.quick ? 96 : 240, o.quick ? 1 : 3, o.quick ? 3 : 10, progress};
-    std::vector<Sweep> sweeps = make_sweeps(o.quick);
+    std::vector<AccuracySweep> sweeps = make_sweeps(o.quick);
 
     // Which scenes each sweep runs on: its own, or those given that call for the effect.
     struct Job {
-        const Sweep* sweep;
+        const AccuracySweep* sweep;
         std::string scene;
     };
     std::vector<Job> jobs;
-    for (const Sweep& s : sweeps) {
+    for (const AccuracySweep& s : sweeps) {
         if (s.effect == "forward_deferred" || s.effect == "ray_tracer" || o.scenes.empty()) {
             jobs.push_back({&s, s.scene});
             continue;
@@ -558,12 +382,12 @@ int run_accuracy(const AccuracyOptions& o) {
     }
 
     struct Section {
-        const Sweep* sweep;
+        const AccuracySweep* sweep;
         std::string scene;
         size_t first = 0, last = 0;  // rows
         double noise = 0, rt_ms = 0;
         int ref_spp = 0;
-        double occlusion_rmse = kNaN;  // RSM: the references with and without occlusion
+        double occlusion_rmse = kNaN;  // a split sweep: RMSE of the reference with vs without occlusion
         ImageF reference;
         std::string knee_name;
     };
@@ -575,16 +399,16 @@ int run_accuracy(const AccuracyOptions& o) {
     const fs::path link_dir = fs::relative(fs::absolute(o.out), fs::absolute(report).parent_path());
     const auto link = [&](const std::string& file) { return (link_dir / file).generic_string(); };
     for (const Job& j : jobs) {
-        const Sweep& s = *j.sweep;
+        const AccuracySweep& s = *j.sweep;
         Section sec{&s, j.scene, rows.size(), rows.size(), 0, 0, 0, kNaN, {}, {}};
         if (s.effect == "forward_deferred") {
             for (int n : light_counts) {
                 const std::string name = "generated:lights:" + std::to_string(n);
                 const Scene scene = load(c, name);
                 GpuScene gpu(scene);
-                Sweep t = s;
+                AccuracySweep t = s;
                 t.scene = name;
-                // No effects: the shading itself (shadow maps would cost the same on both paths).
+                // No effects: the shading itself (an effect's passes would cost the same on both paths).
                 t.variants = {{"forward " + std::to_string(n) + " lights", "none", {"render.path=forward"}},
                               {"deferred " + std::to_string(n) + " lights", "none", {"render.path=deferred"}}};
                 raster_rows(c, t, scene, gpu, rows);
@@ -593,7 +417,7 @@ int run_accuracy(const AccuracyOptions& o) {
         } else if (s.effect == "ray_tracer") {
             const Scene scene = load(c, j.scene);
             GpuScene gpu(scene);
-            const ReferenceSpec path{rt::Mode::path, o.quick ? 32 : 256};
+            const AccuracySweep::Reference path{rt::Mode::path, o.quick ? 32 : 256};
             const Reference ref = make_reference(c, scene, gpu, path, RenderSettings{});
             progress.step("ray_tracer: reference");
             sec.noise = ref.noise;
@@ -628,7 +452,7 @@ int run_accuracy(const AccuracyOptions& o) {
                 sec.occlusion_rmse = compare(ref.image, split->image, 2.0 / 255.0).rmse;
                 progress.step(s.effect + ": reference without occlusion");
             }
-            Sweep t = s;
+            AccuracySweep t = s;
             t.scene = j.scene;
             raster_rows(c, t, scene, gpu, rows);
             for (size_t i = sec.first; i < rows.size(); ++i) {
@@ -677,7 +501,7 @@ int run_accuracy(const AccuracyOptions& o) {
        << "- Pareto rows (no other row is both faster and more accurate) are marked **P**; the plot's red line is the "
           "front, the dashed lines the reference noise and the ray tracer's time for the reference.\n\n";
     for (Section& sec : sections) {
-        const Sweep& s = *sec.sweep;
+        const AccuracySweep& s = *sec.sweep;
         const std::vector<Row> part(rows.begin() + static_cast<std::ptrdiff_t>(sec.first), rows.begin() + static_cast<std::ptrdiff_t>(sec.last));
         const std::string base = slug(s.effect + "_" + fs::path(sec.scene).stem().string());
         md << "## " << s.effect << " (" << sec.scene << ")\n\n" << s.compared << ".\n\n" << s.reading << "\n\n";
