@@ -96,6 +96,20 @@ const char* to_string(Mode mode) {
     return "?";
 }
 
+ModeProgram mode_program(Mode mode) {
+    switch (mode) {
+        case Mode::ao: return {"MODE_AO", "rt/modes/ao.comp"};
+        case Mode::primary: return {"MODE_PRIMARY", "rt/modes/primary.comp"};
+        case Mode::path:
+        case Mode::direct: return {"MODE_PATH", "rt/modes/path.comp"};
+        case Mode::indirect: return {"MODE_INDIRECT", "rt/modes/indirect.comp"};
+        case Mode::whitted: return {"MODE_WHITTED", "rt/modes/whitted.comp"};
+        case Mode::visibility: return {"MODE_VISIBILITY", "rt/modes/visibility.comp"};
+        case Mode::bounce: return {"MODE_BOUNCE", "rt/modes/bounce.comp"};
+    }
+    return {"MODE_PATH", "rt/modes/path.comp"};
+}
+
 std::optional<Mode> parse_mode(const std::string& name) {
     for (Mode m : {Mode::whitted, Mode::path, Mode::direct, Mode::indirect, Mode::ao, Mode::primary, Mode::visibility, Mode::bounce})
         if (name == to_string(m)) return m;
@@ -113,18 +127,10 @@ RayTracer::RayTracer(const ShaderLibrary& shaders, const Scene& scene, GpuScene&
     if (options_.mode == Mode::direct) options_.max_depth = 1;
     if (options_.max_depth > 64) throw bad_input("--max-depth must be in [0, 64]");
     if (options_.jitter < 0) options_.jitter = options_.mode == Mode::path || options_.mode == Mode::whitted;
-    // Specialise: code for features the scene lacks is never compiled or run.
+    // One program per mode (shaders/rt/modes/), specialised: code for features the scene lacks
+    // is never compiled or run.
+    const ModeProgram program = mode_program(options_.mode);
     std::vector<std::string> defines;
-    switch (options_.mode) {
-        case Mode::ao: defines.push_back("MODE_AO"); break;
-        case Mode::primary: defines.push_back("MODE_PRIMARY"); break;
-        case Mode::path:
-        case Mode::direct: defines.push_back("MODE_PATH"); break;
-        case Mode::indirect: defines.push_back("MODE_INDIRECT"); break;
-        case Mode::whitted: defines.push_back("MODE_WHITTED"); break;
-        case Mode::visibility: defines.push_back("MODE_VISIBILITY"); break;
-        case Mode::bounce: defines.push_back("MODE_BOUNCE"); break;
-    }
     if (!rt_scene_.geometry().emitters.empty()) defines.push_back("HAS_EMITTERS");
     if (rt_scene_.geometry().has_transmission) defines.push_back("HAS_TRANSMISSION");
     if (rt_scene_.geometry().has_blend) defines.push_back("HAS_BLEND");
@@ -139,8 +145,9 @@ RayTracer::RayTracer(const ShaderLibrary& shaders, const Scene& scene, GpuScene&
         env_width_ = map.width;
         env_height_ = map.height;
     }
-    for (const auto& d : defines) defines_ += (defines_.empty() ? "" : " ") + d;
-    program_ = shaders.build_or_throw({std::string("trace ") + defines_, {{ShaderStage::compute, "rt/trace.comp"}}, defines});
+    defines_ = program.name;
+    for (const auto& d : defines) defines_ += " " + d;
+    program_ = shaders.build_or_throw({std::string("trace ") + defines_, {{ShaderStage::compute, program.file}}, defines});
     frame_ubo_ = gl::Buffer(sizeof(FrameGpu), nullptr, GL_DYNAMIC_STORAGE_BIT);
 }
 

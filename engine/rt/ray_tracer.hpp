@@ -19,6 +19,15 @@ enum class Mode { whitted, path, direct, indirect, ao, primary, visibility, boun
 const char* to_string(Mode mode);
 std::optional<Mode> parse_mode(const std::string& name);
 
+// The compute program of a mode: one file per mode under shaders/rt/modes/ (direct is path with
+// one bounce), over the shared includes in shaders/rt/. `name` identifies the program in program
+// names and in Result::defines ("MODE_PATH HAS_EMITTERS"); it is not a define.
+struct ModeProgram {
+    const char* name;
+    const char* file;  // relative to the shader root
+};
+ModeProgram mode_program(Mode mode);
+
 struct Options {
     Mode mode = Mode::path;
     int spp = 16;          // [1, 1 << 24] samples per pixel (the whole render, before sharding)
@@ -52,7 +61,7 @@ struct Result {
     // With Options::traversal_stats: mean BVH nodes visited and primitives tested per traced ray.
     double nodes_per_ray = 0.0, primitives_per_ray = 0.0;
     double trace_ms = 0.0;
-    std::string defines;       // the shader specialisation used
+    std::string defines;       // the program used: ModeProgram::name, then the feature defines
 };
 
 class RayTracer {

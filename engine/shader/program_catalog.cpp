@@ -34,16 +34,29 @@ const ProgramDesc& program_desc(const std::string& name) {
 }
 
 std::vector<ProgramDesc> ray_tracer_variants() {
+    // One program per tracer mode (rt::mode_program: direct shares path's), each without and
+    // with every feature define.
+    struct ModeFile {
+        const char* name;
+        const char* file;
+    };
+    static const ModeFile modes[] = {{"MODE_AO", "rt/modes/ao.comp"},
+                                     {"MODE_PRIMARY", "rt/modes/primary.comp"},
+                                     {"MODE_PATH", "rt/modes/path.comp"},
+                                     {"MODE_INDIRECT", "rt/modes/indirect.comp"},
+                                     {"MODE_WHITTED", "rt/modes/whitted.comp"},
+                                     {"MODE_VISIBILITY", "rt/modes/visibility.comp"},
+                                     {"MODE_BOUNCE", "rt/modes/bounce.comp"}};
     std::vector<ProgramDesc> out;
-    for (const char* mode : {"MODE_AO", "MODE_PRIMARY", "MODE_PATH", "MODE_INDIRECT", "MODE_WHITTED", "MODE_VISIBILITY", "MODE_BOUNCE"})
+    for (const ModeFile& mode : modes)
         for (bool features : {false, true}) {
-            std::vector<std::string> defines = {mode};
+            std::vector<std::string> defines;
             if (features)
                 for (const char* f : {"HAS_EMITTERS", "HAS_TRANSMISSION", "HAS_BLEND", "HAS_MASK", "RT_STATS"}) defines.push_back(f);
-            if (features && std::string(mode) == "MODE_PATH") defines.push_back("HAS_ENV_MAP_SAMPLING");  // path/direct only
-            std::string name = "trace";
+            if (features && std::string(mode.name) == "MODE_PATH") defines.push_back("HAS_ENV_MAP_SAMPLING");  // path/direct only
+            std::string name = std::string("trace ") + mode.name;
             for (const auto& d : defines) name += " " + d;
-            out.push_back({name, {{ShaderStage::compute, "rt/trace.comp"}}, defines});
+            out.push_back({name, {{ShaderStage::compute, mode.file}}, defines});
         }
     return out;
 }

@@ -297,7 +297,7 @@ SurfaceHit surface_at(Ray ray, Hit hit) {
         // to the horizon, exactly as the rasterizer does (shaders/lighting/surface.glsl), so
         // that the BRDF sees the same n.v in both. ns and v both lie above the geometric
         // surface, so the bent normal does too. Directions that the shading normal's BRDF sends
-        // below the geometric surface are handled by the folded BRDF in trace.comp.
+        // below the geometric surface are handled by the folded BRDF in brdf_sampling.glsl.
         vec3 v = -normalize(ray.dir);
         float nv = dot(s.ns, v);
         if (nv < 1e-4) s.ns = normalize(s.ns + v * (1e-4 - nv));
