@@ -1,0 +1,139 @@
+// The tracer's programs: one compute-shader file per mode (shaders/rt/modes/) over shared
+// includes, with the scene features as the only defines; and hot reload of the tracer: an edit
+// to a shared include or to a mode file is seen by the watcher, is in the set of files the
+// library records for the program, and reaches the next tracer built.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include "gl_fixture.hpp"
+#include "gltf_builder.hpp"
+#include "rt/ray_tracer.hpp"
+#include "scene/gltf_loader.hpp"
+#include "shader/file_watcher.hpp"
+#include "shader/program_catalog.hpp"
+
+namespace candela {
+namespace {
+namespace fs = std::filesystem;
+
+const rt::Mode kAllModes[] = {rt::Mode::whitted, rt::Mode::path,    rt::Mode::direct,     rt::Mode::indirect,
+                              rt::Mode::ao,      rt::Mode::primary, rt::Mode::visibility, rt::Mode::bounce};
+
+std::string read_text(const fs::path& p) {
+    std::ifstream in(p);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+}
+void write_text(const fs::path& p, const std::string& s) { std::ofstream(p, std::ios::trunc) << s; }
+
+bool lists(const std::vector<fs::path>& files, const fs::path& want) {
+    return std::any_of(files.begin(), files.end(), [&](const fs::path& f) {
+        return fs::weakly_canonical(f) == fs::weakly_canonical(want);
+    });
+}
+
+TEST(RtModePrograms, EachModeIsItsOwnFileOverSharedIncludes) {
+    const fs::path root = fs::path(CANDELA_SOURCE_DIR) / "shaders";
+    const ShaderLibrary lib(root);
+    const std::vector<ProgramDesc> variants = ray_tracer_variants();
+    // Every mode's program is in the catalog (which `candela shaders check` builds), under the
+    // same name and file the tracer uses.
+    std::set<std::string> mode_files;
+    for (rt::Mode m : kAllModes) {
+        const rt::ModeProgram p = rt::mode_program(m);
+        SCOPED_TRACE(rt::to_string(m));
+        EXPECT_EQ(fs::path(p.file).parent_path(), fs::path("rt/modes"));
+        mode_files.insert(p.file);
+        const auto in_catalog = std::find_if(variants.begin(), variants.end(), [&](const ProgramDesc& d) {
+            return d.name == std::string("trace ") + p.name && d.stages.size() == 1 && d.stages[0].second == p.file;
+        });
+        EXPECT_NE(in_catalog, variants.end());
+    }
+    EXPECT_EQ(mode_files.size(), 7u) << "direct shares path's program; every other mode has its own";
+    for (const ProgramDesc& d : variants) {
+        SCOPED_TRACE(d.name);
+        ASSERT_EQ(d.stages.size(), 1u);
+        for (const std::string& define : d.defines) EXPECT_EQ(define.rfind("MODE_", 0), std::string::npos) << define;
+        const PreprocessedSource src = lib.preprocess(d.stages[0].second, d.defines);
+        // No mode ladder is left in any file a tracer program is built from.
+        EXPECT_EQ(src.text.find("MODE_"), std::string::npos);
+        EXPECT_TRUE(lists(src.files, root / d.stages[0].second));
+        EXPECT_TRUE(lists(src.files, root / "rt/trace_common.glsl"));
+        EXPECT_TRUE(lists(src.files, root / "rt/scene.glsl"));
+        EXPECT_EQ(validate_with_glslang(src, ShaderStage::compute), "");
+    }
+}
+
+// A white Lambert quad filling an orthographic view with nothing above it: AO is exactly 1.
+Scene open_quad() {
+    test::GltfBuilder b;
+    b.json()["materials"] = {{{"pbrMetallicRoughness", {{"baseColorFactor", {1, 1, 1, 1}}, {"metallicFactor", 0}}}}};
+    b.add_node({{"mesh", b.add_quad_mesh(0)}, {"scale", {4, 4, 1}}});
+    b.json()["scenes"][0]["extras"]["environment_radiance"] = {0.5, 0.5, 0.5};
+    b.json()["cameras"] = {{{"type", "orthographic"}, {"orthographic", {{"xmag", 1}, {"ymag", 1}, {"znear", 0.01}, {"zfar", 10}}}}};
+    b.add_node({{"camera", 0}, {"translation", {0, 0, 2}}});
+    return load_gltf(b.write(test::test_dir("rt_modes_scene"), "quad"));
+}
+
+using RtModeReloadTest = test::GlContextTest;
+
+TEST_P(RtModeReloadTest, EditsToASharedIncludeAndToAModeFileReachTheTracer) {
+    const fs::path dir = test::test_dir("rt_modes_reload");
+    fs::remove_all(dir / "shaders");
+    fs::copy(fs::path(CANDELA_SOURCE_DIR) / "shaders", dir / "shaders", fs::copy_options::recursive);
+    const fs::path shaders = dir / "shaders";
+    const Scene scene = open_quad();
+    GpuScene gpu(scene);
+    const Camera cam = scene.select_camera("", 1.0f);
+    // The centre pixel of a 16x16 AO render with the shaders as they are on disk now.
+    auto ao_centre = [&](ShaderLibrary::BuildResult* build) {
+        const ShaderLibrary lib(shaders);
+        rt::Options o;
+        o.mode = rt::Mode::ao;
+        o.spp = 2;
+        rt::RayTracer tracer(lib, scene, gpu, o);
+        const rt::Result r = tracer.render(cam, 16, 16);
+        EXPECT_EQ(r.nonfinite_samples, 0u);
+        EXPECT_EQ(count_nonfinite(r.image), 0u);
+        if (build) *build = lib.build({"trace", {{ShaderStage::compute, rt::mode_program(o.mode).file}}, {}});
+        return r.image.at(8, 8)[1];
+    };
+    FileWatcher watcher(shaders);
+    ShaderLibrary::BuildResult build;
+    EXPECT_EQ(ao_centre(&build), 1.0f);
+    ASSERT_TRUE(build.ok()) << build.log;
+
+    // 1. The shared include: main() in trace_common.glsl accumulates half of each sample.
+    const fs::path common = shaders / "rt" / "trace_common.glsl";
+    const std::string anchor = "accum[index] += vec4(L, 1.0);";
+    std::string text = read_text(common);
+    ASSERT_NE(text.find(anchor), std::string::npos) << "the test edits this line of trace_common.glsl";
+    text.replace(text.find(anchor), anchor.size(), "accum[index] += vec4(L * 0.5, 1.0);");
+    write_text(common, text);
+    std::vector<fs::path> changed = watcher.poll();
+    ASSERT_EQ(changed.size(), 1u);
+    EXPECT_TRUE(lists(build.files, changed[0])) << "the edited include is in the program's recorded file set";
+    EXPECT_EQ(ao_centre(nullptr), 0.5f);
+
+    // 2. The mode file, in its own directory: AO reports the occluded fraction instead.
+    const fs::path ao = shaders / "rt" / "modes" / "ao.comp";
+    const std::string ao_anchor = "return vec3(occluded ? 0.0 : 1.0);";
+    text = read_text(ao);
+    ASSERT_NE(text.find(ao_anchor), std::string::npos) << "the test edits this line of ao.comp";
+    text.replace(text.find(ao_anchor), ao_anchor.size(), "return vec3(occluded ? 1.0 : 0.0);");
+    write_text(ao, text);
+    changed = watcher.poll();
+    ASSERT_EQ(changed.size(), 1u);
+    EXPECT_TRUE(lists(build.files, changed[0])) << "the mode file is in the program's recorded file set";
+    EXPECT_EQ(ao_centre(nullptr), 0.0f);
+}
+
+INSTANTIATE_TEST_SUITE_P(Backends, RtModeReloadTest, ::testing::Values(Backend::egl), test::backend_name);
+
+}  // namespace
+}  // namespace candela
