@@ -4,6 +4,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/error.hpp"
+#include "effects/registry.hpp"
+
 namespace candela {
 namespace {
 
@@ -27,6 +30,16 @@ EffectDecision decide(const char* name, bool enabled, bool needed, bool implemen
 
 }  // namespace
 
+EffectDecision decide_effect(const char* name, bool enabled, bool needed, const std::string& need_reason, bool gating) {
+    return decide(name, enabled, needed, true, need_reason, gating);
+}
+
+const EffectDecision& Features::decision(std::string_view name) const {
+    for (const EffectDecision* d : effects())
+        if (d->name == name) return *d;
+    throw Error(ExitCode::internal, "no effect named '" + std::string(name) + "'");
+}
+
 Features analyze(const Scene& scene, const RenderSettings& s) {
     Features f;
     f.scene = analyze_features(scene, s.reflections_knobs.max_roughness);
@@ -45,8 +58,7 @@ Features analyze(const Scene& scene, const RenderSettings& s) {
         f.path_reason = "auto: " + std::to_string(light_count) + " light(s) " + (f.deferred ? ">= " : "< ") +
                         std::to_string(s.deferred.auto_lights) + " (deferred.auto_lights)";
     }
-    f.ssao = decide("ssao", s.ssao || s.debug.view == "ao", f.environment, true,
-                    f.environment ? "ambient/environment light to occlude" : "no ambient or environment light to occlude", s.gating);
+    for (const Effect* e : effect_registry()) f.modules.push_back(e->decide(f, s));
     // RSM renders from the lights' shadow views: it needs the shadow pass and a punctual light
     // with a shadow map (area-light pieces get none).
     const bool rsm_needed = f.shadows.planned && f.punctual_lights > 0 && s.shadow.max_lights > 0;
@@ -65,46 +77,49 @@ Features analyze(const Scene& scene, const RenderSettings& s) {
 
 std::vector<PlannedPass> plan_passes(const Features& f, const RenderSettings& s) {
     std::vector<PlannedPass> plan;
-    if (f.shadows.planned) plan.push_back({"shadow_maps", f.shadows.reason.substr(4)});
+    if (f.shadows.planned) plan.push_back({"shadow_maps", f.shadows.reason.substr(4), nullptr, {"shadow"}});
     if (f.reflections.planned)
         plan.push_back({"env_probe", f.reflections.reason.substr(4) + "; probe.update=" + s.probe.update +
-                                         (s.probe.update == "once" ? " (captured when the scene or settings change)" : "")});
-    if (f.rsm.planned) plan.push_back({"rsm", f.rsm.reason.substr(4)});
+                                         (s.probe.update == "once" ? " (captured when the scene or settings change)" : ""),
+                        nullptr, f.environment ? std::vector<std::string>{"forward", "sky"} : std::vector<std::string>{"forward"}});
+    if (f.rsm.planned) plan.push_back({"rsm", f.rsm.reason.substr(4), nullptr, {"rsm"}});
     const std::string what = f.transparency.planned ? "opaque and masked geometry"
                              : f.transparency.needed ? "all geometry (BLEND drawn as opaque: transparency off)"
                                                      : "all geometry";
     auto add_gather = [&] {
-        if (f.rsm.planned) plan.push_back({"rsm_indirect", "gather rsm.samples texels per pixel, rsm.gather=" + s.rsm_knobs.gather});
+        if (f.rsm.planned) plan.push_back({"rsm_indirect", "gather rsm.samples texels per pixel, rsm.gather=" + s.rsm_knobs.gather, nullptr, {"rsm_gather"}});
     };
-    auto add_ssao = [&] {
-        if (!f.ssao.planned) return;
-        plan.push_back({"ssao", f.ssao.reason.substr(4)});
-        if (s.ssao_knobs.blur > 0) {
-            plan.push_back({"ssao_blur_x", "ssao.blur=" + std::to_string(s.ssao_knobs.blur)});
-            plan.push_back({"ssao_blur_y", "ssao.blur=" + std::to_string(s.ssao_knobs.blur)});
-        }
+    // The passes the planned effect modules add at `stage`, in registry order.
+    auto add_stage = [&](Stage stage) {
+        for (size_t i = 0; i < effect_registry().size(); ++i)
+            if (f.modules[i].planned) effect_registry()[i]->plan(stage, f, s, plan);
     };
+    auto add_ssao = [&] { add_stage(Stage::screen); };
+    // The planned module that reads depth and normals before shading (forward path: a prepass).
+    const char* screen_reader = nullptr;
+    for (size_t i = 0; i < effect_registry().size() && !screen_reader; ++i)
+        if (f.modules[i].planned) screen_reader = effect_registry()[i]->needs_depth_normals();
     if (f.deferred) {
-        plan.push_back({"gbuffer", what + "; deferred path, " + f.path_reason});
+        plan.push_back({"gbuffer", what + "; deferred path, " + f.path_reason, nullptr, {"gbuffer"}});
         add_ssao();
         add_gather();
-        plan.push_back({"deferred_lighting", "tiled light culling and shading of the G-buffer"});
+        plan.push_back({"deferred_lighting", "tiled light culling and shading of the G-buffer", nullptr, {"deferred_light"}});
         if (f.reflections.planned && f.scene.transmission.needed)
-            plan.push_back({"transmissive", "transmissive surfaces refract through the probes (forward shading, depth EQUAL)"});
+            plan.push_back({"transmissive", "transmissive surfaces refract through the probes (forward shading, depth EQUAL)", nullptr, {"forward"}});
     } else {
-        if (f.ssao.planned || f.rsm.planned)
-            plan.push_back({"depth_normal_prepass", std::string(f.ssao.planned ? "SSAO" : "RSM") + " needs depth and normals before shading"});
-        else if (s.forward.depth_prepass) plan.push_back({"depth_prepass", "forward.depth_prepass=1"});
+        if (screen_reader || f.rsm.planned)
+            plan.push_back({"depth_normal_prepass", std::string(screen_reader ? screen_reader : "RSM") + " needs depth and normals before shading", nullptr, {"depth_normals"}});
+        else if (s.forward.depth_prepass) plan.push_back({"depth_prepass", "forward.depth_prepass=1", nullptr, {"forward"}});
         add_ssao();
         add_gather();
-        plan.push_back({"forward_opaque", what + "; forward path, " + f.path_reason});
+        plan.push_back({"forward_opaque", what + "; forward path, " + f.path_reason, nullptr, {"forward"}});
     }
-    if (f.environment) plan.push_back({"sky", "the scene has environment light"});
+    if (f.environment) plan.push_back({"sky", "the scene has environment light", nullptr, {"sky"}});
     if (f.transparency.planned) {
         if (s.transparency_knobs.mode == "peeling")
             plan.push_back({"transparent_peeling", f.transparency.reason.substr(4) + ", " +
-                                                       std::to_string(s.transparency_knobs.layers) + " depth-peeling layers"});
-        else plan.push_back({"transparent", f.transparency.reason.substr(4)});
+                                                       std::to_string(s.transparency_knobs.layers) + " depth-peeling layers", nullptr, {"forward", "copy"}});
+        else plan.push_back({"transparent", f.transparency.reason.substr(4), nullptr, {"forward"}});
     }
     return plan;
 }

@@ -3,6 +3,7 @@
 // (shared/DESIGN.md section 2). An effect that is switched on but not needed is not planned, and
 // the reason says why, for `candela info` and the stats.
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <nlohmann/json_fwd.hpp>
@@ -22,15 +23,30 @@ struct EffectDecision {
     std::string reason;        // "on: 5 BLEND materials", "off: no BLEND materials", ...
 };
 
+class Effect;
+
+// The decision helper of every effect: `gating` false (render.gating=off) plans a switched-on
+// effect even when the scene does not need it (the gating property test renders both ways).
+EffectDecision decide_effect(const char* name, bool enabled, bool needed, const std::string& need_reason, bool gating);
+
 struct Features {
-    EffectDecision shadows, ssao, rsm, transparency, reflections;
+    EffectDecision shadows, rsm, transparency, reflections;
+    // The registered effect modules' decisions (engine/effects/registry.cpp), in registry order.
+    std::vector<EffectDecision> modules;
     bool environment = false;  // sky pass and ambient term
     int punctual_lights = 0;
     int area_light_pieces = 0;  // emissive primitives drawn * arealight.samples
     bool deferred = false;      // the render path
     std::string path_reason;
     SceneFeatures scene;
-    std::vector<const EffectDecision*> effects() const { return {&shadows, &ssao, &rsm, &transparency, &reflections}; }
+    std::vector<const EffectDecision*> effects() const {
+        std::vector<const EffectDecision*> v = {&shadows, &rsm, &transparency, &reflections};
+        for (const EffectDecision& d : modules) v.push_back(&d);
+        return v;
+    }
+    // The decision for the effect `name` (an --effects name); throws candela::Error (internal)
+    // for an unknown name.
+    const EffectDecision& decision(std::string_view name) const;
 };
 
 Features analyze(const Scene& scene, const RenderSettings& settings);
@@ -40,6 +56,8 @@ Features analyze(const Scene& scene, const RenderSettings& settings);
 struct PlannedPass {
     std::string name;
     std::string why;
+    const Effect* owner = nullptr;       // the effect that adds it; nullptr: a base pass (render/)
+    std::vector<std::string> programs;   // catalog names the pass draws with (built at set-up)
 };
 std::vector<PlannedPass> plan_passes(const Features& features, const RenderSettings& settings);
 nlohmann::json to_json(const Features& features);

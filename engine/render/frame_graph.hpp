@@ -5,6 +5,7 @@
 // to last live use) and assigns it a pool slot; textures whose lifetimes do not overlap share a
 // slot, and the pool keeps its textures across frames.
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -113,6 +114,18 @@ public:
     ResourceId import_texture(const std::string& name, const gl::Texture& texture, const TextureDesc& desc);
     // Runs `setup` at once; `execute` runs in execute() if the pass survives culling.
     void add_pass(const std::string& name, const Setup& setup, Execute execute);
+    // The same with the pass's own data (Filament's PassData): `setup` fills it (typically the
+    // resource ids the pass reads and writes), `execute` reads it. The graph owns it; the returned
+    // reference stays valid until the graph is destroyed.
+    template <class Data>
+    const Data& add_pass(const std::string& name, const std::function<void(Builder&, Data&)>& setup,
+                         std::function<void(const Data&, Context&)> execute) {
+        auto data = std::make_shared<Data>();
+        add_pass(
+            name, [&](Builder& b) { setup(b, *data); },
+            [data, execute = std::move(execute)](Context& ctx) { execute(*data, ctx); });
+        return *data;
+    }
     void mark_output(ResourceId id);
 
     // Culls, computes lifetimes and assigns pool slots. Throws candela::Error (internal) when a pass

@@ -25,8 +25,7 @@ struct FrameData {  // std140, binding 0
     glm::vec4 shadow_bias2;  // x receiver-slope bias of filter taps
     glm::ivec4 debug;        // x view (0 radiance, 1 visibility, 2 ssao), y light
     glm::vec4 viewport;      // w, h, 1/w, 1/h
-    glm::vec4 ssao_params;   // radius, bias (fraction of radius), samples, steps
-    glm::ivec4 ssao_mode;    // x on, y blur radius, z downscale
+    glm::ivec4 view_flags;   // x 1: the camera's view (screen-space effect buffers valid); 0: probe faces
     glm::ivec4 rsm_mode;     // x on, y downscale
     glm::vec4 depth_to_view; // view z of depth d: (x d + y) / (z d + w)
     glm::ivec4 probe_mode;   // x probes bound, y their levels, z refraction on, w static env cube bound

@@ -1,10 +1,12 @@
 #include "render/renderer.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 
 #include "core/error.hpp"
 #include "core/log.hpp"
+#include "effects/registry.hpp"
 #include "shader/program_catalog.hpp"
 
 #include <cstring>
@@ -21,25 +23,14 @@ constexpr int kEnvironmentSamples = 128;
 }  // namespace
 
 Renderer::Renderer(const ShaderLibrary& shaders, const Scene& scene, GpuScene& gpu, const RenderSettings& settings)
-    : shaders_(shaders), scene_(scene), gpu_(gpu), scene_bounds_(scene.world_bounds()), ibl_(shaders) {
-    build_program(programs_.tonemap, "tonemap");
+    : shaders_(shaders), scene_(scene), gpu_(gpu), scene_bounds_(scene.world_bounds()), ibl_(shaders), programs_(shaders) {
+    programs_.get("tonemap");
     frame_ubo_ = gl::Buffer(sizeof(FrameData), nullptr, GL_DYNAMIC_STORAGE_BIT);
     empty_vao_ = gl::VertexArray::create();
     linear_clamp_ = gl::Sampler::create(GL_LINEAR, GL_LINEAR, GL_CLAMP_TO_EDGE, GL_CLAMP_TO_EDGE);
-    // SSAO's 4x4 rotation tile: angles and step offsets on a stratified, shuffled grid (every
-    // pixel of a 4x4 block gets a different rotation; the blur averages the pattern away).
-    ssao_noise_ = gl::Texture::create_2d(GL_RGBA16F, 4, 4, 1);
-    {
-        static const int order[16] = {0, 8, 2, 10, 12, 4, 14, 6, 3, 11, 1, 9, 15, 7, 13, 5};  // Bayer 4x4
-        std::vector<float> texels(64);
-        for (int i = 0; i < 16; ++i) {
-            const float angle = 6.28318531f * (static_cast<float>(order[i]) + 0.5f) / 16.0f;
-            texels[static_cast<size_t>(i * 4 + 0)] = std::cos(angle);
-            texels[static_cast<size_t>(i * 4 + 1)] = std::sin(angle);
-            texels[static_cast<size_t>(i * 4 + 2)] = (static_cast<float>(order[(i * 7) % 16]) + 0.5f) / 16.0f;
-            texels[static_cast<size_t>(i * 4 + 3)] = 0.0f;
-        }
-        glTextureSubImage2D(ssao_noise_.id(), 0, 0, 0, 4, 4, GL_RGBA, GL_FLOAT, texels.data());
+    for (const Effect* e : effect_registry()) {
+        effects_.push_back(e->create_runtime());
+        effect_ptrs_.push_back(effects_.back().get());
     }
     set_settings(settings);
 }
@@ -67,65 +58,13 @@ void Renderer::set_settings(const RenderSettings& settings) {
             probes_.placements.resize(static_cast<size_t>(kMaxProbes));
         }
     }
-    // Programs for the planned passes only.
-    auto build = [&](gl::Program& program, const char* name) {
-        if (!program) build_program(program, name);
-    };
-    for (const PlannedPass& pass : plan_passes(features_, settings_)) {
-        if (pass.name == "transparent_peeling")
-            build(programs_.copy, "copy");
-        if (pass.name == "env_probe" && features_.environment)
-            build(programs_.sky, "sky");
-        if (pass.name == "forward_opaque" || pass.name == "depth_prepass" || pass.name == "transparent" ||
-            pass.name == "transparent_peeling" || pass.name == "env_probe" || pass.name == "transmissive")
-            build(programs_.forward, "forward");
-        else if (pass.name == "sky")
-            build(programs_.sky, "sky");
-        else if (pass.name == "shadow_maps")
-            build(programs_.shadow, "shadow");
-        else if (pass.name == "gbuffer")
-            build(programs_.gbuffer, "gbuffer");
-        else if (pass.name == "deferred_lighting")
-            build(programs_.deferred_light, "deferred_light");
-        else if (pass.name == "depth_normal_prepass")
-            build(programs_.ssao_normals, "ssao_normals");
-        else if (pass.name == "ssao")
-            build(programs_.ssao, "ssao");
-        else if (pass.name == "rsm")
-            build(programs_.rsm, "rsm");
-        else if (pass.name == "rsm_indirect")
-            build(programs_.rsm_gather, "rsm_gather");
-        else if (pass.name == "ssao_blur_x" || pass.name == "ssao_blur_y")
-            build(programs_.ssao_blur, "ssao_blur");
-    }
-}
-
-void Renderer::build_program(gl::Program& slot, const std::string& name) {
-    const ProgramDesc& desc = program_desc(name);
-    ShaderLibrary::BuildResult r = shaders_.build(desc);
-    if (!r.ok()) throw Error(ExitCode::internal, "shader program '" + desc.name + "' failed to build:\n" + r.log);
-    slot = std::move(r.program);
-    ProgramSource source{&slot, name, {}};
-    for (const auto& f : r.files) source.files.insert(std::filesystem::absolute(f).lexically_normal());
-    sources_.push_back(std::move(source));
+    // Programs for the planned passes only (built now: a frame never compiles).
+    for (const PlannedPass& pass : plan_passes(features_, settings_))
+        for (const std::string& program : pass.programs) programs_.get(program);
 }
 
 ShaderReload Renderer::reload_shaders(const std::vector<std::filesystem::path>& changed) {
-    ShaderReload report;
-    std::set<std::filesystem::path> files;
-    for (const auto& f : changed) files.insert(std::filesystem::absolute(f).lexically_normal());
-    for (ProgramSource& source : sources_) {
-        if (std::none_of(source.files.begin(), source.files.end(), [&](const auto& f) { return files.count(f) > 0; })) continue;
-        ShaderLibrary::BuildResult r = shaders_.build(program_desc(source.name));
-        for (const auto& f : r.files) source.files.insert(std::filesystem::absolute(f).lexically_normal());
-        if (!r.ok()) {
-            // The last good program stays in use.
-            report.errors.push_back("shader program '" + source.name + "' failed to build (keeping the last good one):\n" + r.log);
-            continue;
-        }
-        *source.slot = std::move(r.program);
-        report.rebuilt.push_back(source.name);
-    }
+    ShaderReload report = programs_.reload(changed);
     if (!report.rebuilt.empty()) probes_.valid = false;  // captured with the old shading
     return report;
 }
@@ -258,7 +197,7 @@ void Renderer::prepare_probes(const FrameData& frame) {
             f.camera_pos = glm::vec4(p, 1.0f);
             f.viewport = glm::vec4(static_cast<float>(size), static_cast<float>(size), 1.0f / static_cast<float>(size),
                                    1.0f / static_cast<float>(size));
-            f.ssao_mode = glm::ivec4(0);
+            f.view_flags = glm::ivec4(0);  // no screen-space effect buffers in a probe's faces
             f.rsm_mode = glm::ivec4(0);
             f.debug = glm::ivec4(0);
             f.probe_mode.x = 0;  // shading inside a probe reads the static environment
@@ -351,11 +290,7 @@ void Renderer::render(const Camera& camera, int width, int height, FrameOutput o
         frame.rsm_mode = glm::ivec4(1, g == "quarter" ? 4 : g == "half" ? 2 : 1, 0, 0);
     }
     if (settings_.debug.view == "indirect") frame.debug.x = 3;
-    if (features_.ssao.planned) {
-        const auto& k = settings_.ssao_knobs;
-        frame.ssao_params = glm::vec4(settings_.ao.radius, k.bias, static_cast<float>(k.samples), static_cast<float>(k.steps));
-        frame.ssao_mode = glm::ivec4(1, k.blur, k.resolution == "half" ? 2 : 1, 0);
-    }
+    frame.view_flags = glm::ivec4(1, 0, 0, 0);  // the camera's view
     frame.probe_mode.w = env_cube_ ? 1 : 0;
     frame.counts.y = env_cube_ ? env_cube_levels_ : 1;
     const bool probes_on = features_.reflections.planned && !probes_.placements.empty();
@@ -365,13 +300,15 @@ void Renderer::render(const Camera& camera, int width, int height, FrameOutput o
         frame.probe_mode.y = prefiltered_levels(settings_.probe.resolution);
         prepare_probes(frame);
     }
+    for (size_t i = 0; i < effects_.size(); ++i)
+        effects_[i]->prepare({settings_, features_, features_.modules[i], gpu_, camera, aspect, width, height, frame});
     frame_ubo_.update(0, sizeof(FrameData), &frame);
 
-    const PassEnv env{gpu_,       settings_,  frame,       width,         height, frame_ubo_, fbos_,   programs_,
-                      empty_vao_, shadows_,   shadows_on,  ssao_noise_,   linear_clamp_, rsm_,   ibl_,    env_cube_,
-                      probes_,    probes_on};
+    const PassEnv env{gpu_,       settings_, frame,      width,         height, frame_ubo_, fbos_,     programs_,
+                      empty_vao_, shadows_,  shadows_on, linear_clamp_, rsm_,   ibl_,       env_cube_, probes_,
+                      probes_on,  effect_ptrs_};
     FrameGraph graph;
-    ForwardTargets targets;
+    FrameTargets targets;
     targets.hdr = graph.import_texture("hdr", output_, {GL_RGBA32F, width, height});
     if (shadows_on)
         targets.shadow_maps = graph.import_texture("shadow_maps", shadows_.array,
@@ -379,7 +316,11 @@ void Renderer::render(const Camera& camera, int width, int height, FrameOutput o
     if (features_.rsm.planned) targets.rsm = graph.import_texture("rsm", rsm_.position, {GL_RGBA32F, rsm_.resolution, rsm_.resolution});
     if (probes_on) targets.probes = graph.import_texture("probes", probes_.filtered, {GL_RGBA32F, probes_.size, probes_.size});
     for (const PlannedPass& pass : plan_passes(features_, settings_)) {
-        if (pass.name == "shadow_maps") add_shadow_pass(graph, env, targets);
+        if (pass.owner) {
+            const auto& reg = effect_registry();
+            const size_t i = static_cast<size_t>(std::find(reg.begin(), reg.end(), pass.owner) - reg.begin());
+            effects_.at(i)->add_pass(pass.name, graph, env, targets);
+        } else if (pass.name == "shadow_maps") add_shadow_pass(graph, env, targets);
         else if (pass.name == "env_probe") {
             // probe.update=once: captured by an earlier frame of the same scene and settings.
             if (probes_on && (!probes_.valid || settings_.probe.update == "every_frame")) add_env_probe_pass(graph, env, targets);
@@ -390,9 +331,6 @@ void Renderer::render(const Camera& camera, int width, int height, FrameOutput o
         else if (pass.name == "deferred_lighting") add_deferred_lighting_pass(graph, env, targets);
         else if (pass.name == "depth_prepass") add_depth_prepass(graph, env, targets);
         else if (pass.name == "depth_normal_prepass") add_depth_normal_prepass(graph, env, targets, !features_.transparency.planned);
-        else if (pass.name == "ssao") add_ssao_pass(graph, env, targets);
-        else if (pass.name == "ssao_blur_x") add_ssao_blur_pass(graph, env, targets, 0);
-        else if (pass.name == "ssao_blur_y") add_ssao_blur_pass(graph, env, targets, 1);
         else if (pass.name == "forward_opaque") add_forward_opaque_pass(graph, env, targets, !features_.transparency.planned);
         else if (pass.name == "sky") add_sky_pass(graph, env, targets);
         else if (pass.name == "transparent") add_transparent_pass(graph, env, targets);

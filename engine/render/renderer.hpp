@@ -2,6 +2,7 @@
 // The raster renderer: every frame, a frame graph of only the passes this scene and these
 // settings call for (features.hpp), compiled, executed with per-pass GPU/CPU timing and counters.
 #include <filesystem>
+#include <memory>
 #include <set>
 #include <string>
 #include <vector>
@@ -13,6 +14,8 @@
 #include "render/frame_graph.hpp"
 #include "render/gpu_scene.hpp"
 #include "render/passes/pass_env.hpp"
+#include "render/program_cache.hpp"
+#include "effects/effect.hpp"
 #include "render/settings.hpp"
 #include "shader/shader_library.hpp"
 
@@ -38,11 +41,6 @@ struct FrameReport {
     int state_calls = 0, state_calls_skipped = 0;
 };
 
-// What reload_shaders did: programs rebuilt, and messages of those that failed (file:line: ...).
-struct ShaderReload {
-    std::vector<std::string> rebuilt;
-    std::vector<std::string> errors;
-};
 
 // What a frame produces: linear radiance only (.exr, comparisons), or also display values
 // (.png, a window) through the tonemap pass.
@@ -101,21 +99,12 @@ private:
     void prepare_shadows(const Camera& camera, float aspect);
     void prepare_rsm();  // after prepare_shadows: the RSM views are shadow views
     void prepare_probes(const FrameData& frame);
-    // Builds the catalogued program `name` into `slot` and remembers its files for reloads;
-    // throws candela::Error (internal) if it does not build.
-    void build_program(gl::Program& slot, const std::string& name);
-    struct ProgramSource {
-        gl::Program* slot;
-        std::string name;
-        std::set<std::filesystem::path> files;
-    };  // textures, and per-face frames when capturing
 
     const ShaderLibrary& shaders_;
     const Scene& scene_;
     GpuScene& gpu_;
     Bounds scene_bounds_;
     ShadowResources shadows_;
-    gl::Texture ssao_noise_;
     gl::Sampler linear_clamp_;
     RsmResources rsm_;
     ImageBasedLighting ibl_;
@@ -124,8 +113,10 @@ private:
     ProbeResources probes_;
     RenderSettings settings_;
     Features features_;
-    Programs programs_;
-    std::vector<ProgramSource> sources_;  // every program built so far
+    ProgramCache programs_;
+    // One runtime per registered effect (engine/effects/registry.cpp), in registry order.
+    std::vector<std::unique_ptr<EffectRuntime>> effects_;
+    std::vector<EffectRuntime*> effect_ptrs_;
     gl::Buffer frame_ubo_;
     gl::VertexArray empty_vao_;
     gl::Texture output_;

@@ -2,19 +2,50 @@
 // RenderSettings: every effect switch and knob, plain data with defaults (Filament's Options
 // style). Knobs are addressed as "effect.knob" by `--set`, the viewer and the stats JSON; each has
 // a unit and a valid range, and a value outside it is rejected, never clamped silently.
+#include <any>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <nlohmann/json_fwd.hpp>
 
+#include "effects/knob.hpp"
+
 namespace candela {
 
+class Effect;
+
+// One registered effect's switch and options (engine/effects/<name>/: the options struct).
+struct EffectSlot {
+    const Effect* effect = nullptr;
+    bool on = true;
+    std::any options;
+};
+// A slot per registered effect, in registry order, with each effect's defaults.
+std::vector<EffectSlot> default_effect_slots();
+
 struct RenderSettings {
+    // The effect modules' switches and options (engine/effects/registry.cpp).
+    std::vector<EffectSlot> effects = default_effect_slots();
+    // This effect's options, by its options type: settings.get<SsaoOptions>().samples.
+    template <class Options>
+    Options& get() {
+        for (EffectSlot& slot : effects)
+            if (auto* o = std::any_cast<Options>(&slot.options)) return *o;
+        throw Error(ExitCode::internal, "RenderSettings: no registered effect has these options");
+    }
+    template <class Options>
+    const Options& get() const {
+        return const_cast<RenderSettings*>(this)->get<Options>();
+    }
+    // The switch of the effect `name` (`--effects`); throws internal for an unknown name.
+    bool on(std::string_view name) const;
+    void set_on(std::string_view name, bool on);
+
     // Effect switches (`--effects all|none|LIST`). An effect that is on but not called for by the
     // scene is not planned (see analyze()).
     bool shadows = true;
-    bool ssao = true;
     bool rsm = false;  // indirect light costs the most; opt-in
     bool transparency = true;
     bool reflections = true;
@@ -77,13 +108,6 @@ struct RenderSettings {
     struct AmbientOcclusion {
         float radius = 1.0f;  // (0, 1e9] world units; SSAO and `--raytrace ao` use the same radius
     } ao;
-    struct Ssao {
-        int samples = 16;               // [1, 256] directions per pixel
-        int steps = 4;                  // [1, 32] steps marched along each direction
-        std::string resolution = "half";  // full|half (half: a quarter of the cost for +0.002 RMSE, issue 6 note)
-        int blur = 4;                   // [0, 16] bilateral blur radius in AO pixels (0: no blur passes)
-        float bias = 0.02f;             // [0, 0.5] start offset and depth tolerance, fraction of the radius
-    } ssao_knobs;
     struct RayTracing {
         std::string jitter = "auto";       // auto|on|off: auto jitters (anti-aliases) path and whitted only
         float whitted_max_roughness = 0.05f;  // [0, 1] smoother surfaces are mirrors in whitted mode
@@ -109,12 +133,8 @@ void apply_effects(RenderSettings& settings, const std::string& list);
 // Sets "effect.knob=value"; throws bad_input naming the knob and its range/choices on error.
 void apply_knob(RenderSettings& settings, const std::string& assignment);
 
-struct KnobInfo {
-    std::string name;   // "area.subdivisions"
-    std::string type;   // "bool", "int", "float", "choice"
-    std::string range;  // "[1, 16]", "object|triangle", ...
-    std::string help;
-};
+// Every knob: the base rows (render/) then each registered effect's, in registry order.
+const std::vector<Knob>& knobs();
 const std::vector<KnobInfo>& knob_infos();
 
 nlohmann::json to_json(const RenderSettings& settings);

@@ -1,12 +1,15 @@
 #include "shader/program_catalog.hpp"
 
 #include "core/error.hpp"
+#include "effects/registry.hpp"
 
 namespace candela {
 
 const std::vector<ProgramDesc>& raster_programs() {
     using S = ShaderStage;
-    static const std::vector<ProgramDesc> all = {
+    // The base programs (render/), then every registered effect's (effects/<name>/).
+    static const std::vector<ProgramDesc> all = [] {
+    std::vector<ProgramDesc> v = {
         {"forward", {{S::vertex, "forward/forward.vert"}, {S::fragment, "forward/forward.frag"}}, {}},
         {"sky", {{S::vertex, "forward/sky.vert"}, {S::fragment, "forward/sky.frag"}}, {}},
         {"tonemap", {{S::vertex, "post/fullscreen.vert"}, {S::fragment, "post/tonemap.frag"}}, {}},
@@ -14,9 +17,7 @@ const std::vector<ProgramDesc>& raster_programs() {
         {"shadow", {{S::vertex, "shadow/shadow.vert"}, {S::fragment, "shadow/shadow.frag"}}, {}},
         {"gbuffer", {{S::vertex, "forward/forward.vert"}, {S::fragment, "deferred/gbuffer.frag"}}, {}},
         {"deferred_light", {{S::compute, "deferred/light.comp"}}, {}},
-        {"ssao_normals", {{S::vertex, "forward/forward.vert"}, {S::fragment, "ssao/normals.frag"}}, {}},
-        {"ssao", {{S::vertex, "post/fullscreen.vert"}, {S::fragment, "ssao/ssao.frag"}}, {}},
-        {"ssao_blur", {{S::vertex, "post/fullscreen.vert"}, {S::fragment, "ssao/blur.frag"}}, {}},
+        {"depth_normals", {{S::vertex, "forward/forward.vert"}, {S::fragment, "forward/normals.frag"}}, {}},
         {"rsm", {{S::vertex, "rsm/rsm.vert"}, {S::fragment, "rsm/rsm.frag"}}, {}},
         {"rsm_gather", {{S::vertex, "post/fullscreen.vert"}, {S::fragment, "rsm/gather.frag"}}, {}},
         {"debug_view", {{S::vertex, "post/fullscreen.vert"}, {S::fragment, "post/debug_view.frag"}}, {}},
@@ -24,6 +25,10 @@ const std::vector<ProgramDesc>& raster_programs() {
         {"equirect_to_cube", {{S::compute, "env/equirect_to_cube.comp"}}, {}},
         {"prefilter", {{S::compute, "env/prefilter.comp"}}, {}},
     };
+    for (const Effect* e : effect_registry())
+        for (ProgramDesc& d : e->programs()) v.push_back(std::move(d));
+    return v;
+    }();
     return all;
 }
 

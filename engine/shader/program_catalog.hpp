@@ -8,9 +8,10 @@
 
 namespace candela {
 
-// The raster renderer's programs: forward, sky, tonemap, shadow, gbuffer, deferred_light,
-// ssao_normals, ssao, ssao_blur, rsm, rsm_gather, copy; image-based lighting: brdf_lut,
-// equirect_to_cube, prefilter; the viewer's buffer inspector: debug_view. Throws candela::Error (internal) for an unknown name.
+// The raster renderer's programs: the base ones (forward, sky, tonemap, shadow, gbuffer,
+// deferred_light, depth_normals, copy; image-based lighting: brdf_lut, equirect_to_cube,
+// prefilter; the viewer's buffer inspector: debug_view), then every registered effect's
+// (Effect::programs()). program_desc throws candela::Error (internal) for an unknown name.
 const ProgramDesc& program_desc(const std::string& name);
 const std::vector<ProgramDesc>& raster_programs();
 

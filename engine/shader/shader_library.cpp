@@ -11,6 +11,9 @@
 #ifndef CANDELA_SHADER_DIR
 #define CANDELA_SHADER_DIR "shaders"
 #endif
+#ifndef CANDELA_EFFECTS_DIR
+#define CANDELA_EFFECTS_DIR "engine"
+#endif
 
 namespace candela {
 namespace fs = std::filesystem;
@@ -108,7 +111,19 @@ std::string PreprocessedSource::map_log(const std::string& log) const {
     return result;
 }
 
-ShaderLibrary::ShaderLibrary(fs::path root) : root_(std::move(root)) {}
+ShaderLibrary::ShaderLibrary(fs::path root, fs::path effects_root)
+    : root_(std::move(root)), effects_root_(std::move(effects_root)) {}
+
+fs::path ShaderLibrary::default_effects_root() {
+    if (const char* env = std::getenv("CANDELA_EFFECTS_DIR"); env && *env) return env;
+    return CANDELA_EFFECTS_DIR;
+}
+
+std::vector<fs::path> ShaderLibrary::watched_dirs() const {
+    std::vector<fs::path> dirs = {root_};
+    if (fs::is_directory(effects_root_ / "effects")) dirs.push_back(effects_root_ / "effects");
+    return dirs;
+}
 
 fs::path ShaderLibrary::default_root() {
     if (const char* env = std::getenv("CANDELA_SHADER_DIR"); env && *env) return env;
@@ -116,7 +131,7 @@ fs::path ShaderLibrary::default_root() {
 }
 
 fs::path ShaderLibrary::resolve(const fs::path& including_dir, const std::string& name) const {
-    for (const fs::path& dir : {including_dir, root_}) {
+    for (const fs::path& dir : {including_dir, root_, effects_root_}) {
         const fs::path p = dir / name;
         if (fs::is_regular_file(p)) return p;
     }
@@ -124,7 +139,9 @@ fs::path ShaderLibrary::resolve(const fs::path& including_dir, const std::string
 }
 
 PreprocessedSource ShaderLibrary::preprocess(const fs::path& file, const std::vector<std::string>& defines) const {
-    const fs::path path = file.is_absolute() ? file : root_ / file;
+    const fs::path path = file.is_absolute()                      ? file
+                          : fs::exists(root_ / file) || effects_root_.empty() ? root_ / file
+                                                                               : effects_root_ / file;
     Expander ex{*this, [this](const fs::path& d, const std::string& n) { return resolve(d, n); }, {}, {}, {}};
     ex.expand(path, true, defines);
     return std::move(ex.out);

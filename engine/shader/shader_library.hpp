@@ -30,11 +30,21 @@ struct ProgramDesc {
 
 class ShaderLibrary {
 public:
-    explicit ShaderLibrary(std::filesystem::path root);
+    // `root`: the shared GLSL (shaders/); `effects_root`: the directory holding effects/ (the
+    // source tree's engine/), where each effect keeps its GLSL beside its C++. A file or an
+    // #include is looked up relative to the including file, then in `root`, then in `effects_root`,
+    // so "effects/ssao/ssao_data.h" names the same file from C++ and from GLSL.
+    explicit ShaderLibrary(std::filesystem::path root, std::filesystem::path effects_root = default_effects_root());
     // The directory from CANDELA_SHADER_DIR in the environment, else the source tree's shaders/.
     static std::filesystem::path default_root();
+    // CANDELA_EFFECTS_DIR in the environment, else the source tree's engine/ (which holds effects/).
+    static std::filesystem::path default_effects_root();
 
     const std::filesystem::path& root() const { return root_; }
+    const std::filesystem::path& effects_root() const { return effects_root_; }
+    // The directories whose files programs are built from (what hot reload watches): root() and
+    // effects_root()/effects.
+    std::vector<std::filesystem::path> watched_dirs() const;
     // Throws candela::Error (internal) with "file:line: message" on a missing file or include cycle.
     PreprocessedSource preprocess(const std::filesystem::path& file, const std::vector<std::string>& defines) const;
 
@@ -52,6 +62,7 @@ public:
 private:
     std::filesystem::path resolve(const std::filesystem::path& including_dir, const std::string& name) const;
     std::filesystem::path root_;
+    std::filesystem::path effects_root_;
 };
 
 // Offline check with glslang (no GL context needed): empty string if the source compiles as

@@ -484,8 +484,6 @@ void Viewer::draw_ui(double frame_ms) {
     if (ImGui::CollapsingHeader("Effects", ImGuiTreeNodeFlags_DefaultOpen)) {
         const Features& f = renderer_.features();
         RenderSettings s = settings_;
-        bool* flags[] = {&s.shadows, &s.ssao, &s.rsm, &s.transparency, &s.reflections};
-        const EffectDecision* decisions[] = {&f.shadows, &f.ssao, &f.rsm, &f.transparency, &f.reflections};
         bool changed = false;
         // The checkbox is the user's switch (--effects); beside it, what the planner made of it,
         // and below it the planner's reason, wrapped to the panel. The status column starts
@@ -494,12 +492,16 @@ void Viewer::draw_ui(double frame_ms) {
         for (const std::string& n : effect_names()) name_width = std::max(name_width, ImGui::CalcTextSize(n.c_str()).x);
         const ImGuiStyle& style = ImGui::GetStyle();
         const float status_x = style.WindowPadding.x + ImGui::GetFrameHeight() + style.ItemInnerSpacing.x + name_width + style.ItemSpacing.x * 2.0f;
-        for (size_t i = 0; i < 5; ++i) {
-            const EffectStatus status = effect_status(*flags[i], *decisions[i]);
-            changed |= ImGui::Checkbox(effect_names()[i].c_str(), flags[i]);
+        for (const std::string& name : effect_names()) {
+            bool on = s.on(name);
+            const EffectStatus status = effect_status(on, f.decision(name));
+            if (ImGui::Checkbox(name.c_str(), &on)) {
+                s.set_on(name, on);
+                changed = true;
+            }
             if (ImGui::IsItemHovered())
                 ImGui::SetTooltip("switch %s on or off (--effects); the planner still skips it when the scene does not need it",
-                                  effect_names()[i].c_str());
+                                  name.c_str());
             ImGui::SameLine(status_x);
             const ImVec4 colour = status.state == EffectState::running   ? ImVec4(0.45f, 0.85f, 0.45f, 1.0f)
                                   : status.state == EffectState::skipped ? ImVec4(0.95f, 0.75f, 0.35f, 1.0f)

@@ -18,8 +18,8 @@ layout(std140, binding = 0) uniform Frame {
     vec4 shadow_bias2;     // x receiver-slope bias of filter taps (multiple of tan(theta) per texel)
     ivec4 debug;           // x view (0 radiance, 1 light visibility, 2 ssao), y light index
     vec4 viewport;         // width, height, 1/width, 1/height
-    vec4 ssao_params;      // x radius (world), y bias (fraction of the radius), z samples, w steps
-    ivec4 ssao_mode;       // x 1 when the AO buffer is bound, y blur radius, z downscale (1 or 2)
+    ivec4 view_flags;      // x 1 in the camera's view (screen-space effect buffers are valid), 0 in
+                           // other views (reflection probe faces)
     ivec4 rsm_mode;        // x 1 when the RSM indirect irradiance is bound, y its downscale factor
     vec4 depth_to_view;    // view z of a depth d: (x * d + y) / (z * d + w) (rows of the inverse projection)
     ivec4 probe_mode;      // x reflection probes bound, y their mip levels, z 1: refraction of

@@ -4,16 +4,7 @@
 #include "../common/brdf.glsl"
 #include "shadows.glsl"
 
-layout(binding = 9) uniform sampler2D t_ssao;  // bound when frame.ssao_mode.x = 1
-
-// Screen-space ambient occlusion at a pixel (1 without the SSAO pass). It scales ambient and
-// environment light only, never direct light.
-float ssao_at(vec2 pixel) {
-    if (frame.ssao_mode.x == 0) return 1.0;
-    // AO texel i was computed at full-resolution pixel i * f (centre i * f + 0.5).
-    float f = float(frame.ssao_mode.z);
-    return texture(t_ssao, ((pixel - 0.5) / f + 0.5) / vec2(textureSize(t_ssao, 0))).r;
-}
+#include "effects/ssao/ssao_shading.glsl"
 
 layout(binding = 10) uniform sampler2D t_rsm_indirect;  // bound when frame.rsm_mode.x = 1
 // One-bounce diffuse light from the reflective shadow maps, reflected by the Lambert part. A

@@ -125,12 +125,12 @@ TEST(FrameGraph, ReadingAResourceNoPassMadeIsAProgrammerError) {
 TEST(Settings, EffectsParsing) {
     RenderSettings s;
     apply_effects(s, "none");
-    EXPECT_FALSE(s.shadows || s.ssao || s.rsm || s.transparency || s.reflections);
+    for (const std::string& n : effect_names()) EXPECT_FALSE(s.on(n)) << n;
     apply_effects(s, "ssao,transparency");
-    EXPECT_TRUE(s.ssao && s.transparency);
-    EXPECT_FALSE(s.shadows || s.rsm || s.reflections);
+    EXPECT_TRUE(s.on("ssao") && s.on("transparency"));
+    EXPECT_FALSE(s.on("shadows") || s.on("rsm") || s.on("reflections"));
     apply_effects(s, "all");
-    EXPECT_TRUE(s.shadows && s.ssao && s.rsm && s.transparency && s.reflections);
+    for (const std::string& n : effect_names()) EXPECT_TRUE(s.on(n)) << n;
     try {
         apply_effects(s, "ssao,bloom");
         ADD_FAILURE();

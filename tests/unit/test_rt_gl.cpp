@@ -652,7 +652,7 @@ TexturedQuad render_textured_quad(const fs::path& dir, const std::string& name, 
     q.traced = rt::RayTracer(shader_lib(), scene, gpu, o).render(scene.select_camera("", 1.0f), n, n).image;
     StillOptions so;
     so.width = so.height = n;
-    so.settings.ssao = false;
+    so.settings.set_on("ssao", false);
     q.raster = render_still(scene, shader_lib(), so).radiance;
     EXPECT_EQ(count_nonfinite(q.traced), 0u);
     EXPECT_EQ(count_nonfinite(q.raster), 0u);

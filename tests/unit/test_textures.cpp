@@ -175,7 +175,7 @@ ImageF render_grid(const fs::path& scene_path, const std::string& path, int n) {
     StillOptions so;
     so.width = so.height = n;
     so.settings.path = path;
-    so.settings.ssao = false;
+    so.settings.set_on("ssao", false);
     ImageF image = render_still(scene, shader_lib(), so).radiance;
     EXPECT_EQ(count_nonfinite(image), 0u);
     return image;

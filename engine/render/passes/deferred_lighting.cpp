@@ -6,18 +6,18 @@
 
 namespace candela {
 
-void add_deferred_lighting_pass(FrameGraph& graph, const PassEnv& env, ForwardTargets& targets) {
+void add_deferred_lighting_pass(FrameGraph& graph, const PassEnv& env, FrameTargets& targets) {
     graph.add_pass(
         "deferred_lighting",
         [&](FrameGraph::Builder& b) {
             for (auto id : targets.gbuffer) b.read(id);
             b.read(targets.depth);
-            read_lighting_inputs(b, targets);
+            read_lighting_inputs(b, env, targets);
             b.write(targets.hdr);
         },
         [&env, &targets](FrameGraph::Context& ctx) {
             bind_scene_buffers(env);
-            bind_ssao(env, ctx, targets);
+            bind_ssao(env, &ctx, targets);
             for (int i = 0; i < 3; ++i) {
                 glBindTextureUnit(static_cast<GLuint>(i), ctx.texture(targets.gbuffer[i]).id());
                 glBindSampler(static_cast<GLuint>(i), 0);
@@ -25,7 +25,7 @@ void add_deferred_lighting_pass(FrameGraph& graph, const PassEnv& env, ForwardTa
             glBindTextureUnit(3, ctx.texture(targets.depth).id());
             glBindSampler(3, 0);
             glBindImageTexture(0, ctx.texture(targets.hdr).id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
-            ctx.state.use_program(env.programs.deferred_light.id());
+            ctx.state.use_program(env.programs.get("deferred_light").id());
             glDispatchCompute(static_cast<GLuint>((env.width + 15) / 16), static_cast<GLuint>((env.height + 15) / 16), 1);
             ++ctx.counters.dispatches;
             // Later passes draw into and read the light buffer.

@@ -4,7 +4,7 @@
 
 namespace candela {
 
-void add_depth_prepass(FrameGraph& graph, const PassEnv& env, ForwardTargets& targets) {
+void add_depth_prepass(FrameGraph& graph, const PassEnv& env, FrameTargets& targets) {
     graph.add_pass(
         "depth_prepass",
         [&](FrameGraph::Builder& b) { targets.depth = b.create("depth", {GL_DEPTH_COMPONENT32F, env.width, env.height}); },
@@ -18,7 +18,7 @@ void add_depth_prepass(FrameGraph& graph, const PassEnv& env, ForwardTargets& ta
             const float clear_depth = 0.0f;  // reversed-Z far
             glClearBufferfv(GL_DEPTH, 0, &clear_depth);
             bind_scene_buffers(env);
-            ctx.state.use_program(env.programs.forward.id());
+            ctx.state.use_program(env.programs.get("forward").id());
             ctx.state.bind_vertex_array(env.scene.vertex_array().id());
             for (const auto& d : env.scene.draws())
                 if (d.alpha_mode != AlphaMode::blend) draw_item(env, ctx, d, !d.double_sided, GL_BACK);

@@ -9,7 +9,7 @@
 
 namespace candela {
 
-void add_env_probe_pass(FrameGraph& graph, const PassEnv& env, ForwardTargets& targets) {
+void add_env_probe_pass(FrameGraph& graph, const PassEnv& env, FrameTargets& targets) {
     graph.add_pass(
         "env_probe",
         [&](FrameGraph::Builder& b) {
@@ -38,7 +38,7 @@ void add_env_probe_pass(FrameGraph& graph, const PassEnv& env, ForwardTargets& t
                     glClearBufferfv(GL_COLOR, 0, clear_color);
                     const float clear_depth = 0.0f;
                     glClearBufferfv(GL_DEPTH, 0, &clear_depth);
-                    ctx.state.use_program(env.programs.forward.id());
+                    ctx.state.use_program(env.programs.get("forward").id());
                     ctx.state.bind_vertex_array(env.scene.vertex_array().id());
                     for (size_t i = 0; i < draws.size(); ++i) {
                         const auto& d = draws[i];
@@ -51,7 +51,7 @@ void add_env_probe_pass(FrameGraph& graph, const PassEnv& env, ForwardTargets& t
                         sky.depth_func = GL_GEQUAL;
                         sky.depth_write = false;
                         ctx.state.apply(sky);
-                        ctx.state.use_program(env.programs.sky.id());
+                        ctx.state.use_program(env.programs.get("sky").id());
                         ctx.state.bind_vertex_array(env.empty_vao.id());
                         glDrawArrays(GL_TRIANGLES, 0, 3);
                         ++ctx.counters.draw_calls;
@@ -73,12 +73,12 @@ void add_env_probe_pass(FrameGraph& graph, const PassEnv& env, ForwardTargets& t
 // Deferred path: transmissive surfaces, already in the G-buffer (for depth, SSAO and lighting of
 // what is behind nothing), are shaded again with the forward program, which refracts through
 // the probes; the depth test EQUAL keeps exactly the visible fragments.
-void add_transmissive_pass(FrameGraph& graph, const PassEnv& env, ForwardTargets& targets) {
+void add_transmissive_pass(FrameGraph& graph, const PassEnv& env, FrameTargets& targets) {
     graph.add_pass(
         "transmissive",
         [&](FrameGraph::Builder& b) {
             b.read(targets.depth);
-            read_lighting_inputs(b, targets);
+            read_lighting_inputs(b, env, targets);
             b.write(targets.hdr);
         },
         [&env, &targets](FrameGraph::Context& ctx) {

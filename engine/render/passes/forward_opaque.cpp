@@ -3,13 +3,13 @@
 
 namespace candela {
 
-void add_forward_opaque_pass(FrameGraph& graph, const PassEnv& env, ForwardTargets& targets, bool blend_as_opaque) {
+void add_forward_opaque_pass(FrameGraph& graph, const PassEnv& env, FrameTargets& targets, bool blend_as_opaque) {
     const bool prepass = targets.depth >= 0;
     graph.add_pass(
         "forward_opaque",
         [&](FrameGraph::Builder& b) {
             b.write(targets.hdr);
-            read_lighting_inputs(b, targets);
+            read_lighting_inputs(b, env, targets);
             if (prepass) b.read(targets.depth);
             else targets.depth = b.create("depth", {GL_DEPTH_COMPONENT32F, env.width, env.height});
         },
@@ -29,8 +29,8 @@ void add_forward_opaque_pass(FrameGraph& graph, const PassEnv& env, ForwardTarge
                 glClearBufferfv(GL_DEPTH, 0, &clear_depth);
             }
             bind_scene_buffers(env);
-            bind_ssao(env, ctx, targets);
-            ctx.state.use_program(env.programs.forward.id());
+            bind_ssao(env, &ctx, targets);
+            ctx.state.use_program(env.programs.get("forward").id());
             ctx.state.bind_vertex_array(env.scene.vertex_array().id());
             for (const auto& d : env.scene.draws()) {
                 // Without the transparency effect, blended materials are drawn as opaque ones

@@ -4,7 +4,7 @@
 
 namespace candela {
 
-void add_gbuffer_pass(FrameGraph& graph, const PassEnv& env, ForwardTargets& targets, bool blend_as_opaque) {
+void add_gbuffer_pass(FrameGraph& graph, const PassEnv& env, FrameTargets& targets, bool blend_as_opaque) {
     graph.add_pass(
         "gbuffer",
         [&](FrameGraph::Builder& b) {
@@ -30,7 +30,7 @@ void add_gbuffer_pass(FrameGraph& graph, const PassEnv& env, ForwardTargets& tar
             const float clear_depth = 0.0f;
             glClearBufferfv(GL_DEPTH, 0, &clear_depth);
             bind_scene_buffers(env);
-            const GLuint program = env.programs.gbuffer.id();
+            const GLuint program = env.programs.get("gbuffer").id();
             ctx.state.use_program(program);
             ctx.state.bind_vertex_array(env.scene.vertex_array().id());
             for (const auto& d : env.scene.draws()) {

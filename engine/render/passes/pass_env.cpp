@@ -3,6 +3,7 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include "core/error.hpp"
+#include "effects/effect.hpp"
 
 namespace candela {
 
@@ -29,6 +30,7 @@ GLuint FramebufferCache::get(const std::vector<const gl::Texture*>& colors, cons
 
 void bind_scene_buffers(const PassEnv& env) {
     glBindBufferBase(GL_UNIFORM_BUFFER, 0, env.frame_ubo.id());
+    for (const EffectRuntime* e : env.effects) e->bind_shading_inputs(env, nullptr);  // their blocks
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, env.scene.materials().id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, env.scene.lights().id());
     glBindTextureUnit(5, env.scene.environment_map().id());
@@ -53,30 +55,28 @@ void bind_scene_buffers(const PassEnv& env) {
     }
 }
 
-void read_lighting_inputs(FrameGraph::Builder& b, const ForwardTargets& targets) {
-    for (const FrameGraph::ResourceId id : {targets.shadow_maps, targets.ssao, targets.rsm_indirect, targets.probes})
+void read_lighting_inputs(FrameGraph::Builder& b, const PassEnv& env, const FrameTargets& targets) {
+    for (const FrameGraph::ResourceId id : {targets.shadow_maps, targets.rsm_indirect, targets.probes})
         if (id >= 0) b.read(id);
+    for (const EffectRuntime* e : env.effects) e->read_shading_inputs(b);
 }
 
-void bind_ssao(const PassEnv& env, FrameGraph::Context& ctx, const ForwardTargets& targets) {
-    if (targets.ssao >= 0) {
-        glBindTextureUnit(9, ctx.texture(targets.ssao).id());
-        glBindSampler(9, env.linear_clamp.id());
-    }
-    if (targets.rsm_indirect >= 0) {
-        glBindTextureUnit(10, ctx.texture(targets.rsm_indirect).id());
+void bind_ssao(const PassEnv& env, FrameGraph::Context* ctx, const FrameTargets& targets) {
+    for (const EffectRuntime* e : env.effects) e->bind_shading_inputs(env, ctx);
+    if (ctx && targets.rsm_indirect >= 0) {
+        glBindTextureUnit(10, ctx->texture(targets.rsm_indirect).id());
         glBindSampler(10, env.linear_clamp.id());
     }
 }
 
-void begin_forward_shading(const PassEnv& env, FrameGraph::Context& ctx, const ForwardTargets& targets,
+void begin_forward_shading(const PassEnv& env, FrameGraph::Context& ctx, const FrameTargets& targets,
                            const gl::PipelineState& ps) {
     ctx.state.apply(ps);
     ctx.state.bind_framebuffer(env.fbos.get({&ctx.texture(targets.hdr)}, &ctx.texture(targets.depth)));
     ctx.state.viewport(0, 0, env.width, env.height);
     bind_scene_buffers(env);
-    bind_ssao(env, ctx, targets);
-    ctx.state.use_program(env.programs.forward.id());
+    bind_ssao(env, &ctx, targets);
+    ctx.state.use_program(env.programs.get("forward").id());
 }
 
 void draw_item(const PassEnv& env, FrameGraph::Context& ctx, const GpuScene::Draw& d, bool cull, GLenum cull_face,
@@ -84,9 +84,9 @@ void draw_item(const PassEnv& env, FrameGraph::Context& ctx, const GpuScene::Dra
     ctx.state.set_cull(cull, cull_face);
     // A mirroring transform reverses the winding of its triangles.
     ctx.state.set_front_face(d.mirrored ? GL_CW : GL_CCW);
-    const GLuint program = program_id ? program_id : env.programs.forward.id();
+    const GLuint program = program_id ? program_id : env.programs.get("forward").id();
     // The shadow program has only the model matrix, the material and the base colour texture.
-    const bool depth_only = program == env.programs.shadow.id();
+    const bool depth_only = program == env.programs.id_if_built("shadow");
     glProgramUniformMatrix4fv(program, 0, 1, GL_FALSE, glm::value_ptr(d.model));
     if (!depth_only) glProgramUniformMatrix3fv(program, 1, 1, GL_FALSE, glm::value_ptr(d.normal_matrix));
     glProgramUniform1i(program, 2, d.primitive_material);

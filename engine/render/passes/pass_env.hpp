@@ -10,10 +10,13 @@
 #include "render/environment.hpp"
 #include "render/gpu_scene.hpp"
 #include "render/probes.hpp"
+#include "render/program_cache.hpp"
 #include "render/shadows.hpp"
 #include "render/settings.hpp"
 
 namespace candela {
+
+class EffectRuntime;
 
 // FBOs keyed by their attachments; pool textures live across frames, so these hit every frame.
 class FramebufferCache {
@@ -23,22 +26,6 @@ public:
 
 private:
     std::map<std::vector<GLuint>, gl::Framebuffer> fbos_;
-};
-
-struct Programs {
-    gl::Program forward;
-    gl::Program sky;
-    gl::Program tonemap;
-    // Built on first use: a frame that plans no shadow or deferred pass never compiles them.
-    gl::Program shadow;
-    gl::Program gbuffer;
-    gl::Program deferred_light;
-    gl::Program ssao_normals;
-    gl::Program ssao;
-    gl::Program ssao_blur;
-    gl::Program rsm;
-    gl::Program rsm_gather;
-    gl::Program copy;  // full-screen texel copy, compositing through the blend state
 };
 
 // Reflective shadow maps: per layer one light view (a shadow view at rsm.resolution).
@@ -92,28 +79,29 @@ struct PassEnv {
     int height;
     const gl::Buffer& frame_ubo;
     FramebufferCache& fbos;
-    const Programs& programs;
+    ProgramCache& programs;   // every planned pass's programs are built (Renderer::set_settings)
     const gl::VertexArray& empty_vao;
     ShadowResources& shadows;
     bool shadows_on;  // the shadow pass runs this frame
-    const gl::Texture& ssao_noise;     // 4x4 rotations for SSAO
     const gl::Sampler& linear_clamp;   // for screen-space buffers read at other resolutions
     RsmResources& rsm;
     const ImageBasedLighting& ibl;
     const gl::Texture& env_cube;  // the static environment's prefiltered cube (empty: none)
     ProbeResources& probes;
     bool probes_on;               // probes are bound for shading this frame
+    // The effect modules' runtimes (engine/effects/), registry order: the shading passes let each
+    // declare and bind what it made.
+    const std::vector<EffectRuntime*>& effects;
 };
 
 // The resources the forward chain passes along.
-struct ForwardTargets {
+struct FrameTargets {
     FrameGraph::ResourceId hdr = -1;
     FrameGraph::ResourceId depth = -1;
     FrameGraph::ResourceId display = -1;  // RGBA8 display values (tonemap pass)
     FrameGraph::ResourceId shadow_maps = -1;
     FrameGraph::ResourceId gbuffer[3] = {-1, -1, -1};  // layout: shaders/lighting/gbuffer.glsl
     FrameGraph::ResourceId normals = -1;  // xy octahedral normal: gbuffer[1] or the prepass's
-    FrameGraph::ResourceId ssao = -1;     // the AO buffer the lighting reads (after any blur)
     bool prepass_has_blend = false;       // the depth prepass drew BLEND materials as opaque
     FrameGraph::ResourceId rsm = -1;            // the reflective shadow maps (imported)
     FrameGraph::ResourceId rsm_indirect = -1;   // one-bounce irradiance from them
@@ -122,14 +110,15 @@ struct ForwardTargets {
 
 // Binds the frame UBO, material and light SSBOs, the environment texture and the shadow maps.
 void bind_scene_buffers(const PassEnv& env);
-// Declares the reads of every shading pass: shadow maps, AO buffer, RSM indirect light (those
-// that run this frame).
-void read_lighting_inputs(FrameGraph::Builder& b, const ForwardTargets& targets);
-// Binds the AO buffer (unit 9) and the RSM indirect irradiance (unit 10) when they run.
-void bind_ssao(const PassEnv& env, FrameGraph::Context& ctx, const ForwardTargets& targets);
+// Declares the reads of every shading pass: shadow maps, RSM indirect light (those that run this
+// frame) and every effect module's shading inputs.
+void read_lighting_inputs(FrameGraph::Builder& b, const PassEnv& env, const FrameTargets& targets);
+// Binds the RSM indirect irradiance (unit 10) when it runs and every effect module's shading
+// inputs (`ctx` null: outside the graph's view of the camera, e.g. probe faces: blocks only).
+void bind_ssao(const PassEnv& env, FrameGraph::Context* ctx, const FrameTargets& targets);
 // The forward program shading into the HDR target over the frame's depth with `ps`, every
 // lighting input bound: the passes that draw after the opaque geometry.
-void begin_forward_shading(const PassEnv& env, FrameGraph::Context& ctx, const ForwardTargets& targets,
+void begin_forward_shading(const PassEnv& env, FrameGraph::Context& ctx, const FrameTargets& targets,
                            const gl::PipelineState& ps);
 // Draws one scene item with `program` (default: forward), which has the forward vertex layout and
 // per-draw uniforms (locations 0-3), textures and winding.
@@ -137,22 +126,20 @@ void draw_item(const PassEnv& env, FrameGraph::Context& ctx, const GpuScene::Dra
                GLuint program = 0);
 
 // The passes, in the order the renderer adds them.
-void add_shadow_pass(FrameGraph& graph, const PassEnv& env, ForwardTargets& targets);
-void add_env_probe_pass(FrameGraph& graph, const PassEnv& env, ForwardTargets& targets);
-void add_transmissive_pass(FrameGraph& graph, const PassEnv& env, ForwardTargets& targets);
-void add_gbuffer_pass(FrameGraph& graph, const PassEnv& env, ForwardTargets& targets, bool blend_as_opaque);
-void add_deferred_lighting_pass(FrameGraph& graph, const PassEnv& env, ForwardTargets& targets);
-void add_depth_prepass(FrameGraph& graph, const PassEnv& env, ForwardTargets& targets);
-void add_depth_normal_prepass(FrameGraph& graph, const PassEnv& env, ForwardTargets& targets, bool blend_as_opaque);
-void add_ssao_pass(FrameGraph& graph, const PassEnv& env, ForwardTargets& targets);
-void add_ssao_blur_pass(FrameGraph& graph, const PassEnv& env, ForwardTargets& targets, int axis);
-void add_rsm_pass(FrameGraph& graph, const PassEnv& env, ForwardTargets& targets);
-void add_rsm_gather_pass(FrameGraph& graph, const PassEnv& env, ForwardTargets& targets);
-void add_forward_opaque_pass(FrameGraph& graph, const PassEnv& env, ForwardTargets& targets, bool blend_as_opaque);
-void add_sky_pass(FrameGraph& graph, const PassEnv& env, ForwardTargets& targets);
-void add_transparent_pass(FrameGraph& graph, const PassEnv& env, ForwardTargets& targets);
-void add_peeling_pass(FrameGraph& graph, const PassEnv& env, ForwardTargets& targets);
-void add_tonemap_pass(FrameGraph& graph, const PassEnv& env, ForwardTargets& targets, const gl::Texture& display,
+void add_shadow_pass(FrameGraph& graph, const PassEnv& env, FrameTargets& targets);
+void add_env_probe_pass(FrameGraph& graph, const PassEnv& env, FrameTargets& targets);
+void add_transmissive_pass(FrameGraph& graph, const PassEnv& env, FrameTargets& targets);
+void add_gbuffer_pass(FrameGraph& graph, const PassEnv& env, FrameTargets& targets, bool blend_as_opaque);
+void add_deferred_lighting_pass(FrameGraph& graph, const PassEnv& env, FrameTargets& targets);
+void add_depth_prepass(FrameGraph& graph, const PassEnv& env, FrameTargets& targets);
+void add_depth_normal_prepass(FrameGraph& graph, const PassEnv& env, FrameTargets& targets, bool blend_as_opaque);
+void add_rsm_pass(FrameGraph& graph, const PassEnv& env, FrameTargets& targets);
+void add_rsm_gather_pass(FrameGraph& graph, const PassEnv& env, FrameTargets& targets);
+void add_forward_opaque_pass(FrameGraph& graph, const PassEnv& env, FrameTargets& targets, bool blend_as_opaque);
+void add_sky_pass(FrameGraph& graph, const PassEnv& env, FrameTargets& targets);
+void add_transparent_pass(FrameGraph& graph, const PassEnv& env, FrameTargets& targets);
+void add_peeling_pass(FrameGraph& graph, const PassEnv& env, FrameTargets& targets);
+void add_tonemap_pass(FrameGraph& graph, const PassEnv& env, FrameTargets& targets, const gl::Texture& display,
                       float exposure_ev);
 
 }  // namespace candela

@@ -10,7 +10,7 @@
 
 namespace candela {
 
-void add_rsm_pass(FrameGraph& graph, const PassEnv& env, ForwardTargets& targets) {
+void add_rsm_pass(FrameGraph& graph, const PassEnv& env, FrameTargets& targets) {
     graph.add_pass(
         "rsm", [&](FrameGraph::Builder& b) { b.write(targets.rsm); },
         [&env](FrameGraph::Context& ctx) {
@@ -20,7 +20,7 @@ void add_rsm_pass(FrameGraph& graph, const PassEnv& env, ForwardTargets& targets
             ctx.state.apply(ps);
             ctx.state.viewport(0, 0, r.resolution, r.resolution);
             bind_scene_buffers(env);
-            const GLuint program = env.programs.rsm.id();
+            const GLuint program = env.programs.get("rsm").id();
             ctx.state.use_program(program);
             ctx.state.bind_vertex_array(env.scene.vertex_array().id());
             for (size_t layer = 0; layer < r.views.size(); ++layer) {
@@ -41,7 +41,7 @@ void add_rsm_pass(FrameGraph& graph, const PassEnv& env, ForwardTargets& targets
         });
 }
 
-void add_rsm_gather_pass(FrameGraph& graph, const PassEnv& env, ForwardTargets& targets) {
+void add_rsm_gather_pass(FrameGraph& graph, const PassEnv& env, FrameTargets& targets) {
     graph.add_pass(
         "rsm_indirect",
         [&](FrameGraph::Builder& b) {
@@ -65,7 +65,7 @@ void add_rsm_gather_pass(FrameGraph& graph, const PassEnv& env, ForwardTargets& 
                 glBindSampler(static_cast<GLuint>(2 + i), env.shadows.raw.id());  // nearest: never blend two surfaces
             }
             glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, r.views_buffer.id());
-            const GLuint program = env.programs.rsm_gather.id();
+            const GLuint program = env.programs.get("rsm_gather").id();
             const std::string& g = env.settings.rsm_knobs.gather;
             const int f = g == "quarter" ? 4 : g == "half" ? 2 : 1;
             glProgramUniform1i(program, 0, static_cast<int>(r.light_first.size()));

@@ -9,7 +9,7 @@
 
 namespace candela {
 
-void add_shadow_pass(FrameGraph& graph, const PassEnv& env, ForwardTargets& targets) {
+void add_shadow_pass(FrameGraph& graph, const PassEnv& env, FrameTargets& targets) {
     graph.add_pass(
         "shadow_maps", [&](FrameGraph::Builder& b) { b.write(targets.shadow_maps); },
         [&env](FrameGraph::Context& ctx) {
@@ -23,7 +23,7 @@ void add_shadow_pass(FrameGraph& graph, const PassEnv& env, ForwardTargets& targ
             ctx.state.apply(ps);
             ctx.state.viewport(0, 0, sr.resolution, sr.resolution);
             bind_scene_buffers(env);
-            const GLuint program = env.programs.shadow.id();
+            const GLuint program = env.programs.get("shadow").id();
             ctx.state.use_program(program);
             ctx.state.bind_vertex_array(env.scene.vertex_array().id());
             const auto& infos = env.scene.light_infos();

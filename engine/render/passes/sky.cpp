@@ -4,7 +4,7 @@
 
 namespace candela {
 
-void add_sky_pass(FrameGraph& graph, const PassEnv& env, ForwardTargets& targets) {
+void add_sky_pass(FrameGraph& graph, const PassEnv& env, FrameTargets& targets) {
     graph.add_pass(
         "sky",
         [&](FrameGraph::Builder& b) {
@@ -20,7 +20,7 @@ void add_sky_pass(FrameGraph& graph, const PassEnv& env, ForwardTargets& targets
             ctx.state.bind_framebuffer(env.fbos.get({&ctx.texture(targets.hdr)}, &ctx.texture(targets.depth)));
             ctx.state.viewport(0, 0, env.width, env.height);
             bind_scene_buffers(env);
-            ctx.state.use_program(env.programs.sky.id());
+            ctx.state.use_program(env.programs.get("sky").id());
             ctx.state.bind_vertex_array(env.empty_vao.id());
             glDrawArrays(GL_TRIANGLES, 0, 3);
             ++ctx.counters.draw_calls;

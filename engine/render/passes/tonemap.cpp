@@ -4,7 +4,7 @@
 
 namespace candela {
 
-void add_tonemap_pass(FrameGraph& graph, const PassEnv& env, ForwardTargets& targets, const gl::Texture& display,
+void add_tonemap_pass(FrameGraph& graph, const PassEnv& env, FrameTargets& targets, const gl::Texture& display,
                       float exposure_ev) {
     graph.add_pass(
         "tonemap",
@@ -17,8 +17,8 @@ void add_tonemap_pass(FrameGraph& graph, const PassEnv& env, ForwardTargets& tar
             ctx.state.apply(gl::PipelineState{.depth_test = false, .depth_write = false});
             ctx.state.bind_framebuffer(env.fbos.get({&ctx.texture(targets.display)}, nullptr));
             ctx.state.viewport(0, 0, env.width, env.height);
-            ctx.state.use_program(env.programs.tonemap.id());
-            glProgramUniform1f(env.programs.tonemap.id(), 0, exposure_ev);
+            ctx.state.use_program(env.programs.get("tonemap").id());
+            glProgramUniform1f(env.programs.get("tonemap").id(), 0, exposure_ev);
             glBindTextureUnit(0, ctx.texture(targets.hdr).id());
             glBindSampler(0, 0);
             ctx.state.bind_vertex_array(env.empty_vao.id());

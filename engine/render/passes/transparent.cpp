@@ -9,12 +9,12 @@
 
 namespace candela {
 
-void add_transparent_pass(FrameGraph& graph, const PassEnv& env, ForwardTargets& targets) {
+void add_transparent_pass(FrameGraph& graph, const PassEnv& env, FrameTargets& targets) {
     graph.add_pass(
         "transparent",
         [&](FrameGraph::Builder& b) {
             b.read(targets.depth);
-            read_lighting_inputs(b, targets);
+            read_lighting_inputs(b, env, targets);
             b.write(targets.hdr);
         },
         [&env, &targets](FrameGraph::Context& ctx) {
@@ -79,13 +79,13 @@ namespace candela {
 // depth; it is composited front to back with UNDER into an accumulation buffer, which finally
 // goes OVER the opaque image. Exact up to transparency.layers layers per pixel; each layer costs
 // one draw of every blended object.
-void add_peeling_pass(FrameGraph& graph, const PassEnv& env, ForwardTargets& targets) {
+void add_peeling_pass(FrameGraph& graph, const PassEnv& env, FrameTargets& targets) {
     auto ids = std::make_shared<std::array<FrameGraph::ResourceId, 4>>();  // color, depth a, depth b, accum
     graph.add_pass(
         "transparent_peeling",
         [&, ids](FrameGraph::Builder& b) {
             b.read(targets.depth);
-            read_lighting_inputs(b, targets);
+            read_lighting_inputs(b, env, targets);
             b.write(targets.hdr);
             (*ids)[0] = b.create("peel_color", {GL_RGBA16F, env.width, env.height});
             (*ids)[1] = b.create("peel_depth_a", {GL_DEPTH_COMPONENT32F, env.width, env.height});
@@ -94,8 +94,8 @@ void add_peeling_pass(FrameGraph& graph, const PassEnv& env, ForwardTargets& tar
         },
         [&env, &targets, ids](FrameGraph::Context& ctx) {
             const auto& [color, depth_a, depth_b, accum] = *ids;
-            const GLuint forward = env.programs.forward.id();
-            const GLuint copy = env.programs.copy.id();
+            const GLuint forward = env.programs.get("forward").id();
+            const GLuint copy = env.programs.get("copy").id();
             auto fullscreen = [&](GLuint source) {
                 glBindTextureUnit(0, source);
                 glBindSampler(0, 0);
@@ -122,7 +122,7 @@ void add_peeling_pass(FrameGraph& graph, const PassEnv& env, ForwardTargets& tar
                 const float clear_depth = 0.0f;
                 glClearBufferfv(GL_DEPTH, 0, &clear_depth);
                 bind_scene_buffers(env);
-                bind_ssao(env, ctx, targets);
+                bind_ssao(env, &ctx, targets);
                 glBindTextureUnit(12, ctx.texture(previous).id());
                 glBindSampler(12, 0);
                 ctx.state.use_program(forward);

@@ -1,5 +1,5 @@
 #version 450 core
-// Depth + normal prepass of the forward path when SSAO runs: the shading normal (octahedral, as
+// Depth + normal prepass of the forward path when an effect reads screen normals (SSAO, RSM): the shading normal (octahedral, as
 // the G-buffer stores it), so that SSAO reads the same input on both paths.
 #include "../common/scene_data.glsl"
 #include "../lighting/surface.glsl"

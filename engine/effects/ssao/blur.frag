@@ -2,7 +2,7 @@
 // Depth-aware (bilateral) blur of the AO buffer, one axis per pass: Gaussian weights times a
 // weight that falls off with the relative difference in view depth (the AO buffer's g channel),
 // so occlusion does not bleed across silhouettes.
-#include "../common/scene_data.glsl"
+#include "effects/ssao/ssao_data.h"
 
 layout(binding = 0) uniform sampler2D t_ao;  // r AO, g view depth
 layout(location = 0) uniform ivec2 u_axis;
@@ -12,7 +12,7 @@ layout(location = 0) out vec4 out_ao;
 void main() {
     ivec2 pixel = ivec2(gl_FragCoord.xy);
     ivec2 size = textureSize(t_ao, 0);
-    int radius = frame.ssao_mode.y;
+    int radius = ssao.blur;
     vec2 centre = texelFetch(t_ao, pixel, 0).rg;
     float z0 = centre.g;
     float sigma = max(float(radius) * 0.5, 0.5);

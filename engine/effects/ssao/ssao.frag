@@ -6,8 +6,9 @@
 // buffer's surface, closer than ao.radius in depth (the thickness the screen cannot know).
 // Output: r the unoccluded fraction, as `--raytrace ao` computes it with rays; g the pixel's view
 // depth, for the blur. All in view space: one projection per step, no matrix inverse.
-#include "../common/scene_data.glsl"
-#include "../lighting/gbuffer.glsl"
+#include "common/scene_data.glsl"
+#include "lighting/gbuffer.glsl"
+#include "effects/ssao/ssao_data.h"
 
 layout(binding = 0) uniform sampler2D t_depth;    // full resolution, reversed-Z
 layout(binding = 1) uniform sampler2D t_normals;  // xy: octahedral normal (world)
@@ -20,7 +21,7 @@ float view_z(float d) { return (frame.depth_to_view.x * d + frame.depth_to_view.
 void main() {
     // This pixel's full-resolution sample (the AO target may be at half resolution).
     ivec2 size = textureSize(t_depth, 0);
-    ivec2 full = min(ivec2(gl_FragCoord.xy) * frame.ssao_mode.z, size - 1);
+    ivec2 full = min(ivec2(gl_FragCoord.xy) * ssao.downscale, size - 1);
     float depth = texelFetch(t_depth, full, 0).r;
     if (depth <= 0.0) {  // no geometry: nothing to occlude
         out_ao = vec4(1.0, -1e30, 0.0, 0.0);
@@ -29,10 +30,10 @@ void main() {
     vec4 pw = frame.inv_view_proj * vec4((vec2(full) + 0.5) / vec2(size) * 2.0 - 1.0, depth, 1.0);
     vec3 p = (frame.view * vec4(pw.xyz / pw.w, 1.0)).xyz;
     vec3 n = normalize(mat3(frame.view) * oct_decode(texelFetch(t_normals, full, 0).xy));
-    float radius = frame.ssao_params.x;
-    float bias = frame.ssao_params.y * radius;
-    int samples = int(frame.ssao_params.z);
-    int steps = int(frame.ssao_params.w);
+    float radius = ssao.radius;
+    float bias = ssao.bias * radius;
+    int samples = ssao.samples;
+    int steps = ssao.steps;
     vec4 noise = texelFetch(t_noise, ivec2(gl_FragCoord.xy) & 3, 0);  // per AO pixel: all 16 rotations
     vec3 t = normalize(abs(n.x) > 0.5 ? cross(n, vec3(0, 1, 0)) : cross(n, vec3(1, 0, 0)));
     vec3 b = cross(n, t);

@@ -1,0 +1,104 @@
+#pragma once
+// An effect module (shared/DESIGN.md section 1, engine/effects/README.md): one folder holding the
+// effect's options and knob rows, its planning (on/off with the reason, the passes it adds), its
+// passes, programs and persistent GPU resources, its uniform block (a header shared by C++ and
+// GLSL) and its accuracy sweep. The registry (effects/registry.cpp) lists them; the renderer,
+// the planner, `info`, the stats JSON, the viewer and `bench accuracy` iterate it and know no
+// effect by name.
+#include <any>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "effects/accuracy_sweep.hpp"
+#include "effects/knob.hpp"
+#include "render/frame_graph.hpp"
+#include "shader/shader_library.hpp"
+
+namespace candela {
+
+struct Camera;
+struct EffectDecision;
+struct Features;
+struct FrameData;
+struct FrameTargets;
+struct PassEnv;
+struct PlannedPass;
+struct RenderSettings;
+class GpuScene;
+class ProgramCache;
+class EffectRuntime;
+
+// Where in the frame an effect's passes go. The base passes (render/) sit between them:
+//   light_views | geometry (G-buffer or depth/normal prepass) | screen | lighting |
+//   after_lighting | sky | blended | tonemap
+enum class Stage {
+    light_views,     // views from the lights or probes, before the camera's geometry
+    screen,          // screen-space buffers from the camera's depth and normals, before lighting
+    after_lighting,  // drawn over the lit opaque image, before the sky
+    blended,         // after the sky: blended surfaces
+};
+
+// A uniform block declared in an effect's *_data.h (effects/gpu_block.h): its GLSL block name,
+// its binding and the size the C++ struct has, which a test checks against the GL's layout.
+struct GpuBlockInfo {
+    const char* block;  // GLSL block name, e.g. "SsaoData"
+    int binding;
+    std::size_t size;   // sizeof the C++ struct
+    const char* program;  // a program that declares it
+};
+
+class Effect {
+public:
+    virtual ~Effect() = default;
+    // The name of `--effects`, of the knob prefix (`ssao.samples`) and of the JSON keys.
+    virtual const char* name() const = 0;
+    virtual bool on_by_default() const { return true; }
+    // A default-constructed options struct of this effect, and its knob rows (prefix name()).
+    virtual std::any default_options() const = 0;
+    virtual std::vector<Knob> knobs() const = 0;
+
+    // Whether the scene calls for the effect, and so whether it runs. `f` already holds the
+    // decisions of the effects before this one in the registry (an effect may depend on them).
+    virtual EffectDecision decide(const Features& f, const RenderSettings& s) const = 0;
+    // The passes the planned effect adds at `stage`, in order, each with its reason and programs.
+    virtual void plan(Stage stage, const Features& f, const RenderSettings& s, std::vector<PlannedPass>& out) const = 0;
+    // Non-empty when the planned effect reads the camera's depth and normals before shading (the
+    // forward path then adds a depth/normal prepass; the text names it in the pass's reason).
+    virtual const char* needs_depth_normals() const { return nullptr; }
+
+    // Every program this effect can build (the catalog: `candela shaders check`, hot reload).
+    virtual std::vector<ProgramDesc> programs() const { return {}; }
+    virtual std::vector<GpuBlockInfo> gpu_blocks() const { return {}; }
+    // The renderer's per-effect state: persistent GPU resources and the frame's passes.
+    virtual std::unique_ptr<EffectRuntime> create_runtime() const = 0;
+    virtual std::vector<AccuracySweep> accuracy_sweeps(bool /*quick*/) const { return {}; }
+};
+
+// What an effect's runtime sees before a frame's graph is built.
+struct FramePrep {
+    const RenderSettings& settings;
+    const Features& features;
+    const EffectDecision& decision;  // this effect's
+    GpuScene& gpu;
+    const Camera& camera;
+    float aspect;
+    int width, height;
+    FrameData& frame;                // the frame's constants, before upload
+};
+
+class EffectRuntime {
+public:
+    virtual ~EffectRuntime() = default;
+    // Every frame, planned or not, before the graph: persistent resources and the uniform block
+    // (an effect that is not planned uploads its "off" block, which the shading passes still read).
+    virtual void prepare(const FramePrep& /*prep*/) {}
+    // Adds the pass `name`, one this effect planned for this frame.
+    virtual void add_pass(const std::string& name, FrameGraph& graph, const PassEnv& env, FrameTargets& targets) = 0;
+    // The shading passes (forward, deferred, blended, probe capture) read what this effect made:
+    // declare those reads, and bind the effect's textures, buffers and uniform block.
+    virtual void read_shading_inputs(FrameGraph::Builder& /*b*/) const {}
+    virtual void bind_shading_inputs(const PassEnv& env, FrameGraph::Context* ctx) const = 0;
+};
+
+}  // namespace candela

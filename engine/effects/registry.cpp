@@ -1,0 +1,22 @@
+#include "effects/registry.hpp"
+
+#include "effects/ssao/ssao.hpp"
+
+namespace candela {
+
+const std::vector<const Effect*>& effect_registry() {
+    // One line per effect. Order: decisions are made in this order (rsm reads the shadows
+    // decision), and within a stage passes run in this order.
+    static const std::vector<const Effect*> all = {
+        &ssao_effect(),
+    };
+    return all;
+}
+
+const Effect* find_effect(std::string_view name) {
+    for (const Effect* e : effect_registry())
+        if (name == e->name()) return e;
+    return nullptr;
+}
+
+}  // namespace candela

@@ -1,0 +1,94 @@
+// The effect registry (engine/effects/): every module is reachable by name, owns its knobs and
+// programs, and its uniform block has the same layout in C++ and in the GL.
+#include <gtest/gtest.h>
+
+#include <set>
+
+#include <nlohmann/json.hpp>
+
+#include "effects/registry.hpp"
+#include "gl_fixture.hpp"
+#include "render/features.hpp"
+#include "render/settings.hpp"
+#include "shader/program_catalog.hpp"
+
+namespace candela {
+namespace {
+
+TEST(EffectRegistry, NamesKnobsAndProgramsBelongToTheirEffect) {
+    std::set<std::string> names, programs;
+    for (const Effect* e : effect_registry()) {
+        EXPECT_TRUE(names.insert(e->name()).second) << "duplicate effect " << e->name();
+        EXPECT_EQ(find_effect(e->name()), e);
+        // Its switch is an --effects name, and its knobs are all "name.knob".
+        EXPECT_NE(std::find(effect_names().begin(), effect_names().end(), e->name()), effect_names().end());
+        for (const Knob& k : e->knobs()) EXPECT_EQ(k.info.name.rfind(std::string(e->name()) + ".", 0), 0u) << k.info.name;
+        // Its programs are in the catalog, under names no other program has.
+        for (const ProgramDesc& p : e->programs()) {
+            EXPECT_TRUE(programs.insert(p.name).second) << "duplicate program " << p.name;
+            EXPECT_EQ(program_desc(p.name).stages, p.stages);
+        }
+    }
+    EXPECT_EQ(find_effect("bloom"), nullptr);
+}
+
+TEST(EffectRegistry, EveryKnobRoundTripsThroughItsRow) {
+    // Writing each knob's JSON value back through --set leaves the settings unchanged, and a
+    // value out of range names the knob.
+    RenderSettings s;
+    const nlohmann::json before = to_json(s);
+    for (const Knob& k : knobs()) {
+        const nlohmann::json v = k.get(s);
+        const std::string text = v.is_string() ? v.get<std::string>() : v.is_boolean() ? (v.get<bool>() ? "1" : "0") : v.dump();
+        EXPECT_NO_THROW(apply_knob(s, k.info.name + "=" + text)) << k.info.name;
+        if (k.info.type == "int" || k.info.type == "float") {
+            try {
+                apply_knob(s, k.info.name + "=1e30");
+                ADD_FAILURE() << k.info.name << " accepted 1e30";
+            } catch (const Error& e) {
+                EXPECT_NE(std::string(e.what()).find(k.info.name), std::string::npos);
+            }
+        }
+    }
+    EXPECT_EQ(to_json(s), before);
+}
+
+TEST(EffectRegistry, ChoiceKnobsAreEnumsWithNamedValues) {
+    RenderSettings s;
+    for (const Knob& k : knobs()) {
+        if (k.info.type != "choice" || k.info.choices.empty()) continue;
+        for (const std::string& c : k.info.choices) {
+            apply_knob(s, k.info.name + "=" + c);
+            EXPECT_EQ(k.get(s), c) << k.info.name;
+        }
+        EXPECT_THROW(apply_knob(s, k.info.name + "=nonsense"), Error);
+    }
+}
+
+using EffectBlocks = test::GlContextTest;
+
+TEST_P(EffectBlocks, CxxStructsMatchTheGlslBlocks) {
+    const ShaderLibrary shaders(ShaderLibrary::default_root());
+    std::set<int> bindings = {0, 8};  // Frame and the tracer's RtFrame
+    int checked = 0;
+    for (const Effect* e : effect_registry())
+        for (const GpuBlockInfo& b : e->gpu_blocks()) {
+            EXPECT_TRUE(bindings.insert(b.binding).second) << b.block << ": binding " << b.binding << " taken";
+            ShaderLibrary::BuildResult r = shaders.build(program_desc(b.program));
+            ASSERT_TRUE(r.ok()) << r.log;
+            const GLuint index = glGetProgramResourceIndex(r.program.id(), GL_UNIFORM_BLOCK, b.block);
+            ASSERT_NE(index, GL_INVALID_INDEX) << b.block << " not in program " << b.program;
+            const GLenum props[2] = {GL_BUFFER_DATA_SIZE, GL_BUFFER_BINDING};
+            GLint values[2] = {0, -1};
+            glGetProgramResourceiv(r.program.id(), GL_UNIFORM_BLOCK, index, 2, props, 2, nullptr, values);
+            EXPECT_EQ(static_cast<std::size_t>(values[0]), b.size) << b.block << ": the C++ struct and the GLSL block differ";
+            EXPECT_EQ(values[1], b.binding) << b.block;
+            ++checked;
+        }
+    EXPECT_GT(checked, 0);
+}
+
+INSTANTIATE_TEST_SUITE_P(Backends, EffectBlocks, ::testing::Values(Backend::egl), test::backend_name);
+
+}  // namespace
+}  // namespace candela
