@@ -66,6 +66,9 @@ public:
     // Non-empty when the planned effect reads the camera's depth and normals before shading (the
     // forward path then adds a depth/normal prepass; the text names it in the pass's reason).
     virtual const char* needs_depth_normals() const { return nullptr; }
+    // True when the planned effect draws the BLEND materials itself (otherwise the opaque passes
+    // draw them as opaque).
+    virtual bool draws_blended_surfaces() const { return false; }
 
     // Every program this effect can build (the catalog: `candela shaders check`, hot reload).
     virtual std::vector<ProgramDesc> programs() const { return {}; }
@@ -98,7 +101,7 @@ public:
     // The shading passes (forward, deferred, blended, probe capture) read what this effect made:
     // declare those reads, and bind the effect's textures, buffers and uniform block.
     virtual void read_shading_inputs(FrameGraph::Builder& /*b*/) const {}
-    virtual void bind_shading_inputs(const PassEnv& env, FrameGraph::Context* ctx) const = 0;
+    virtual void bind_shading_inputs(const PassEnv& /*env*/, FrameGraph::Context* /*ctx*/) const {}
 };
 
 }  // namespace candela

@@ -1,6 +1,7 @@
 #include "effects/registry.hpp"
 
 #include "effects/ssao/ssao.hpp"
+#include "effects/transparency/transparency.hpp"
 
 namespace candela {
 
@@ -9,6 +10,7 @@ const std::vector<const Effect*>& effect_registry() {
     // decision), and within a stage passes run in this order.
     static const std::vector<const Effect*> all = {
         &ssao_effect(),
+        &transparency_effect(),
     };
     return all;
 }

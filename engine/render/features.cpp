@@ -58,7 +58,10 @@ Features analyze(const Scene& scene, const RenderSettings& s) {
         f.path_reason = "auto: " + std::to_string(light_count) + " light(s) " + (f.deferred ? ">= " : "< ") +
                         std::to_string(s.deferred.auto_lights) + " (deferred.auto_lights)";
     }
-    for (const Effect* e : effect_registry()) f.modules.push_back(e->decide(f, s));
+    for (const Effect* e : effect_registry()) {
+        f.modules.push_back(e->decide(f, s));
+        if (f.modules.back().planned && e->draws_blended_surfaces()) f.blended_drawn = true;
+    }
     // RSM renders from the lights' shadow views: it needs the shadow pass and a punctual light
     // with a shadow map (area-light pieces get none).
     const bool rsm_needed = f.shadows.planned && f.punctual_lights > 0 && s.shadow.max_lights > 0;
@@ -67,10 +70,6 @@ Features analyze(const Scene& scene, const RenderSettings& s) {
                    : f.punctual_lights == 0 ? "no punctual light (area-light pieces have no RSM)"
                                            : "no shadow pass for the RSM to reuse the light views of",
                    s.gating || !f.shadows.planned);  // without shadow views there is nothing to run it on
-    // Debug views show surface values of the nearest surface: blended ones count as opaque there,
-    // as they do for the ray tracer's rays.
-    f.transparency = decide("transparency", s.transparency && s.debug.view == "none", sf.transparency.needed, true,
-                            sf.transparency.reason, s.gating);
     f.reflections = decide("reflections", s.reflections, sf.reflections.needed, true, sf.reflections.reason, s.gating);
     return f;
 }
@@ -83,8 +82,8 @@ std::vector<PlannedPass> plan_passes(const Features& f, const RenderSettings& s)
                                          (s.probe.update == "once" ? " (captured when the scene or settings change)" : ""),
                         nullptr, f.environment ? std::vector<std::string>{"forward", "sky"} : std::vector<std::string>{"forward"}});
     if (f.rsm.planned) plan.push_back({"rsm", f.rsm.reason.substr(4), nullptr, {"rsm"}});
-    const std::string what = f.transparency.planned ? "opaque and masked geometry"
-                             : f.transparency.needed ? "all geometry (BLEND drawn as opaque: transparency off)"
+    const std::string what = f.blended_drawn ? "opaque and masked geometry"
+                             : f.scene.transparency.needed ? "all geometry (BLEND drawn as opaque: transparency off)"
                                                      : "all geometry";
     auto add_gather = [&] {
         if (f.rsm.planned) plan.push_back({"rsm_indirect", "gather rsm.samples texels per pixel, rsm.gather=" + s.rsm_knobs.gather, nullptr, {"rsm_gather"}});
@@ -115,12 +114,7 @@ std::vector<PlannedPass> plan_passes(const Features& f, const RenderSettings& s)
         plan.push_back({"forward_opaque", what + "; forward path, " + f.path_reason, nullptr, {"forward"}});
     }
     if (f.environment) plan.push_back({"sky", "the scene has environment light", nullptr, {"sky"}});
-    if (f.transparency.planned) {
-        if (s.transparency_knobs.mode == "peeling")
-            plan.push_back({"transparent_peeling", f.transparency.reason.substr(4) + ", " +
-                                                       std::to_string(s.transparency_knobs.layers) + " depth-peeling layers", nullptr, {"forward", "copy"}});
-        else plan.push_back({"transparent", f.transparency.reason.substr(4), nullptr, {"forward"}});
-    }
+    add_stage(Stage::blended);
     return plan;
 }
 

@@ -30,17 +30,18 @@ class Effect;
 EffectDecision decide_effect(const char* name, bool enabled, bool needed, const std::string& need_reason, bool gating);
 
 struct Features {
-    EffectDecision shadows, rsm, transparency, reflections;
+    EffectDecision shadows, rsm, reflections;
     // The registered effect modules' decisions (engine/effects/registry.cpp), in registry order.
     std::vector<EffectDecision> modules;
     bool environment = false;  // sky pass and ambient term
+    bool blended_drawn = false;  // a planned effect draws the BLEND materials (else they are drawn opaque)
     int punctual_lights = 0;
     int area_light_pieces = 0;  // emissive primitives drawn * arealight.samples
     bool deferred = false;      // the render path
     std::string path_reason;
     SceneFeatures scene;
     std::vector<const EffectDecision*> effects() const {
-        std::vector<const EffectDecision*> v = {&shadows, &rsm, &transparency, &reflections};
+        std::vector<const EffectDecision*> v = {&shadows, &rsm, &reflections};
         for (const EffectDecision& d : modules) v.push_back(&d);
         return v;
     }

@@ -327,14 +327,12 @@ void Renderer::render(const Camera& camera, int width, int height, FrameOutput o
         } else if (pass.name == "transmissive") add_transmissive_pass(graph, env, targets);
         else if (pass.name == "rsm") add_rsm_pass(graph, env, targets);
         else if (pass.name == "rsm_indirect") add_rsm_gather_pass(graph, env, targets);
-        else if (pass.name == "gbuffer") add_gbuffer_pass(graph, env, targets, !features_.transparency.planned);
+        else if (pass.name == "gbuffer") add_gbuffer_pass(graph, env, targets, !features_.blended_drawn);
         else if (pass.name == "deferred_lighting") add_deferred_lighting_pass(graph, env, targets);
         else if (pass.name == "depth_prepass") add_depth_prepass(graph, env, targets);
-        else if (pass.name == "depth_normal_prepass") add_depth_normal_prepass(graph, env, targets, !features_.transparency.planned);
-        else if (pass.name == "forward_opaque") add_forward_opaque_pass(graph, env, targets, !features_.transparency.planned);
+        else if (pass.name == "depth_normal_prepass") add_depth_normal_prepass(graph, env, targets, !features_.blended_drawn);
+        else if (pass.name == "forward_opaque") add_forward_opaque_pass(graph, env, targets, !features_.blended_drawn);
         else if (pass.name == "sky") add_sky_pass(graph, env, targets);
-        else if (pass.name == "transparent") add_transparent_pass(graph, env, targets);
-        else if (pass.name == "transparent_peeling") add_peeling_pass(graph, env, targets);
         else throw Error(ExitCode::internal, "renderer: no pass named '" + pass.name + "'");
     }
     // The tonemap pass is always declared; for an HDR-only frame nobody consumes its output and

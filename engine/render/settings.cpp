@@ -90,12 +90,6 @@ std::vector<Knob> legacy_knobs() {
     return {
         make_bool("forward.depth_prepass", [](RenderSettings& s) -> bool& { return s.forward.depth_prepass; },
                   "draw depth first, then shade each pixel once"),
-        make_choice("transparency.sort", {"object", "triangle"}, [](RenderSettings& s) -> std::string& { return s.transparency_knobs.sort; },
-                    "back-to-front order of blended draws; triangle also orders each mesh's triangles (CPU, per frame)"),
-        make_choice("transparency.mode", {"sorted", "peeling"}, [](RenderSettings& s) -> std::string& { return s.transparency_knobs.mode; },
-                    "sorted blending, or depth peeling (exact per pixel up to transparency.layers layers)"),
-        make_int("transparency.layers", 1, 64, [](RenderSettings& s) -> int& { return s.transparency_knobs.layers; },
-                 "depth-peeling layers"),
         make_choice("render.path", {"auto", "forward", "deferred"}, [](RenderSettings& s) -> std::string& { return s.path; },
                     "render path (--path); auto: deferred from deferred.auto_lights lights"),
         make_bool("render.gating", [](RenderSettings& s) -> bool& { return s.gating; },
@@ -178,7 +172,6 @@ struct LegacyEffect {
 };
 const LegacyEffect kLegacy[] = {{"shadows", &RenderSettings::shadows},
                                 {"rsm", &RenderSettings::rsm},
-                                {"transparency", &RenderSettings::transparency},
                                 {"reflections", &RenderSettings::reflections}};
 
 }  // namespace

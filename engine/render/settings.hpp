@@ -47,7 +47,6 @@ struct RenderSettings {
     // scene is not planned (see analyze()).
     bool shadows = true;
     bool rsm = false;  // indirect light costs the most; opt-in
-    bool transparency = true;
     bool reflections = true;
 
     // Render path (`--path`): forward shades every light per fragment; deferred writes a G-buffer
@@ -98,13 +97,6 @@ struct RenderSettings {
         std::string view = "none";  // none|visibility|ao|indirect: a debug buffer instead of radiance
         int light = 0;  // [0, 1e6] visibility of this light; >= the punctual count: all area lights
     } debug;
-    struct Transparency {
-        std::string sort = "object";    // object|triangle: draws back to front by their bounds'
-                                        // centres; triangle also sorts each mesh's triangles by
-                                        // their centroids, on the CPU every frame
-        std::string mode = "sorted";    // sorted|peeling: sorted blending, or exact depth peeling
-        int layers = 8;                 // [1, 64] depth-peeling layers
-    } transparency_knobs;
     struct AmbientOcclusion {
         float radius = 1.0f;  // (0, 1e9] world units; SSAO and `--raytrace ao` use the same radius
     } ao;

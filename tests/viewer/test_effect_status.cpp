@@ -51,16 +51,16 @@ TEST(ViewerEffectStatus, PlannerReasonsOnTheCornellBox) {
     RenderSettings settings;  // every effect switched on
     const Features on = analyze(scene, settings);
     // The Cornell box has no BLEND material: the ticked transparency box is skipped, with the reason.
-    const EffectStatus transparency = effect_status(settings.transparency, on.transparency);
+    const EffectStatus transparency = effect_status(settings.on("transparency"), on.decision("transparency"));
     EXPECT_EQ(transparency.label, "skipped: not needed");
     EXPECT_EQ(transparency.detail, "no BLEND materials");
-    const EffectStatus shadows = effect_status(settings.shadows, on.shadows);
+    const EffectStatus shadows = effect_status(settings.on("shadows"), on.decision("shadows"));
     EXPECT_EQ(shadows.label, "running");
     EXPECT_FALSE(shadows.detail.empty());
 
-    settings.shadows = false;
+    settings.set_on("shadows", false);
     const Features off = analyze(scene, settings);
-    const EffectStatus switched = effect_status(settings.shadows, off.shadows);
+    const EffectStatus switched = effect_status(settings.on("shadows"), off.decision("shadows"));
     EXPECT_EQ(switched.label, "switched off");
     EXPECT_NE(switched.detail.find("it would run"), std::string::npos) << switched.detail;
     EXPECT_EQ(switched.detail.find("--effects"), std::string::npos) << switched.detail;

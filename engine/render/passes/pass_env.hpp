@@ -137,8 +137,6 @@ void add_rsm_pass(FrameGraph& graph, const PassEnv& env, FrameTargets& targets);
 void add_rsm_gather_pass(FrameGraph& graph, const PassEnv& env, FrameTargets& targets);
 void add_forward_opaque_pass(FrameGraph& graph, const PassEnv& env, FrameTargets& targets, bool blend_as_opaque);
 void add_sky_pass(FrameGraph& graph, const PassEnv& env, FrameTargets& targets);
-void add_transparent_pass(FrameGraph& graph, const PassEnv& env, FrameTargets& targets);
-void add_peeling_pass(FrameGraph& graph, const PassEnv& env, FrameTargets& targets);
 void add_tonemap_pass(FrameGraph& graph, const PassEnv& env, FrameTargets& targets, const gl::Texture& display,
                       float exposure_ev);
 
