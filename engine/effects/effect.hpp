@@ -19,6 +19,7 @@ namespace candela {
 
 struct Camera;
 struct EffectDecision;
+struct Scene;
 struct Features;
 struct FrameData;
 struct FrameTargets;
@@ -57,6 +58,8 @@ public:
     // A default-constructed options struct of this effect, and its knob rows (prefix name()).
     virtual std::any default_options() const = 0;
     virtual std::vector<Knob> knobs() const = 0;
+    // The prefixes of its knob names: name() unless the effect keeps older names ("probe.*").
+    virtual std::vector<std::string> knob_groups() const { return {name()}; }
 
     // Whether the scene calls for the effect, and so whether it runs. `f` already holds the
     // decisions of the effects before this one in the registry (an effect may depend on them).
@@ -78,6 +81,15 @@ public:
     virtual std::vector<AccuracySweep> accuracy_sweeps(bool /*quick*/) const { return {}; }
 };
 
+// What an effect's runtime sees when the renderer's settings change (Renderer::set_settings).
+struct EffectSetup {
+    const Scene& scene;
+    GpuScene& gpu;
+    const RenderSettings& settings;
+    const Features& features;
+    const EffectDecision& decision;  // this effect's
+};
+
 // What an effect's runtime sees before a frame's graph is built.
 struct FramePrep {
     const RenderSettings& settings;
@@ -96,6 +108,14 @@ public:
     // Every frame, planned or not, before the graph: persistent resources and the uniform block
     // (an effect that is not planned uploads its "off" block, which the shading passes still read).
     virtual void prepare(const FramePrep& /*prep*/) {}
+    // After set-up or new settings: placement, persistent resources that depend on them.
+    virtual void configure(const EffectSetup& /*setup*/) {}
+    // The frame's graph exists: import the persistent textures the passes read or write.
+    virtual void begin_graph(FrameGraph& /*graph*/) {}
+    // The scene changed behind the renderer's back: drop cached captures (probes).
+    virtual void invalidate() {}
+    // Textures the effect owns that the viewer's buffer inspector can show, by name.
+    virtual void inspectables(std::vector<std::pair<std::string, const gl::Texture*>>& /*out*/) const {}
     // Adds the pass `name`, one this effect planned for this frame.
     virtual void add_pass(const std::string& name, FrameGraph& graph, const PassEnv& env, FrameTargets& targets) = 0;
     // The shading passes (forward, deferred, blended, probe capture) read what this effect made:

@@ -1,5 +1,6 @@
 #include "effects/registry.hpp"
 
+#include "effects/reflections/reflections.hpp"
 #include "effects/ssao/ssao.hpp"
 #include "effects/transparency/transparency.hpp"
 
@@ -9,6 +10,7 @@ const std::vector<const Effect*>& effect_registry() {
     // One line per effect. Order: decisions are made in this order (rsm reads the shadows
     // decision), and within a stage passes run in this order.
     static const std::vector<const Effect*> all = {
+        &reflections_effect(),
         &ssao_effect(),
         &transparency_effect(),
     };

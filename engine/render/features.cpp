@@ -42,7 +42,8 @@ const EffectDecision& Features::decision(std::string_view name) const {
 
 Features analyze(const Scene& scene, const RenderSettings& s) {
     Features f;
-    f.scene = analyze_features(scene, s.reflections_knobs.max_roughness);
+    f.source = &scene;
+    f.scene = analyze_features(scene);
     f.environment = scene.environment.present();
     f.punctual_lights = static_cast<int>(scene.placed_lights().size());
     const SceneFeatures& sf = f.scene;
@@ -70,28 +71,24 @@ Features analyze(const Scene& scene, const RenderSettings& s) {
                    : f.punctual_lights == 0 ? "no punctual light (area-light pieces have no RSM)"
                                            : "no shadow pass for the RSM to reuse the light views of",
                    s.gating || !f.shadows.planned);  // without shadow views there is nothing to run it on
-    f.reflections = decide("reflections", s.reflections, sf.reflections.needed, true, sf.reflections.reason, s.gating);
     return f;
 }
 
 std::vector<PlannedPass> plan_passes(const Features& f, const RenderSettings& s) {
     std::vector<PlannedPass> plan;
+    // The passes the planned effect modules add at `stage`, in registry order.
+    auto add_stage = [&](Stage stage) {
+        for (size_t i = 0; i < effect_registry().size(); ++i)
+            if (f.modules[i].planned) effect_registry()[i]->plan(stage, f, s, plan);
+    };
     if (f.shadows.planned) plan.push_back({"shadow_maps", f.shadows.reason.substr(4), nullptr, {"shadow"}});
-    if (f.reflections.planned)
-        plan.push_back({"env_probe", f.reflections.reason.substr(4) + "; probe.update=" + s.probe.update +
-                                         (s.probe.update == "once" ? " (captured when the scene or settings change)" : ""),
-                        nullptr, f.environment ? std::vector<std::string>{"forward", "sky"} : std::vector<std::string>{"forward"}});
+    add_stage(Stage::light_views);
     if (f.rsm.planned) plan.push_back({"rsm", f.rsm.reason.substr(4), nullptr, {"rsm"}});
     const std::string what = f.blended_drawn ? "opaque and masked geometry"
                              : f.scene.transparency.needed ? "all geometry (BLEND drawn as opaque: transparency off)"
                                                      : "all geometry";
     auto add_gather = [&] {
         if (f.rsm.planned) plan.push_back({"rsm_indirect", "gather rsm.samples texels per pixel, rsm.gather=" + s.rsm_knobs.gather, nullptr, {"rsm_gather"}});
-    };
-    // The passes the planned effect modules add at `stage`, in registry order.
-    auto add_stage = [&](Stage stage) {
-        for (size_t i = 0; i < effect_registry().size(); ++i)
-            if (f.modules[i].planned) effect_registry()[i]->plan(stage, f, s, plan);
     };
     auto add_ssao = [&] { add_stage(Stage::screen); };
     // The planned module that reads depth and normals before shading (forward path: a prepass).
@@ -103,8 +100,7 @@ std::vector<PlannedPass> plan_passes(const Features& f, const RenderSettings& s)
         add_ssao();
         add_gather();
         plan.push_back({"deferred_lighting", "tiled light culling and shading of the G-buffer", nullptr, {"deferred_light"}});
-        if (f.reflections.planned && f.scene.transmission.needed)
-            plan.push_back({"transmissive", "transmissive surfaces refract through the probes (forward shading, depth EQUAL)", nullptr, {"forward"}});
+        add_stage(Stage::after_lighting);
     } else {
         if (screen_reader || f.rsm.planned)
             plan.push_back({"depth_normal_prepass", std::string(screen_reader ? screen_reader : "RSM") + " needs depth and normals before shading", nullptr, {"depth_normals"}});
@@ -112,6 +108,7 @@ std::vector<PlannedPass> plan_passes(const Features& f, const RenderSettings& s)
         add_ssao();
         add_gather();
         plan.push_back({"forward_opaque", what + "; forward path, " + f.path_reason, nullptr, {"forward"}});
+        add_stage(Stage::after_lighting);
     }
     if (f.environment) plan.push_back({"sky", "the scene has environment light", nullptr, {"sky"}});
     add_stage(Stage::blended);

@@ -30,9 +30,10 @@ class Effect;
 EffectDecision decide_effect(const char* name, bool enabled, bool needed, const std::string& need_reason, bool gating);
 
 struct Features {
-    EffectDecision shadows, rsm, reflections;
+    EffectDecision shadows, rsm;
     // The registered effect modules' decisions (engine/effects/registry.cpp), in registry order.
     std::vector<EffectDecision> modules;
+    const Scene* source = nullptr;  // the analyzed scene
     bool environment = false;  // sky pass and ambient term
     bool blended_drawn = false;  // a planned effect draws the BLEND materials (else they are drawn opaque)
     int punctual_lights = 0;
@@ -41,7 +42,7 @@ struct Features {
     std::string path_reason;
     SceneFeatures scene;
     std::vector<const EffectDecision*> effects() const {
-        std::vector<const EffectDecision*> v = {&shadows, &rsm, &reflections};
+        std::vector<const EffectDecision*> v = {&shadows, &rsm};
         for (const EffectDecision& d : modules) v.push_back(&d);
         return v;
     }

@@ -28,7 +28,7 @@ struct FrameData {  // std140, binding 0
     glm::ivec4 view_flags;   // x 1: the camera's view (screen-space effect buffers valid); 0: probe faces
     glm::ivec4 rsm_mode;     // x on, y downscale
     glm::vec4 depth_to_view; // view z of depth d: (x d + y) / (z d + w)
-    glm::ivec4 probe_mode;   // x probes bound, y their levels, z refraction on, w static env cube bound
+    glm::ivec4 env_mode;     // x 1: the static environment cube is bound
 };
 
 struct MaterialData {  // std430, binding 1

@@ -42,22 +42,12 @@ void Renderer::set_settings(const RenderSettings& settings) {
                        settings_.shadow.max_lights);
     features_.area_light_pieces = gpu_.light_count() - gpu_.punctual_light_count();
     // The static environment map as a prefiltered cube (start-up, and when its size changes).
-    if (gpu_.has_environment_map() && env_cube_size_ != settings_.probe.environment_resolution) {
-        env_cube_size_ = settings_.probe.environment_resolution;
+    if (gpu_.has_environment_map() && env_cube_size_ != settings_.environment.resolution) {
+        env_cube_size_ = settings_.environment.resolution;
         env_cube_levels_ = prefiltered_levels(env_cube_size_);
         env_cube_ = ibl_.cube_from_equirect(gpu_.environment_map(), env_cube_size_, kEnvironmentSamples);
     }
-    // Reflection probes: placed now, captured by the next frame that plans env_probe.
-    probes_.valid = false;
-    probes_.placements.clear();
-    if (features_.reflections.planned) {
-        probes_.placements = place_probes(scene_, gpu_.draws(), settings_);
-        if (probes_.placements.size() > static_cast<size_t>(kMaxProbes)) {
-            log::warn(scene_.source.string() + ": " + std::to_string(probes_.placements.size()) + " reflection probes; using the first " +
-                      std::to_string(kMaxProbes));
-            probes_.placements.resize(static_cast<size_t>(kMaxProbes));
-        }
-    }
+    for (size_t i = 0; i < effects_.size(); ++i) effects_[i]->configure({scene_, gpu_, settings_, features_, features_.modules[i]});
     // Programs for the planned passes only (built now: a frame never compiles).
     for (const PlannedPass& pass : plan_passes(features_, settings_))
         for (const std::string& program : pass.programs) programs_.get(program);
@@ -65,7 +55,7 @@ void Renderer::set_settings(const RenderSettings& settings) {
 
 ShaderReload Renderer::reload_shaders(const std::vector<std::filesystem::path>& changed) {
     ShaderReload report = programs_.reload(changed);
-    if (!report.rebuilt.empty()) probes_.valid = false;  // captured with the old shading
+    if (!report.rebuilt.empty()) invalidate_captures();  // captured with the old shading
     return report;
 }
 
@@ -142,71 +132,6 @@ void Renderer::prepare_rsm() {
         r.views_bytes = bytes;
     }
     r.views_buffer.update(0, bytes, views.data());
-}
-
-void Renderer::prepare_probes(const FrameData& frame) {
-    ProbeResources& pr = probes_;
-    const int size = settings_.probe.resolution;
-    const int cubes = static_cast<int>(pr.placements.size());
-    if (pr.size != size || pr.cubes != cubes) {
-        pr.levels = prefiltered_levels(size);
-        pr.capture = ImageBasedLighting::create_cube_array(size, cubes, 0);
-        pr.filtered = ImageBasedLighting::create_cube_array(size, cubes, pr.levels);
-        pr.depth = gl::Texture::create_2d(GL_DEPTH_COMPONENT32F, size, size, 1);
-        pr.face_fbos.clear();
-        for (int layer = 0; layer < 6 * cubes; ++layer) {
-            gl::Framebuffer fbo = gl::Framebuffer::create();
-            glNamedFramebufferTextureLayer(fbo.id(), GL_COLOR_ATTACHMENT0, pr.capture.id(), 0, layer);
-            fbo.attach(GL_DEPTH_ATTACHMENT, pr.depth);
-            glNamedFramebufferDrawBuffer(fbo.id(), GL_COLOR_ATTACHMENT0);
-            fbo.check_complete("reflection probe face");
-            pr.face_fbos.push_back(std::move(fbo));
-        }
-        std::vector<ProbeData> data;
-        for (const ProbePlacement& p : pr.placements) data.push_back(to_gpu(p));
-        pr.data = gl::Buffer(static_cast<GLsizeiptr>(data.size() * sizeof(ProbeData)), data.data(), 0);
-        pr.size = size;
-        pr.cubes = cubes;
-        pr.valid = false;
-    }
-    pr.sky = features_.environment;
-    if (pr.valid && settings_.probe.update == "once") return;
-    // One frame per face: a 90-degree camera at the probe looking along the face's axis, with the
-    // up vectors of GL's cube-map face orientation (so face images need no flipping).
-    static const glm::vec3 forward[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
-    static const glm::vec3 up[6] = {{0, -1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}, {0, -1, 0}, {0, -1, 0}};
-    GLint align = 256;
-    glGetIntegerv(GL_UNIFORM_BUFFER_OFFSET_ALIGNMENT, &align);
-    pr.frame_stride = (static_cast<GLsizeiptr>(sizeof(FrameData)) + align - 1) / align * align;
-    std::vector<std::uint8_t> bytes(static_cast<size_t>(pr.frame_stride) * static_cast<size_t>(6 * cubes));
-    Camera cam;
-    cam.yfov = glm::half_pi<float>();
-    cam.aspect_ratio = 1.0f;
-    // Near plane: a small fraction of the scene, so that nearby walls are not clipped.
-    cam.znear = std::max(1e-4f, 1e-3f * glm::length(scene_bounds_.extent()));
-    for (int k = 0; k < cubes; ++k) {
-        const glm::vec3 p = pr.placements[static_cast<size_t>(k)].position;
-        for (int face = 0; face < 6; ++face) {
-            FrameData f = frame;
-            f.view = glm::lookAt(p, p + forward[face], up[face]);
-            f.proj = projection_matrix(cam, 1.0f);
-            f.view_proj = f.proj * f.view;
-            f.inv_view_proj = glm::inverse(f.view_proj);
-            const glm::mat4 ip = glm::inverse(f.proj);
-            f.depth_to_view = glm::vec4(ip[2][2], ip[3][2], ip[2][3], ip[3][3]);
-            f.camera_pos = glm::vec4(p, 1.0f);
-            f.viewport = glm::vec4(static_cast<float>(size), static_cast<float>(size), 1.0f / static_cast<float>(size),
-                                   1.0f / static_cast<float>(size));
-            f.view_flags = glm::ivec4(0);  // no screen-space effect buffers in a probe's faces
-            f.rsm_mode = glm::ivec4(0);
-            f.debug = glm::ivec4(0);
-            f.probe_mode.x = 0;  // shading inside a probe reads the static environment
-            std::memcpy(bytes.data() + pr.frame_stride * (6 * k + face), &f, sizeof(FrameData));
-        }
-    }
-    const auto total = static_cast<GLsizeiptr>(bytes.size());
-    if (!pr.frames || pr.frames.size() != total) pr.frames = gl::Buffer(total, nullptr, GL_DYNAMIC_STORAGE_BIT);
-    pr.frames.update(0, total, bytes.data());
 }
 
 void Renderer::prepare_shadows(const Camera& camera, float aspect) {
@@ -291,22 +216,14 @@ void Renderer::render(const Camera& camera, int width, int height, FrameOutput o
     }
     if (settings_.debug.view == "indirect") frame.debug.x = 3;
     frame.view_flags = glm::ivec4(1, 0, 0, 0);  // the camera's view
-    frame.probe_mode.w = env_cube_ ? 1 : 0;
+    frame.env_mode.x = env_cube_ ? 1 : 0;
     frame.counts.y = env_cube_ ? env_cube_levels_ : 1;
-    const bool probes_on = features_.reflections.planned && !probes_.placements.empty();
-    if (features_.reflections.planned) frame.probe_mode.z = 1;  // refraction of transmissive surfaces
-    if (probes_on) {
-        frame.probe_mode.x = static_cast<int>(probes_.placements.size());
-        frame.probe_mode.y = prefiltered_levels(settings_.probe.resolution);
-        prepare_probes(frame);
-    }
     for (size_t i = 0; i < effects_.size(); ++i)
         effects_[i]->prepare({settings_, features_, features_.modules[i], gpu_, camera, aspect, width, height, frame});
     frame_ubo_.update(0, sizeof(FrameData), &frame);
 
     const PassEnv env{gpu_,       settings_, frame,      width,         height, frame_ubo_, fbos_,     programs_,
-                      empty_vao_, shadows_,  shadows_on, linear_clamp_, rsm_,   ibl_,       env_cube_, probes_,
-                      probes_on,  effect_ptrs_};
+                      empty_vao_, shadows_,  shadows_on, linear_clamp_, rsm_,   ibl_,       env_cube_, effect_ptrs_};
     FrameGraph graph;
     FrameTargets targets;
     targets.hdr = graph.import_texture("hdr", output_, {GL_RGBA32F, width, height});
@@ -314,17 +231,13 @@ void Renderer::render(const Camera& camera, int width, int height, FrameOutput o
         targets.shadow_maps = graph.import_texture("shadow_maps", shadows_.array,
                                                    {GL_DEPTH_COMPONENT32F, shadows_.resolution, shadows_.resolution});
     if (features_.rsm.planned) targets.rsm = graph.import_texture("rsm", rsm_.position, {GL_RGBA32F, rsm_.resolution, rsm_.resolution});
-    if (probes_on) targets.probes = graph.import_texture("probes", probes_.filtered, {GL_RGBA32F, probes_.size, probes_.size});
+    for (const auto& e : effects_) e->begin_graph(graph);
     for (const PlannedPass& pass : plan_passes(features_, settings_)) {
         if (pass.owner) {
             const auto& reg = effect_registry();
             const size_t i = static_cast<size_t>(std::find(reg.begin(), reg.end(), pass.owner) - reg.begin());
             effects_.at(i)->add_pass(pass.name, graph, env, targets);
         } else if (pass.name == "shadow_maps") add_shadow_pass(graph, env, targets);
-        else if (pass.name == "env_probe") {
-            // probe.update=once: captured by an earlier frame of the same scene and settings.
-            if (probes_on && (!probes_.valid || settings_.probe.update == "every_frame")) add_env_probe_pass(graph, env, targets);
-        } else if (pass.name == "transmissive") add_transmissive_pass(graph, env, targets);
         else if (pass.name == "rsm") add_rsm_pass(graph, env, targets);
         else if (pass.name == "rsm_indirect") add_rsm_gather_pass(graph, env, targets);
         else if (pass.name == "gbuffer") add_gbuffer_pass(graph, env, targets, !features_.blended_drawn);
@@ -395,9 +308,13 @@ void Renderer::render(const Camera& camera, int width, int height, FrameOutput o
         if (static_cast<int>(i) == inspected_id) inspected_ = r.imported ? r.imported : &pool_.texture(r.slot);
     }
     if (rsm_.flux) inspectable_.push_back("rsm_flux");
-    if (probes_.filtered) inspectable_.push_back("probe_cube");
     if (inspect_ == "rsm_flux" && rsm_.flux) inspected_ = &rsm_.flux;
-    if (inspect_ == "probe_cube" && probes_.filtered) inspected_ = &probes_.filtered;
+    std::vector<std::pair<std::string, const gl::Texture*>> owned;
+    for (const auto& e : effects_) e->inspectables(owned);
+    for (const auto& [name, texture] : owned) {
+        inspectable_.push_back(name);
+        if (inspect_ == name) inspected_ = texture;
+    }
     graph.release(pool_);
     // Leave GL as other code (ImGui, readback) expects it.
     state_.apply(gl::PipelineState{.depth_test = false, .depth_func = GL_LESS, .reversed_z = false});

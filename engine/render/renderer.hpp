@@ -76,15 +76,22 @@ public:
     const TexturePool& pool() const { return pool_; }
     // This frame's shadow views (empty when the shadow pass did not run).
     const ShadowViews& shadow_views() const { return shadows_.cpu; }
-    // Reflection probes of this scene and settings (empty when the reflections effect is off).
-    const std::vector<ProbePlacement>& probes() const { return probes_.placements; }
-    // Probes re-capture on the next frame (probe.update=once): call after changing the scene.
-    void invalidate_probes() { probes_.valid = false; }
+    // The runtime of a registered effect, by its class (e.g. ReflectionsRuntime); nullptr if none.
+    template <class Runtime>
+    const Runtime* effect_runtime() const {
+        for (const auto& e : effects_)
+            if (const auto* r = dynamic_cast<const Runtime*>(e.get())) return r;
+        return nullptr;
+    }
+    // Cached captures (reflection probes) are redone on the next frame: call after changing the scene.
+    void invalidate_captures() {
+        for (auto& e : effects_) e->invalidate();
+    }
     const ImageBasedLighting& ibl() const { return ibl_; }
     const gl::Texture& environment_cube() const { return env_cube_; }
     // Buffer inspection (the viewer): keep the frame-graph resource `name` alive to the frame's
     // end (not aliased) so that inspected() returns it after render(); "" stops. Besides the
-    // graph's resources: "rsm_flux" and "probe_cube" (textures the renderer owns).
+    // graph's resources: "rsm_flux" and the textures effects own (EffectRuntime::inspectables).
     void set_inspect(const std::string& name) { inspect_ = name; }
     const gl::Texture* inspected() const { return inspected_; }
     // The names that can be inspected after the last frame.
@@ -98,7 +105,6 @@ public:
 private:
     void prepare_shadows(const Camera& camera, float aspect);
     void prepare_rsm();  // after prepare_shadows: the RSM views are shadow views
-    void prepare_probes(const FrameData& frame);
 
     const ShaderLibrary& shaders_;
     const Scene& scene_;
@@ -110,7 +116,6 @@ private:
     ImageBasedLighting ibl_;
     gl::Texture env_cube_;   // static environment map, prefiltered (empty without a map)
     int env_cube_size_ = 0, env_cube_levels_ = 1;
-    ProbeResources probes_;
     RenderSettings settings_;
     Features features_;
     ProgramCache programs_;

@@ -150,17 +150,7 @@ std::vector<Knob> legacy_knobs() {
                   "--raytrace indirect: 0 ignores visibility between the bounce points (RSM's own model)"),
         make_bool("rt.env_importance", [](RenderSettings& s) -> bool& { return s.rt.env_importance; },
                   "path/direct: importance-sample environment maps by luminance, with MIS"),
-        make_float("reflections.max_roughness", 0.0f, 1.0f, [](RenderSettings& s) -> float& { return s.reflections_knobs.max_roughness; },
-                   "metallic materials rougher than this call for no reflections"),
-        make_int("probe.resolution", 16, 1024, [](RenderSettings& s) -> int& { return s.probe.resolution; },
-                 "face size of each reflection probe's cube map"),
-        make_choice("probe.update", {"once", "every_frame"}, [](RenderSettings& s) -> std::string& { return s.probe.update; },
-                    "once: capture when the scene or the settings change; every_frame: every frame"),
-        make_choice("probe.placement", {"scene", "auto"}, [](RenderSettings& s) -> std::string& { return s.probe.placement; },
-                    "scene: the extras.reflection_probe nodes (auto if there are none); auto: one probe at the centre of each reflective object, no box"),
-        make_int("probe.samples", 1, 1024, [](RenderSettings& s) -> int& { return s.probe.samples; },
-                 "GGX samples per texel when prefiltering probes for rough reflections"),
-        make_int("environment.resolution", 16, 1024, [](RenderSettings& s) -> int& { return s.probe.environment_resolution; },
+        make_int("environment.resolution", 16, 1024, [](RenderSettings& s) -> int& { return s.environment.resolution; },
                  "face size of the static environment map's prefiltered cube (built at start-up)"),
     };
 }
@@ -171,8 +161,7 @@ struct LegacyEffect {
     bool RenderSettings::*flag;
 };
 const LegacyEffect kLegacy[] = {{"shadows", &RenderSettings::shadows},
-                                {"rsm", &RenderSettings::rsm},
-                                {"reflections", &RenderSettings::reflections}};
+                                {"rsm", &RenderSettings::rsm}};
 
 }  // namespace
 

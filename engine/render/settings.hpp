@@ -47,7 +47,6 @@ struct RenderSettings {
     // scene is not planned (see analyze()).
     bool shadows = true;
     bool rsm = false;  // indirect light costs the most; opt-in
-    bool reflections = true;
 
     // Render path (`--path`): forward shades every light per fragment; deferred writes a G-buffer
     // and shades it in a tiled compute pass; auto picks deferred from `deferred.auto_lights` lights.
@@ -106,16 +105,9 @@ struct RenderSettings {
         bool indirect_occlusion = true;       // indirect mode: visibility between bounce points
         bool env_importance = true;           // path/direct: sample environment maps by luminance (MIS)
     } rt;
-    struct Reflections {
-        float max_roughness = 0.3f;  // [0, 1] metallic surfaces rougher than this need no reflection pass
-    } reflections_knobs;
-    struct Probes {
-        int resolution = 128;              // [16, 1024] face size of each reflection probe
-        std::string update = "once";       // once|every_frame: once re-captures when the scene or settings change
-        std::string placement = "scene";   // scene|auto: scene uses extras.reflection_probe nodes (auto if none)
-        int samples = 32;                  // [1, 1024] GGX samples per texel of the prefiltered levels
-        int environment_resolution = 128;  // [16, 1024] face size of the static environment cube
-    } probe;
+    struct EnvironmentMap {
+        int resolution = 128;  // [16, 1024] face size of the static environment's prefiltered cube
+    } environment;
 };
 
 // The effect names of `--effects` (shared/DESIGN.md section 4).

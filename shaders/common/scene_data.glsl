@@ -22,8 +22,7 @@ layout(std140, binding = 0) uniform Frame {
                            // other views (reflection probe faces)
     ivec4 rsm_mode;        // x 1 when the RSM indirect irradiance is bound, y its downscale factor
     vec4 depth_to_view;    // view z of a depth d: (x * d + y) / (z * d + w) (rows of the inverse projection)
-    ivec4 probe_mode;      // x reflection probes bound, y their mip levels, z 1: refraction of
-                           // transmissive surfaces, w 1: the static environment cube is bound
+    ivec4 env_mode;        // x 1: the static environment cube is bound
 } frame;
 
 struct MaterialData {

@@ -35,7 +35,7 @@ void main() {
     vec3 color = s.emission;
     // Transmission needs the refraction lookup (reflections effect); without it the surface is
     // an opaque dielectric.
-    float transmission = frame.probe_mode.z != 0 ? s.transmission : 0.0;
+    float transmission = reflections.refraction != 0 ? s.transmission : 0.0;
     for (int i = 0; i < frame.counts.x; ++i) color += shade_light(i, s.brdf, v_world_pos, s.n, v, pixel, transmission);
     color += shade_ambient(s.brdf, v_world_pos, s.n, v, s.occlusion * ssao_at(pixel), transmission, s.thin);
     color += rsm_indirect(s.brdf, pixel, v_world_pos);

@@ -2,6 +2,7 @@
 // programs, and its uniform block has the same layout in C++ and in the GL.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <set>
 
 #include <nlohmann/json.hpp>
@@ -22,7 +23,11 @@ TEST(EffectRegistry, NamesKnobsAndProgramsBelongToTheirEffect) {
         EXPECT_EQ(find_effect(e->name()), e);
         // Its switch is an --effects name, and its knobs are all "name.knob".
         EXPECT_NE(std::find(effect_names().begin(), effect_names().end(), e->name()), effect_names().end());
-        for (const Knob& k : e->knobs()) EXPECT_EQ(k.info.name.rfind(std::string(e->name()) + ".", 0), 0u) << k.info.name;
+        for (const Knob& k : e->knobs()) {
+            const auto groups = e->knob_groups();
+            EXPECT_TRUE(std::any_of(groups.begin(), groups.end(), [&](const std::string& g) { return k.info.name.rfind(g + ".", 0) == 0; }))
+                << k.info.name;
+        }
         // Its programs are in the catalog, under names no other program has.
         for (const ProgramDesc& p : e->programs()) {
             EXPECT_TRUE(programs.insert(p.name).second) << "duplicate program " << p.name;
@@ -30,6 +35,8 @@ TEST(EffectRegistry, NamesKnobsAndProgramsBelongToTheirEffect) {
         }
     }
     EXPECT_EQ(find_effect("bloom"), nullptr);
+    std::set<std::string> knob_names;
+    for (const Knob& k : knobs()) EXPECT_TRUE(knob_names.insert(k.info.name).second) << "duplicate knob " << k.info.name;
 }
 
 TEST(EffectRegistry, EveryKnobRoundTripsThroughItsRow) {

@@ -3,6 +3,7 @@
 
 #include "core/error.hpp"
 #include "render/frame_graph.hpp"
+#include "effects/reflections/reflections.hpp"
 #include "render/settings.hpp"
 
 namespace candela {
@@ -147,7 +148,7 @@ TEST(Settings, KnobsAreRangeCheckedAndNamed) {
     apply_knob(s, "forward.depth_prepass=on");
     EXPECT_TRUE(s.forward.depth_prepass);
     apply_knob(s, "reflections.max_roughness=0.5");
-    EXPECT_FLOAT_EQ(s.reflections_knobs.max_roughness, 0.5f);
+    EXPECT_FLOAT_EQ(s.get<ReflectionsOptions>().max_roughness, 0.5f);
     auto message = [&](const std::string& assignment) {
         try {
             apply_knob(s, assignment);

@@ -11,7 +11,7 @@
 #include "image/image.hpp"
 #include "reference_fixture.hpp"
 #include "render/environment.hpp"
-#include "render/probes.hpp"
+#include "effects/reflections/reflections.hpp"
 #include "scene/gltf_loader.hpp"
 
 namespace candela {
@@ -258,6 +258,9 @@ TEST_P(ReflectionsTest, GlassRefractsTheRoomCloserThanAnOpaqueDielectric) {
 }
 
 TEST_P(ReflectionsTest, ProbePassRunsOnlyWhenCalledForAndWhenStale) {
+    auto probes = [](const Renderer& r) -> const std::vector<ProbePlacement>& {
+        return r.effect_runtime<ReflectionsRuntime>()->placements();
+    };
     auto passes = [](const Renderer& r) {
         std::vector<std::string> names;
         for (const auto& p : r.last_frame().passes) names.push_back(p.name);
@@ -270,24 +273,24 @@ TEST_P(ReflectionsTest, ProbePassRunsOnlyWhenCalledForAndWhenStale) {
         Renderer r(lib_, scene, gpu, RenderSettings{});
         r.render(scene.select_camera("", 1.0f), 32, 32);
         EXPECT_FALSE(has(passes(r), "env_probe"));
-        EXPECT_TRUE(r.probes().empty());
+        EXPECT_TRUE(probes(r).empty());
     }
     const Scene scene = load_gltf(sample("reflections.gltf"));
     GpuScene gpu(scene);
     Renderer r(lib_, scene, gpu, settings("reflections", {}));
-    ASSERT_EQ(r.probes().size(), 2u);  // the two declared probes, with boxes
-    EXPECT_TRUE(r.probes()[0].has_box);
+    ASSERT_EQ(probes(r).size(), 2u);  // the two declared probes, with boxes
+    EXPECT_TRUE(probes(r)[0].has_box);
     const Camera cam = scene.select_camera("", 1.0f);
     r.render(cam, 32, 32);
     EXPECT_TRUE(has(passes(r), "env_probe"));
     r.render(cam, 32, 32);
     EXPECT_FALSE(has(passes(r), "env_probe")) << "probe.update=once captures once";
-    r.invalidate_probes();
+    r.invalidate_captures();
     r.render(cam, 32, 32);
     EXPECT_TRUE(has(passes(r), "env_probe"));
     r.set_settings(settings("reflections", {"probe.update=every_frame", "probe.placement=auto", "render.path=deferred"}));
-    EXPECT_EQ(r.probes().size(), 2u);  // one per reflective object
-    EXPECT_FALSE(r.probes()[0].has_box);
+    EXPECT_EQ(probes(r).size(), 2u);  // one per reflective object
+    EXPECT_FALSE(probes(r)[0].has_box);
     for (int i = 0; i < 2; ++i) {
         r.render(cam, 32, 32);
         EXPECT_TRUE(has(passes(r), "env_probe"));
@@ -295,7 +298,7 @@ TEST_P(ReflectionsTest, ProbePassRunsOnlyWhenCalledForAndWhenStale) {
         EXPECT_EQ(count_nonfinite(r.read_radiance()), 0u);
     }
     // A probe never captures the object it sits in.
-    for (const ProbePlacement& p : r.probes()) EXPECT_EQ(p.excluded_draws.size(), 1u) << p.origin;
+    for (const ProbePlacement& p : probes(r)) EXPECT_EQ(p.excluded_draws.size(), 1u) << p.origin;
 }
 
 INSTANTIATE_TEST_SUITE_P(Backends, ReflectionsTest, ::testing::Values(Backend::egl), test::backend_name);

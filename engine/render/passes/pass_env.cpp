@@ -41,11 +41,6 @@ void bind_scene_buffers(const PassEnv& env) {
     }
     glBindTextureUnit(13, env.ibl.brdf_lut().id());
     glBindSampler(13, 0);
-    if (env.probes_on) {
-        glBindTextureUnit(14, env.probes.filtered.id());
-        glBindSampler(14, 0);
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, env.probes.data.id());
-    }
     if (env.shadows_on) {
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, env.shadows.views.id());
         glBindTextureUnit(7, env.shadows.array.id());
@@ -56,7 +51,7 @@ void bind_scene_buffers(const PassEnv& env) {
 }
 
 void read_lighting_inputs(FrameGraph::Builder& b, const PassEnv& env, const FrameTargets& targets) {
-    for (const FrameGraph::ResourceId id : {targets.shadow_maps, targets.rsm_indirect, targets.probes})
+    for (const FrameGraph::ResourceId id : {targets.shadow_maps, targets.rsm_indirect})
         if (id >= 0) b.read(id);
     for (const EffectRuntime* e : env.effects) e->read_shading_inputs(b);
 }

@@ -9,7 +9,6 @@
 #include "render/frame_graph.hpp"
 #include "render/environment.hpp"
 #include "render/gpu_scene.hpp"
-#include "render/probes.hpp"
 #include "render/program_cache.hpp"
 #include "render/shadows.hpp"
 #include "render/settings.hpp"
@@ -55,22 +54,6 @@ struct ShadowResources {
     int resolution = 0, layers = 0;
 };
 
-// Reflection probes: captured by the env_probe pass into `capture` (level 0 of each face, then a
-// box-filtered chain), prefiltered into `filtered`, which the shading passes read.
-struct ProbeResources {
-    std::vector<ProbePlacement> placements;
-    gl::Texture capture;   // cube-map array, full mip chain
-    gl::Texture filtered;  // cube-map array, prefiltered_levels(size) levels
-    gl::Texture depth;     // size x size, shared by every face
-    std::vector<gl::Framebuffer> face_fbos;  // per cube face (layer 6 probe + face)
-    gl::Buffer frames;     // FrameData per face at `frame_stride` bytes
-    GLsizeiptr frame_stride = 0;
-    gl::Buffer data;       // ProbeData per probe
-    int size = 0, cubes = 0, levels = 0;
-    bool valid = false;    // captured for the current scene and settings
-    bool sky = false;      // draw the environment behind the captured geometry
-};
-
 struct PassEnv {
     GpuScene& scene;
     const RenderSettings& settings;
@@ -87,8 +70,6 @@ struct PassEnv {
     RsmResources& rsm;
     const ImageBasedLighting& ibl;
     const gl::Texture& env_cube;  // the static environment's prefiltered cube (empty: none)
-    ProbeResources& probes;
-    bool probes_on;               // probes are bound for shading this frame
     // The effect modules' runtimes (engine/effects/), registry order: the shading passes let each
     // declare and bind what it made.
     const std::vector<EffectRuntime*>& effects;
@@ -105,7 +86,6 @@ struct FrameTargets {
     bool prepass_has_blend = false;       // the depth prepass drew BLEND materials as opaque
     FrameGraph::ResourceId rsm = -1;            // the reflective shadow maps (imported)
     FrameGraph::ResourceId rsm_indirect = -1;   // one-bounce irradiance from them
-    FrameGraph::ResourceId probes = -1;         // prefiltered reflection probes (imported)
 };
 
 // Binds the frame UBO, material and light SSBOs, the environment texture and the shadow maps.
@@ -127,8 +107,6 @@ void draw_item(const PassEnv& env, FrameGraph::Context& ctx, const GpuScene::Dra
 
 // The passes, in the order the renderer adds them.
 void add_shadow_pass(FrameGraph& graph, const PassEnv& env, FrameTargets& targets);
-void add_env_probe_pass(FrameGraph& graph, const PassEnv& env, FrameTargets& targets);
-void add_transmissive_pass(FrameGraph& graph, const PassEnv& env, FrameTargets& targets);
 void add_gbuffer_pass(FrameGraph& graph, const PassEnv& env, FrameTargets& targets, bool blend_as_opaque);
 void add_deferred_lighting_pass(FrameGraph& graph, const PassEnv& env, FrameTargets& targets);
 void add_depth_prepass(FrameGraph& graph, const PassEnv& env, FrameTargets& targets);

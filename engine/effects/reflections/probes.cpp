@@ -1,6 +1,8 @@
-#include "render/probes.hpp"
+#include "effects/reflections/probes.hpp"
 
 #include <map>
+
+#include "effects/reflections/reflections.hpp"
 
 namespace candela {
 
@@ -9,9 +11,9 @@ bool is_reflective(const Material& m, float max_roughness) {
 }
 
 std::vector<ProbePlacement> place_probes(const Scene& scene, const std::vector<GpuScene::Draw>& draws,
-                                         const RenderSettings& settings) {
+                                         const ReflectionsOptions& options) {
     std::vector<ProbePlacement> out;
-    if (settings.probe.placement == "scene") {
+    if (options.placement == ProbePlacementMode::scene) {
         for (const Node& node : scene.nodes) {
             if (!node.reflection_probe) continue;
             const ReflectionProbe& rp = *node.reflection_probe;
@@ -35,7 +37,7 @@ std::vector<ProbePlacement> place_probes(const Scene& scene, const std::vector<G
         std::map<int, Bounds> nodes;
         for (const GpuScene::Draw& d : draws)
             if (d.alpha_mode != AlphaMode::blend &&
-                is_reflective(scene.material(d.primitive_material), settings.reflections_knobs.max_roughness))
+                is_reflective(scene.material(d.primitive_material), options.max_roughness))
                 nodes[d.node].extend(d.world_bounds);
         for (const auto& [node, bounds] : nodes) {
             ProbePlacement p;
@@ -43,7 +45,7 @@ std::vector<ProbePlacement> place_probes(const Scene& scene, const std::vector<G
             p.position = bounds.center();
             // Its bounding sphere, slightly enlarged so that every surface point is covered.
             p.radius = 0.5f * glm::length(bounds.extent()) * 1.01f + 1e-4f;
-            p.reflective_only = settings.reflections_knobs.max_roughness;
+            p.reflective_only = options.max_roughness;
             out.push_back(p);
         }
     }

@@ -9,9 +9,10 @@
 #include <glm/glm.hpp>
 
 #include "render/gpu_scene.hpp"
-#include "render/settings.hpp"
 
 namespace candela {
+
+struct ReflectionsOptions;
 
 struct ProbePlacement {
     std::string origin;      // "node 'NAME'" or "auto: 'NAME'"
@@ -33,7 +34,7 @@ constexpr int kMaxProbes = 16;
 bool is_reflective(const Material& m, float max_roughness);
 
 std::vector<ProbePlacement> place_probes(const Scene& scene, const std::vector<GpuScene::Draw>& draws,
-                                         const RenderSettings& settings);
+                                         const ReflectionsOptions& options);
 
 // GPU layout of shaders/lighting/shading.glsl's ProbeData.
 struct ProbeData {

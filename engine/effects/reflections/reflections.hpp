@@ -1,0 +1,71 @@
+#pragma once
+// Reflections (engine/effects/reflections/): reflection probes captured with the forward path
+// and GGX-prefiltered (the env_probe pass), read by the shading of smooth metals and refracting
+// surfaces (reflections_shading.glsl); on the deferred path a transmissive pass re-shades the
+// transmissive surfaces. Probe placement: probes.hpp.
+#include "effects/effect.hpp"
+#include "effects/reflections/probes.hpp"
+#include "render/gpu_scene.hpp"
+
+namespace candela {
+
+enum class ProbeUpdate { once, every_frame };
+inline constexpr ChoiceName<ProbeUpdate> kProbeUpdates[] = {{"once", ProbeUpdate::once}, {"every_frame", ProbeUpdate::every_frame}};
+enum class ProbePlacementMode { scene, automatic };
+inline constexpr ChoiceName<ProbePlacementMode> kProbePlacements[] = {{"scene", ProbePlacementMode::scene},
+                                                                      {"auto", ProbePlacementMode::automatic}};
+
+struct ReflectionsOptions {
+    float max_roughness = 0.3f;  // [0, 1] metallic surfaces rougher than this need no reflection pass
+    int probe_resolution = 128;  // [16, 1024] face size of each reflection probe (probe.resolution)
+    ProbeUpdate update = ProbeUpdate::once;  // once re-captures when the scene or settings change
+    // scene: extras.reflection_probe nodes (auto if none); auto: one per reflective object
+    ProbePlacementMode placement = ProbePlacementMode::scene;
+    int probe_samples = 32;  // [1, 1024] GGX samples per texel of the prefiltered levels (probe.samples)
+};
+
+const Effect& reflections_effect();
+
+// The effect's state in a renderer (Renderer::effect_runtime<ReflectionsRuntime>()).
+class ReflectionsRuntime final : public EffectRuntime {
+public:
+    // The probes of this scene and settings (empty when the effect is not planned).
+    const std::vector<ProbePlacement>& placements() const;
+
+    void configure(const EffectSetup& setup) override;
+    void prepare(const FramePrep& prep) override;
+    void begin_graph(FrameGraph& graph) override;
+    void add_pass(const std::string& name, FrameGraph& graph, const PassEnv& env, FrameTargets& targets) override;
+    void read_shading_inputs(FrameGraph::Builder& b) const override;
+    void bind_shading_inputs(const PassEnv& env, FrameGraph::Context* ctx) const override;
+    void invalidate() override { res_.valid = false; }
+    void inspectables(std::vector<std::pair<std::string, const gl::Texture*>>& out) const override;
+
+private:
+    void prepare_faces(const FramePrep& prep);
+    void add_capture(FrameGraph& graph, const PassEnv& env);
+    void add_transmissive(FrameGraph& graph, const PassEnv& env, FrameTargets& targets);
+
+    // Captured by the env_probe pass into `capture` (level 0 of each face, then a box-filtered
+    // chain), prefiltered into `filtered`, which the shading passes read.
+    struct Resources {
+        std::vector<ProbePlacement> placements;
+        gl::Texture capture;   // cube-map array, full mip chain
+        gl::Texture filtered;  // cube-map array, prefiltered_levels(size) levels
+        gl::Texture depth;     // size x size, shared by every face
+        std::vector<gl::Framebuffer> face_fbos;  // per cube face (layer 6 probe + face)
+        gl::Buffer frames;     // FrameData per face at `frame_stride` bytes
+        GLsizeiptr frame_stride = 0;
+        gl::Buffer data;       // ProbeData per probe
+        int size = 0, cubes = 0, levels = 0;
+        bool valid = false;    // captured for the current scene and settings
+        bool sky = false;      // draw the environment behind the captured geometry
+    } res_;
+    ReflectionsOptions options_;
+    Bounds scene_bounds_;
+    gl::Buffer block_, capture_block_;  // ReflectionsData for the camera's view and for probe faces
+    bool on_ = false;                   // probes are bound for shading this frame
+    FrameGraph::ResourceId probes_id_ = -1;
+};
+
+}  // namespace candela
