@@ -1,5 +1,5 @@
 #pragma once
-// An effect module (shared/DESIGN.md section 1, engine/effects/README.md): one folder holding the
+// An effect module (shared/DESIGN.md section 1, docs/effects.md): one folder holding the
 // effect's options and knob rows, its planning (on/off with the reason, the passes it adds), its
 // passes, programs and persistent GPU resources, its uniform block (a header shared by C++ and
 // GLSL) and its accuracy sweep. The registry (effects/registry.cpp) lists them; the renderer,
@@ -17,6 +17,7 @@
 
 namespace candela {
 
+struct Bounds;
 struct Camera;
 struct EffectDecision;
 struct Scene;
@@ -49,12 +50,22 @@ struct GpuBlockInfo {
     const char* program;  // a program that declares it
 };
 
+// What the light buffer holds (GpuScene::update_lights); effects fill in their part.
+struct LightSetup {
+    int area_samples = 0;   // raster pieces per emissive primitive (0: emitters are not lights)
+    bool shadows = false;   // lights get shadow views
+    int cascades = 1;       // views of a directional light
+    int max_shadowed = 0;   // lights with shadow views at most
+};
+
 class Effect {
 public:
     virtual ~Effect() = default;
     // The name of `--effects`, of the knob prefix (`ssao.samples`) and of the JSON keys.
     virtual const char* name() const = 0;
     virtual bool on_by_default() const { return true; }
+    // False for an effect that always runs when the scene calls for it (not in --effects).
+    virtual bool switchable() const { return true; }
     // A default-constructed options struct of this effect, and its knob rows (prefix name()).
     virtual std::any default_options() const = 0;
     virtual std::vector<Knob> knobs() const = 0;
@@ -72,6 +83,8 @@ public:
     // True when the planned effect draws the BLEND materials itself (otherwise the opaque passes
     // draw them as opaque).
     virtual bool draws_blended_surfaces() const { return false; }
+    // Its part of the light buffer's layout (decided with the features, before the path).
+    virtual void light_setup(const RenderSettings& /*s*/, const EffectDecision& /*d*/, LightSetup& /*out*/) const {}
 
     // Every program this effect can build (the catalog: `candela shaders check`, hot reload).
     virtual std::vector<ProgramDesc> programs() const { return {}; }
@@ -98,8 +111,17 @@ struct FramePrep {
     GpuScene& gpu;
     const Camera& camera;
     float aspect;
+    const Bounds& scene_bounds;
     int width, height;
     FrameData& frame;                // the frame's constants, before upload
+    // Every effect's runtime, registry order (prepared before this one: those earlier in it).
+    const std::vector<EffectRuntime*>& effects;
+    template <class Runtime>
+    const Runtime* runtime() const {
+        for (const EffectRuntime* e : effects)
+            if (const auto* r = dynamic_cast<const Runtime*>(e)) return r;
+        return nullptr;
+    }
 };
 
 class EffectRuntime {

@@ -6,6 +6,8 @@
 #include <cmath>
 #include <cstdio>
 #include <functional>
+#include <optional>
+#include <string_view>
 #include <string>
 #include <utility>
 #include <vector>
@@ -45,6 +47,14 @@ const char* choice_name(const ChoiceName<E> (&names)[N], E value) {
     for (const auto& c : names)
         if (c.value == value) return c.name;
     return "?";
+}
+
+// The value named `text`, if any.
+template <class E, std::size_t N>
+std::optional<E> parse_choice(const ChoiceName<E> (&names)[N], std::string_view text) {
+    for (const auto& c : names)
+        if (text == c.name) return c.value;
+    return std::nullopt;
 }
 
 // Rows over the options struct O, which `access` finds in a RenderSettings.

@@ -47,30 +47,23 @@ Features analyze(const Scene& scene, const RenderSettings& s) {
     f.environment = scene.environment.present();
     f.punctual_lights = static_cast<int>(scene.placed_lights().size());
     const SceneFeatures& sf = f.scene;
-    f.shadows = decide("shadows", s.shadows, sf.shadows.needed, true, sf.shadows.reason, s.gating);
-    // Area-light pieces: arealight.samples per emissive primitive drawn.
-    f.area_light_pieces = sf.emissive_primitives * s.arealight.samples;
+    // The effect modules decide in registry order (an effect may read the decisions before it),
+    // then say what the light buffer holds (LightSetup).
+    for (const Effect* e : effect_registry()) {
+        f.modules.push_back(e->decide(f, s));
+        if (f.modules.back().planned && e->draws_blended_surfaces()) f.blended_drawn = true;
+    }
+    for (size_t i = 0; i < effect_registry().size(); ++i) effect_registry()[i]->light_setup(s, f.modules[i], f.lights);
+    f.area_light_pieces = sf.emissive_primitives * f.lights.area_samples;
     const int light_count = f.punctual_lights + f.area_light_pieces;
-    if (s.path == "forward" || s.path == "deferred") {
-        f.deferred = s.path == "deferred";
-        f.path_reason = "--path " + s.path;
+    if (s.path != RenderPath::automatic) {
+        f.deferred = s.path == RenderPath::deferred;
+        f.path_reason = std::string("--path ") + choice_name(kRenderPaths, s.path);
     } else {
         f.deferred = light_count >= s.deferred.auto_lights;
         f.path_reason = "auto: " + std::to_string(light_count) + " light(s) " + (f.deferred ? ">= " : "< ") +
                         std::to_string(s.deferred.auto_lights) + " (deferred.auto_lights)";
     }
-    for (const Effect* e : effect_registry()) {
-        f.modules.push_back(e->decide(f, s));
-        if (f.modules.back().planned && e->draws_blended_surfaces()) f.blended_drawn = true;
-    }
-    // RSM renders from the lights' shadow views: it needs the shadow pass and a punctual light
-    // with a shadow map (area-light pieces get none).
-    const bool rsm_needed = f.shadows.planned && f.punctual_lights > 0 && s.shadow.max_lights > 0;
-    f.rsm = decide("rsm", s.rsm || s.debug.view == "indirect", rsm_needed, true,
-                   rsm_needed ? std::to_string(std::min(f.punctual_lights, s.rsm_knobs.max_lights)) + " shadowed punctual light(s) to bounce"
-                   : f.punctual_lights == 0 ? "no punctual light (area-light pieces have no RSM)"
-                                           : "no shadow pass for the RSM to reuse the light views of",
-                   s.gating || !f.shadows.planned);  // without shadow views there is nothing to run it on
     return f;
 }
 
@@ -81,32 +74,24 @@ std::vector<PlannedPass> plan_passes(const Features& f, const RenderSettings& s)
         for (size_t i = 0; i < effect_registry().size(); ++i)
             if (f.modules[i].planned) effect_registry()[i]->plan(stage, f, s, plan);
     };
-    if (f.shadows.planned) plan.push_back({"shadow_maps", f.shadows.reason.substr(4), nullptr, {"shadow"}});
     add_stage(Stage::light_views);
-    if (f.rsm.planned) plan.push_back({"rsm", f.rsm.reason.substr(4), nullptr, {"rsm"}});
     const std::string what = f.blended_drawn ? "opaque and masked geometry"
-                             : f.scene.transparency.needed ? "all geometry (BLEND drawn as opaque: transparency off)"
+                             : f.scene.transparency.needed ? "all geometry (BLEND drawn as opaque: no planned effect draws it)"
                                                      : "all geometry";
-    auto add_gather = [&] {
-        if (f.rsm.planned) plan.push_back({"rsm_indirect", "gather rsm.samples texels per pixel, rsm.gather=" + s.rsm_knobs.gather, nullptr, {"rsm_gather"}});
-    };
-    auto add_ssao = [&] { add_stage(Stage::screen); };
     // The planned module that reads depth and normals before shading (forward path: a prepass).
     const char* screen_reader = nullptr;
     for (size_t i = 0; i < effect_registry().size() && !screen_reader; ++i)
         if (f.modules[i].planned) screen_reader = effect_registry()[i]->needs_depth_normals();
     if (f.deferred) {
         plan.push_back({"gbuffer", what + "; deferred path, " + f.path_reason, nullptr, {"gbuffer"}});
-        add_ssao();
-        add_gather();
+        add_stage(Stage::screen);
         plan.push_back({"deferred_lighting", "tiled light culling and shading of the G-buffer", nullptr, {"deferred_light"}});
         add_stage(Stage::after_lighting);
     } else {
-        if (screen_reader || f.rsm.planned)
-            plan.push_back({"depth_normal_prepass", std::string(screen_reader ? screen_reader : "RSM") + " needs depth and normals before shading", nullptr, {"depth_normals"}});
+        if (screen_reader)
+            plan.push_back({"depth_normal_prepass", std::string(screen_reader) + " needs depth and normals before shading", nullptr, {"depth_normals"}});
         else if (s.forward.depth_prepass) plan.push_back({"depth_prepass", "forward.depth_prepass=1", nullptr, {"forward"}});
-        add_ssao();
-        add_gather();
+        add_stage(Stage::screen);
         plan.push_back({"forward_opaque", what + "; forward path, " + f.path_reason, nullptr, {"forward"}});
         add_stage(Stage::after_lighting);
     }

@@ -8,6 +8,7 @@
 
 #include <nlohmann/json_fwd.hpp>
 
+#include "effects/effect.hpp"
 #include "render/settings.hpp"
 #include "scene/features.hpp"
 #include "scene/scene.hpp"
@@ -23,16 +24,15 @@ struct EffectDecision {
     std::string reason;        // "on: 5 BLEND materials", "off: no BLEND materials", ...
 };
 
-class Effect;
 
 // The decision helper of every effect: `gating` false (render.gating=off) plans a switched-on
 // effect even when the scene does not need it (the gating property test renders both ways).
 EffectDecision decide_effect(const char* name, bool enabled, bool needed, const std::string& need_reason, bool gating);
 
 struct Features {
-    EffectDecision shadows, rsm;
     // The registered effect modules' decisions (engine/effects/registry.cpp), in registry order.
     std::vector<EffectDecision> modules;
+    LightSetup lights;  // what the light buffer holds (the effects' light_setup)
     const Scene* source = nullptr;  // the analyzed scene
     bool environment = false;  // sky pass and ambient term
     bool blended_drawn = false;  // a planned effect draws the BLEND materials (else they are drawn opaque)
@@ -42,7 +42,7 @@ struct Features {
     std::string path_reason;
     SceneFeatures scene;
     std::vector<const EffectDecision*> effects() const {
-        std::vector<const EffectDecision*> v = {&shadows, &rsm};
+        std::vector<const EffectDecision*> v;
         for (const EffectDecision& d : modules) v.push_back(&d);
         return v;
     }

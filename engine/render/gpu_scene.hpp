@@ -20,16 +20,13 @@ struct FrameData {  // std140, binding 0
     glm::vec4 env_radiance;
     glm::vec4 env_sh[9];
     glm::ivec4 counts;       // x lights in the buffer, y env mips, z punctual lights
-    glm::ivec4 shadow_mode;  // x filter (0 off 1 hard 2 pcf 3 pcss), y pcf size, z/w pcss taps
-    glm::vec4 shadow_bias;   // x normal, y depth (texels), z resolution, w max radius (texels)
-    glm::vec4 shadow_bias2;  // x receiver-slope bias of filter taps
     glm::ivec4 debug;        // x view (0 radiance, 1 visibility, 2 ssao), y light
     glm::vec4 viewport;      // w, h, 1/w, 1/h
     glm::ivec4 view_flags;   // x 1: the camera's view (screen-space effect buffers valid); 0: probe faces
-    glm::ivec4 rsm_mode;     // x on, y downscale
     glm::vec4 depth_to_view; // view z of depth d: (x d + y) / (z d + w)
     glm::ivec4 env_mode;     // x 1: the static environment cube is bound
 };
+static_assert(sizeof(FrameData) == 528, "FrameData: update shaders/common/scene_data.glsl's Frame block too");
 
 struct MaterialData {  // std430, binding 1
     glm::vec4 base_color;

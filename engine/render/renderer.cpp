@@ -38,8 +38,8 @@ Renderer::Renderer(const ShaderLibrary& shaders, const Scene& scene, GpuScene& g
 void Renderer::set_settings(const RenderSettings& settings) {
     settings_ = settings;
     features_ = analyze(scene_, settings_);
-    gpu_.update_lights(settings_.arealight.samples, features_.shadows.planned, settings_.shadow.cascades,
-                       settings_.shadow.max_lights);
+    const LightSetup& ls = features_.lights;
+    gpu_.update_lights(ls.area_samples, ls.shadows, ls.cascades, ls.max_shadowed);
     features_.area_light_pieces = gpu_.light_count() - gpu_.punctual_light_count();
     // The static environment map as a prefiltered cube (start-up, and when its size changes).
     if (gpu_.has_environment_map() && env_cube_size_ != settings_.environment.resolution) {
@@ -57,118 +57,6 @@ ShaderReload Renderer::reload_shaders(const std::vector<std::filesystem::path>& 
     ShaderReload report = programs_.reload(changed);
     if (!report.rebuilt.empty()) invalidate_captures();  // captured with the old shading
     return report;
-}
-
-void Renderer::prepare_rsm() {
-    RsmResources& r = rsm_;
-    const auto& infos = gpu_.light_infos();
-    const auto placed = scene_.placed_lights();
-    // The RSM lights: punctual lights with shadow views, directional first, then the brightest.
-    std::vector<int> chosen;
-    for (int i = 0; i < gpu_.punctual_light_count(); ++i)
-        if (infos[static_cast<size_t>(i)].view_count > 0) chosen.push_back(i);
-    auto priority = [&](int i) {
-        const Light& l = *placed[static_cast<size_t>(i)].light;
-        if (l.type == LightType::directional) return 1e30f;
-        return (l.color.r + l.color.g + l.color.b) * l.intensity;
-    };
-    std::stable_sort(chosen.begin(), chosen.end(), [&](int a, int b) { return priority(a) > priority(b); });
-    if (chosen.size() > static_cast<size_t>(settings_.rsm_knobs.max_lights)) chosen.resize(static_cast<size_t>(settings_.rsm_knobs.max_lights));
-    r.views.clear();
-    r.kind_texel.clear();
-    r.light_first.clear();
-    const float scale = static_cast<float>(settings_.shadow.resolution) / static_cast<float>(settings_.rsm_knobs.resolution);
-    for (int li : chosen) {
-        const LightInfo& info = infos[static_cast<size_t>(li)];
-        // A directional light's RSM covers the whole scene (bounce surfaces outside the view
-        // light what is in it); spot and point lights reuse their shadow views.
-        const bool directional = info.kind == LightInfo::Kind::directional;
-        const int count = directional ? 1 : info.view_count;
-        const int first = static_cast<int>(r.views.size());
-        r.light_first.push_back(first);
-        for (int k = 0; k < count; ++k) {
-            const ShadowViewData sv =
-                directional ? directional_scene_view(info.direction, scene_bounds_, settings_.rsm_knobs.resolution)
-                            : shadows_.cpu.views[static_cast<size_t>(info.first_view + k)];
-            // Cube faces: their tangent half-width (a guard band beyond 90 degrees), for the gather.
-            const float half_width = count == 6 ? sv.params.y * static_cast<float>(settings_.shadow.resolution) * 0.5f : 1.0f;
-            r.views.push_back({sv.view_proj, glm::vec4(static_cast<float>(li), static_cast<float>(first), static_cast<float>(count), half_width)});
-            r.kind_texel.push_back(glm::vec4(sv.params.x, directional ? sv.params.y : sv.params.y * scale, 0.0f, 0.0f));
-        }
-    }
-    const int res = settings_.rsm_knobs.resolution;
-    const int layers = std::max<int>(1, static_cast<int>(r.views.size()));
-    if (r.resolution != res || r.layers != layers) {
-        auto make = [&](GLenum format) {
-            GLuint id = 0;
-            glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &id);
-            glTextureStorage3D(id, 1, format, res, res, layers);
-            return gl::Texture::adopt(id, res, res, format);
-        };
-        r.position = make(GL_RGBA32F);
-        r.normal = make(GL_RGBA16F);
-        r.flux = make(GL_RGBA16F);
-        r.depth = make(GL_DEPTH_COMPONENT32F);
-        r.layer_fbos.clear();
-        for (int layer = 0; layer < layers; ++layer) {
-            gl::Framebuffer fbo = gl::Framebuffer::create();
-            const GLuint colors[3] = {r.position.id(), r.normal.id(), r.flux.id()};
-            for (int i = 0; i < 3; ++i)
-                glNamedFramebufferTextureLayer(fbo.id(), GL_COLOR_ATTACHMENT0 + static_cast<GLenum>(i), colors[i], 0, layer);
-            glNamedFramebufferTextureLayer(fbo.id(), GL_DEPTH_ATTACHMENT, r.depth.id(), 0, layer);
-            const GLenum buffers[3] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2};
-            glNamedFramebufferDrawBuffers(fbo.id(), 3, buffers);
-            fbo.check_complete("reflective shadow map layer");
-            r.layer_fbos.push_back(std::move(fbo));
-        }
-        r.resolution = res;
-        r.layers = layers;
-    }
-    std::vector<RsmResources::View> views = r.views;
-    if (views.empty()) views.push_back({});
-    const auto bytes = static_cast<GLsizeiptr>(views.size() * sizeof(RsmResources::View));
-    if (!r.views_buffer || r.views_bytes != bytes) {
-        r.views_buffer = gl::Buffer(bytes, nullptr, GL_DYNAMIC_STORAGE_BIT);
-        r.views_bytes = bytes;
-    }
-    r.views_buffer.update(0, bytes, views.data());
-}
-
-void Renderer::prepare_shadows(const Camera& camera, float aspect) {
-    ShadowResources& sr = shadows_;
-    const int res = settings_.shadow.resolution;
-    const int layers = std::max(gpu_.shadow_view_count(), 1);
-    if (sr.resolution != res || sr.layers != layers) {
-        GLuint id = 0;
-        glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &id);
-        glTextureStorage3D(id, 1, GL_DEPTH_COMPONENT32F, res, res, layers);
-        sr.array = gl::Texture::adopt(id, res, res, GL_DEPTH_COMPONENT32F);
-        sr.layer_fbos.clear();
-        for (int layer = 0; layer < layers; ++layer) {
-            gl::Framebuffer fbo = gl::Framebuffer::create();
-            glNamedFramebufferTextureLayer(fbo.id(), GL_DEPTH_ATTACHMENT, id, 0, layer);
-            glNamedFramebufferDrawBuffer(fbo.id(), GL_NONE);
-            fbo.check_complete("shadow map layer");
-            sr.layer_fbos.push_back(std::move(fbo));
-        }
-        sr.resolution = res;
-        sr.layers = layers;
-    }
-    if (!sr.compare) {
-        sr.compare = gl::Sampler::create(GL_LINEAR, GL_LINEAR, GL_CLAMP_TO_EDGE, GL_CLAMP_TO_EDGE);
-        glSamplerParameteri(sr.compare.id(), GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
-        glSamplerParameteri(sr.compare.id(), GL_TEXTURE_COMPARE_FUNC, GL_GEQUAL);  // lit: ref >= stored (reversed-Z)
-        sr.raw = gl::Sampler::create(GL_NEAREST, GL_NEAREST, GL_CLAMP_TO_EDGE, GL_CLAMP_TO_EDGE);
-    }
-    sr.cpu = build_shadow_views(gpu_, scene_bounds_, camera, aspect, settings_.shadow);
-    std::vector<ShadowViewData> views = sr.cpu.views;
-    if (views.empty()) views.push_back({});
-    const auto bytes = static_cast<GLsizeiptr>(views.size() * sizeof(ShadowViewData));
-    if (!sr.views || sr.views_bytes != bytes) {
-        sr.views = gl::Buffer(bytes, nullptr, GL_DYNAMIC_STORAGE_BIT);
-        sr.views_bytes = bytes;
-    }
-    sr.views.update(0, bytes, views.data());
 }
 
 void Renderer::render(const Camera& camera, int width, int height, FrameOutput output, float exposure_ev) {
@@ -195,52 +83,31 @@ void Renderer::render(const Camera& camera, int width, int height, FrameOutput o
     frame.env_radiance = glm::vec4(gpu_.environment_radiance(), gpu_.has_environment_map() ? 1.0f : 0.0f);
     for (int i = 0; i < 9; ++i) frame.env_sh[i] = glm::vec4(gpu_.environment_sh()[static_cast<size_t>(i)], 0.0f);
     frame.counts = glm::ivec4(gpu_.light_count(), gpu_.environment_mips(), gpu_.punctual_light_count(), 0);
-    const bool shadows_on = features_.shadows.planned;
-    if (shadows_on) {
-        prepare_shadows(camera, aspect);
-        const std::string& f = settings_.shadow.filter;
-        frame.shadow_mode = glm::ivec4(f == "hard" ? 1 : f == "pcf" ? 2 : 3, settings_.shadow.pcf_size,
-                                       settings_.shadow.pcss_blocker_taps, settings_.shadow.pcss_taps);
-        frame.shadow_bias = glm::vec4(settings_.shadow.normal_bias, settings_.shadow.depth_bias,
-                                      static_cast<float>(settings_.shadow.resolution), settings_.shadow.max_radius);
-        frame.shadow_bias2 = glm::vec4(settings_.shadow.receiver_slope_bias, 0.0f, 0.0f, 0.0f);
-    }
-    frame.debug = glm::ivec4(settings_.debug.view == "visibility" ? 1 : settings_.debug.view == "ao" ? 2 : 0,
+    frame.debug = glm::ivec4(settings_.debug.view == DebugView::visibility ? 1 : settings_.debug.view == DebugView::ao ? 2 : 0,
                              settings_.debug.light, 0, 0);
     frame.viewport = glm::vec4(static_cast<float>(width), static_cast<float>(height), 1.0f / static_cast<float>(width),
                                1.0f / static_cast<float>(height));
-    if (features_.rsm.planned) {
-        prepare_rsm();
-        const std::string& g = settings_.rsm_knobs.gather;
-        frame.rsm_mode = glm::ivec4(1, g == "quarter" ? 4 : g == "half" ? 2 : 1, 0, 0);
-    }
-    if (settings_.debug.view == "indirect") frame.debug.x = 3;
+    if (settings_.debug.view == DebugView::indirect) frame.debug.x = 3;
     frame.view_flags = glm::ivec4(1, 0, 0, 0);  // the camera's view
     frame.env_mode.x = env_cube_ ? 1 : 0;
     frame.counts.y = env_cube_ ? env_cube_levels_ : 1;
     for (size_t i = 0; i < effects_.size(); ++i)
-        effects_[i]->prepare({settings_, features_, features_.modules[i], gpu_, camera, aspect, width, height, frame});
+        effects_[i]->prepare(
+            {settings_, features_, features_.modules[i], gpu_, camera, aspect, scene_bounds_, width, height, frame, effect_ptrs_});
     frame_ubo_.update(0, sizeof(FrameData), &frame);
 
-    const PassEnv env{gpu_,       settings_, frame,      width,         height, frame_ubo_, fbos_,     programs_,
-                      empty_vao_, shadows_,  shadows_on, linear_clamp_, rsm_,   ibl_,       env_cube_, effect_ptrs_};
+    const PassEnv env{gpu_,       settings_,     frame, width,     height,      frame_ubo_, fbos_, programs_,
+                      empty_vao_, linear_clamp_, ibl_,  env_cube_, effect_ptrs_};
     FrameGraph graph;
     FrameTargets targets;
     targets.hdr = graph.import_texture("hdr", output_, {GL_RGBA32F, width, height});
-    if (shadows_on)
-        targets.shadow_maps = graph.import_texture("shadow_maps", shadows_.array,
-                                                   {GL_DEPTH_COMPONENT32F, shadows_.resolution, shadows_.resolution});
-    if (features_.rsm.planned) targets.rsm = graph.import_texture("rsm", rsm_.position, {GL_RGBA32F, rsm_.resolution, rsm_.resolution});
     for (const auto& e : effects_) e->begin_graph(graph);
     for (const PlannedPass& pass : plan_passes(features_, settings_)) {
         if (pass.owner) {
             const auto& reg = effect_registry();
             const size_t i = static_cast<size_t>(std::find(reg.begin(), reg.end(), pass.owner) - reg.begin());
             effects_.at(i)->add_pass(pass.name, graph, env, targets);
-        } else if (pass.name == "shadow_maps") add_shadow_pass(graph, env, targets);
-        else if (pass.name == "rsm") add_rsm_pass(graph, env, targets);
-        else if (pass.name == "rsm_indirect") add_rsm_gather_pass(graph, env, targets);
-        else if (pass.name == "gbuffer") add_gbuffer_pass(graph, env, targets, !features_.blended_drawn);
+        } else if (pass.name == "gbuffer") add_gbuffer_pass(graph, env, targets, !features_.blended_drawn);
         else if (pass.name == "deferred_lighting") add_deferred_lighting_pass(graph, env, targets);
         else if (pass.name == "depth_prepass") add_depth_prepass(graph, env, targets);
         else if (pass.name == "depth_normal_prepass") add_depth_normal_prepass(graph, env, targets, !features_.blended_drawn);
@@ -307,8 +174,6 @@ void Renderer::render(const Camera& camera, int width, int height, FrameOutput o
         if (r.imported || r.slot >= 0) inspectable_.push_back(r.name);
         if (static_cast<int>(i) == inspected_id) inspected_ = r.imported ? r.imported : &pool_.texture(r.slot);
     }
-    if (rsm_.flux) inspectable_.push_back("rsm_flux");
-    if (inspect_ == "rsm_flux" && rsm_.flux) inspected_ = &rsm_.flux;
     std::vector<std::pair<std::string, const gl::Texture*>> owned;
     for (const auto& e : effects_) e->inspectables(owned);
     for (const auto& [name, texture] : owned) {

@@ -74,8 +74,6 @@ public:
     const gl::Texture& output() const { return output_; }
     const gl::Texture& display() const { return display_; }
     const TexturePool& pool() const { return pool_; }
-    // This frame's shadow views (empty when the shadow pass did not run).
-    const ShadowViews& shadow_views() const { return shadows_.cpu; }
     // The runtime of a registered effect, by its class (e.g. ReflectionsRuntime); nullptr if none.
     template <class Runtime>
     const Runtime* effect_runtime() const {
@@ -91,7 +89,7 @@ public:
     const gl::Texture& environment_cube() const { return env_cube_; }
     // Buffer inspection (the viewer): keep the frame-graph resource `name` alive to the frame's
     // end (not aliased) so that inspected() returns it after render(); "" stops. Besides the
-    // graph's resources: "rsm_flux" and the textures effects own (EffectRuntime::inspectables).
+    // graph's resources: the textures effects own (EffectRuntime::inspectables: rsm_flux, probe_cube).
     void set_inspect(const std::string& name) { inspect_ = name; }
     const gl::Texture* inspected() const { return inspected_; }
     // The names that can be inspected after the last frame.
@@ -103,16 +101,12 @@ public:
     void set_verify_state(bool on) { verify_state_ = on; }
 
 private:
-    void prepare_shadows(const Camera& camera, float aspect);
-    void prepare_rsm();  // after prepare_shadows: the RSM views are shadow views
 
     const ShaderLibrary& shaders_;
     const Scene& scene_;
     GpuScene& gpu_;
     Bounds scene_bounds_;
-    ShadowResources shadows_;
     gl::Sampler linear_clamp_;
-    RsmResources rsm_;
     ImageBasedLighting ibl_;
     gl::Texture env_cube_;   // static environment map, prefiltered (empty without a map)
     int env_cube_size_ = 0, env_cube_levels_ = 1;

@@ -12,156 +12,46 @@
 namespace candela {
 namespace {
 
-[[noreturn]] void out_of_range(const KnobInfo& k, const std::string& value) {
-    throw bad_input("--set " + k.name + "=" + value + ": expected " + k.type + " in " + k.range);
-}
-
-
-template <typename Get>
-Knob make_int(const char* name, int lo, int hi, Get ref, const char* help) {
-    KnobInfo info{name, "int", "[" + std::to_string(lo) + ", " + std::to_string(hi) + "]", help};
-    return {info,
-            [=](RenderSettings& s, const std::string& v) {
-                try {
-                    size_t used = 0;
-                    const long x = std::stol(v, &used);
-                    if (used == v.size() && x >= lo && x <= hi) {
-                        ref(s) = static_cast<int>(x);
-                        return;
-                    }
-                } catch (const std::exception&) {
-                }
-                out_of_range(info, v);
-            },
-            [=](const RenderSettings& s) { return nlohmann::json(ref(const_cast<RenderSettings&>(s))); }};
-}
-
-template <typename Get>
-Knob make_float(const char* name, float lo, float hi, Get ref, const char* help) {
-    char range[64];
-    std::snprintf(range, sizeof range, "[%g, %g]", lo, hi);
-    KnobInfo info{name, "float", range, help};
-    return {info,
-            [=](RenderSettings& s, const std::string& v) {
-                try {
-                    size_t used = 0;
-                    const float x = std::stof(v, &used);
-                    if (used == v.size() && std::isfinite(x) && x >= lo && x <= hi) {
-                        ref(s) = x;
-                        return;
-                    }
-                } catch (const std::exception&) {
-                }
-                out_of_range(info, v);
-            },
-            [=](const RenderSettings& s) { return nlohmann::json(ref(const_cast<RenderSettings&>(s))); }};
-}
-
-template <typename Get>
-Knob make_bool(const char* name, Get ref, const char* help) {
-    KnobInfo info{name, "bool", "0|1|true|false|on|off", help};
-    return {info,
-            [=](RenderSettings& s, const std::string& v) {
-                if (v == "1" || v == "true" || v == "on") ref(s) = true;
-                else if (v == "0" || v == "false" || v == "off") ref(s) = false;
-                else out_of_range(info, v);
-            },
-            [=](const RenderSettings& s) { return nlohmann::json(ref(const_cast<RenderSettings&>(s))); }};
-}
-
-template <typename Get>
-Knob make_choice(const char* name, std::vector<std::string> choices, Get ref, const char* help) {
-    std::string range;
-    for (const auto& c : choices) range += (range.empty() ? "" : "|") + c;
-    KnobInfo info{name, "choice", range, help};
-    return {info,
-            [=](RenderSettings& s, const std::string& v) {
-                for (const auto& c : choices)
-                    if (c == v) {
-                        ref(s) = v;
-                        return;
-                    }
-                out_of_range(info, v);
-            },
-            [=](const RenderSettings& s) { return nlohmann::json(ref(const_cast<RenderSettings&>(s))); }};
-}
-
-std::vector<Knob> legacy_knobs() {
-    return {
-        make_bool("forward.depth_prepass", [](RenderSettings& s) -> bool& { return s.forward.depth_prepass; },
-                  "draw depth first, then shade each pixel once"),
-        make_choice("render.path", {"auto", "forward", "deferred"}, [](RenderSettings& s) -> std::string& { return s.path; },
-                    "render path (--path); auto: deferred from deferred.auto_lights lights"),
-        make_bool("render.gating", [](RenderSettings& s) -> bool& { return s.gating; },
-                  "skip the effects the scene does not call for; off runs every switched-on effect (the image must not change)"),
-        make_int("deferred.auto_lights", 1, 100000, [](RenderSettings& s) -> int& { return s.deferred.auto_lights; },
-                 "--path auto renders deferred from this many lights (measured: see README)"),
-        make_int("shadows.resolution", 64, 8192, [](RenderSettings& s) -> int& { return s.shadow.resolution; },
-                 "texels per side of every shadow view"),
-        make_choice("shadows.filter", {"hard", "pcf", "pcss"}, [](RenderSettings& s) -> std::string& { return s.shadow.filter; },
-                    "hard: one 2x2 hardware PCF tap; pcf: pcf_size^2 taps; pcss: blocker search + variable kernel"),
-        make_int("shadows.pcf_size", 1, 15, [](RenderSettings& s) -> int& { return s.shadow.pcf_size; },
-                 "PCF kernel width in taps (each tap is a 2x2 hardware PCF)"),
-        make_int("shadows.pcss_blocker_taps", 1, 128, [](RenderSettings& s) -> int& { return s.shadow.pcss_blocker_taps; },
-                 "PCSS blocker-search taps"),
-        make_int("shadows.pcss_taps", 1, 256, [](RenderSettings& s) -> int& { return s.shadow.pcss_taps; },
-                 "PCSS filter taps"),
-        make_float("shadows.max_radius", 1.0f, 64.0f, [](RenderSettings& s) -> float& { return s.shadow.max_radius; },
-                   "largest PCSS search/filter radius in texels"),
-        make_float("shadows.normal_bias", 0.0f, 16.0f, [](RenderSettings& s) -> float& { return s.shadow.normal_bias; },
-                   "receiver offset along its normal, in shadow texels"),
-        make_float("shadows.depth_bias", 0.0f, 16.0f, [](RenderSettings& s) -> float& { return s.shadow.depth_bias; },
-                   "receiver depth moved towards the light, in shadow texels"),
-        make_float("shadows.slope_bias", 0.0f, 16.0f, [](RenderSettings& s) -> float& { return s.shadow.slope_bias; },
-                   "slope-scaled polygon offset factor of the caster pass"),
-        make_float("shadows.receiver_slope_bias", 0.0f, 4.0f, [](RenderSettings& s) -> float& { return s.shadow.receiver_slope_bias; },
-                   "extra depth bias of a filter tap r texels out: r * tan(theta) texels times this"),
-        make_int("shadows.cascades", 1, 4, [](RenderSettings& s) -> int& { return s.shadow.cascades; },
-                 "cascades of a directional light's shadow map"),
-        make_int("shadows.max_lights", 0, 4096, [](RenderSettings& s) -> int& { return s.shadow.max_lights; },
-                 "shadow-casting lights at most: directional first, then the brightest"),
-        make_float("shadows.split_lambda", 0.0f, 1.0f, [](RenderSettings& s) -> float& { return s.shadow.split_lambda; },
-                   "cascade split blend: 0 uniform, 1 logarithmic"),
-        make_int("arealight.samples", 1, 64, [](RenderSettings& s) -> int& { return s.arealight.samples; },
-                 "shadowed Lambertian pieces per emissive mesh (raster area-light approximation)"),
-        make_int("rsm.resolution", 16, 4096, [](RenderSettings& s) -> int& { return s.rsm_knobs.resolution; },
-                 "texels per side of each light's reflective shadow map"),
-        make_int("rsm.samples", 1, 1024, [](RenderSettings& s) -> int& { return s.rsm_knobs.samples; },
-                 "RSM texels gathered per pixel and light"),
-        make_choice("rsm.gather", {"full", "half", "quarter"}, [](RenderSettings& s) -> std::string& { return s.rsm_knobs.gather; },
-                    "resolution of the RSM gather pass"),
-        make_float("rsm.radius", 1e-3f, 1.0f, [](RenderSettings& s) -> float& { return s.rsm_knobs.radius; },
-                   "RSM sampling radius, as a fraction of the map's width"),
-        make_int("rsm.max_lights", 1, 8, [](RenderSettings& s) -> int& { return s.rsm_knobs.max_lights; },
-                 "lights with a reflective shadow map: directional first, then the brightest"),
-        make_choice("debug.view", {"none", "visibility", "ao", "indirect"}, [](RenderSettings& s) -> std::string& { return s.debug.view; },
-                    
-                    
-                    "visibility: light debug.light's visibility (0..1); ao: the SSAO buffer; indirect: RSM light; instead of radiance"),
-        make_int("debug.light", 0, 1000000, [](RenderSettings& s) -> int& { return s.debug.light; },
-                 "the light of debug.view=visibility; >= the punctual light count: all area lights"),
-        make_float("ao.radius", 1e-6f, 1e9f, [](RenderSettings& s) -> float& { return s.ao.radius; },
-                   "ambient occlusion radius in world units (SSAO and --raytrace ao)"),
-        make_choice("rt.jitter", {"auto", "on", "off"}, [](RenderSettings& s) -> std::string& { return s.rt.jitter; },
-                    "jittered primary rays; auto: on for path and whitted, off for the raster references"),
-        make_float("rt.whitted_max_roughness", 0.0f, 1.0f, [](RenderSettings& s) -> float& { return s.rt.whitted_max_roughness; },
-                   "surfaces at most this rough reflect as mirrors in whitted mode"),
-        make_bool("rt.indirect_occlusion", [](RenderSettings& s) -> bool& { return s.rt.indirect_occlusion; },
-                  "--raytrace indirect: 0 ignores visibility between the bounce points (RSM's own model)"),
-        make_bool("rt.env_importance", [](RenderSettings& s) -> bool& { return s.rt.env_importance; },
-                  "path/direct: importance-sample environment maps by luminance, with MIS"),
-        make_int("environment.resolution", 16, 1024, [](RenderSettings& s) -> int& { return s.environment.resolution; },
-                 "face size of the static environment map's prefiltered cube (built at start-up)"),
+// The base settings (render/): path, gating, debug views, AO radius, the tracer, the environment.
+std::vector<Knob> base_knobs() {
+    using S = RenderSettings;
+    std::vector<Knob> rows;
+    auto add = [&](std::vector<Knob> more) {
+        for (Knob& k : more) rows.push_back(std::move(k));
     };
+    add(KnobRows<S>("render", [](S& s) -> S& { return s; })
+            .choice("path", &S::path, kRenderPaths, "render path (--path); auto: deferred from deferred.auto_lights lights")
+            .boolean("gating", &S::gating,
+                     "skip the effects the scene does not call for; off runs every switched-on effect (the image must not change)")
+            .rows);
+    add(KnobRows<S::Forward>("forward", [](S& s) -> S::Forward& { return s.forward; })
+            .boolean("depth_prepass", &S::Forward::depth_prepass, "draw depth first, then shade each pixel once")
+            .rows);
+    add(KnobRows<S::Deferred>("deferred", [](S& s) -> S::Deferred& { return s.deferred; })
+            .integer("auto_lights", &S::Deferred::auto_lights, 1, 100000, "--path auto renders deferred from this many lights (measured: see README)")
+            .rows);
+    add(KnobRows<S::Debug>("debug", [](S& s) -> S::Debug& { return s.debug; })
+            .choice("view", &S::Debug::view, kDebugViews,
+                    "visibility: light debug.light's visibility (0..1); ao: the SSAO buffer; indirect: RSM light; instead of radiance")
+            .integer("light", &S::Debug::light, 0, 1000000, "the light of debug.view=visibility; >= the punctual light count: all area lights")
+            .rows);
+    add(KnobRows<S::AmbientOcclusion>("ao", [](S& s) -> S::AmbientOcclusion& { return s.ao; })
+            .real("radius", &S::AmbientOcclusion::radius, 1e-6f, 1e9f, "ambient occlusion radius in world units (SSAO and --raytrace ao)")
+            .rows);
+    add(KnobRows<S::RayTracing>("rt", [](S& s) -> S::RayTracing& { return s.rt; })
+            .choice("jitter", &S::RayTracing::jitter, kRtJitters, "jittered primary rays; auto: on for path and whitted, off for the raster references")
+            .real("whitted_max_roughness", &S::RayTracing::whitted_max_roughness, 0.0f, 1.0f,
+                  "surfaces at most this rough reflect as mirrors in whitted mode")
+            .boolean("indirect_occlusion", &S::RayTracing::indirect_occlusion,
+                     "--raytrace indirect: 0 ignores visibility between the bounce points (RSM's own model)")
+            .boolean("env_importance", &S::RayTracing::env_importance, "path/direct: importance-sample environment maps by luminance, with MIS")
+            .rows);
+    add(KnobRows<S::EnvironmentMap>("environment", [](S& s) -> S::EnvironmentMap& { return s.environment; })
+            .integer("resolution", &S::EnvironmentMap::resolution, 16, 1024,
+                     "face size of the static environment map's prefiltered cube (built at start-up)")
+            .rows);
+    return rows;
 }
-
-// The effects not yet moved into engine/effects/ (issue 18), switched by these flags.
-struct LegacyEffect {
-    const char* name;
-    bool RenderSettings::*flag;
-};
-const LegacyEffect kLegacy[] = {{"shadows", &RenderSettings::shadows},
-                                {"rsm", &RenderSettings::rsm}};
 
 }  // namespace
 
@@ -174,8 +64,6 @@ std::vector<EffectSlot> default_effect_slots() {
 bool RenderSettings::on(std::string_view name) const {
     for (const EffectSlot& slot : effects)
         if (name == slot.effect->name()) return slot.on;
-    for (const LegacyEffect& l : kLegacy)
-        if (name == l.name) return this->*l.flag;
     throw Error(ExitCode::internal, "RenderSettings: no effect named '" + std::string(name) + "'");
 }
 
@@ -185,17 +73,12 @@ void RenderSettings::set_on(std::string_view name, bool value) {
             slot.on = value;
             return;
         }
-    for (const LegacyEffect& l : kLegacy)
-        if (name == l.name) {
-            this->*l.flag = value;
-            return;
-        }
     throw Error(ExitCode::internal, "RenderSettings: no effect named '" + std::string(name) + "'");
 }
 
 const std::vector<Knob>& knobs() {
     static const std::vector<Knob> all = [] {
-        std::vector<Knob> rows = legacy_knobs();
+        std::vector<Knob> rows = base_knobs();
         for (const Effect* e : effect_registry())
             for (Knob& k : e->knobs()) rows.push_back(std::move(k));
         return rows;
@@ -206,8 +89,8 @@ const std::vector<Knob>& knobs() {
 const std::vector<std::string>& effect_names() {
     static const std::vector<std::string> names = [] {
         std::vector<std::string> v;
-        for (const LegacyEffect& l : kLegacy) v.push_back(l.name);
-        for (const Effect* e : effect_registry()) v.push_back(e->name());
+        for (const Effect* e : effect_registry())
+            if (e->switchable()) v.push_back(e->name());
         return v;
     }();
     return names;

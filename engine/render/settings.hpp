@@ -16,6 +16,16 @@ namespace candela {
 
 class Effect;
 
+enum class RenderPath { automatic, forward, deferred };
+inline constexpr ChoiceName<RenderPath> kRenderPaths[] = {
+    {"auto", RenderPath::automatic}, {"forward", RenderPath::forward}, {"deferred", RenderPath::deferred}};
+// A debug buffer instead of radiance: a light's visibility, the SSAO buffer, RSM's indirect light.
+enum class DebugView { none, visibility, ao, indirect };
+inline constexpr ChoiceName<DebugView> kDebugViews[] = {
+    {"none", DebugView::none}, {"visibility", DebugView::visibility}, {"ao", DebugView::ao}, {"indirect", DebugView::indirect}};
+enum class RtJitter { automatic, on, off };
+inline constexpr ChoiceName<RtJitter> kRtJitters[] = {{"auto", RtJitter::automatic}, {"on", RtJitter::on}, {"off", RtJitter::off}};
+
 // One registered effect's switch and options (engine/effects/<name>/: the options struct).
 struct EffectSlot {
     const Effect* effect = nullptr;
@@ -43,14 +53,9 @@ struct RenderSettings {
     bool on(std::string_view name) const;
     void set_on(std::string_view name, bool on);
 
-    // Effect switches (`--effects all|none|LIST`). An effect that is on but not called for by the
-    // scene is not planned (see analyze()).
-    bool shadows = true;
-    bool rsm = false;  // indirect light costs the most; opt-in
-
     // Render path (`--path`): forward shades every light per fragment; deferred writes a G-buffer
     // and shades it in a tiled compute pass; auto picks deferred from `deferred.auto_lights` lights.
-    std::string path = "auto";  // auto|forward|deferred
+    RenderPath path = RenderPath::automatic;
     // Gating (`render.gating`): an effect the scene does not call for is not run. Off runs every
     // switched-on effect anyway; the image must not change (the gating property test).
     bool gating = true;
@@ -63,44 +68,15 @@ struct RenderSettings {
         // `candela bench frame generated:lights:N --path forward|deferred` (README, issue 5 note).
         int auto_lights = 8;  // [1, 100000]
     } deferred;
-    struct Shadows {
-        int resolution = 1024;          // [64, 8192] texels per side of every shadow view
-        std::string filter = "pcss";    // hard|pcf|pcss: one 2x2 hardware PCF tap, pcf_size^2 taps, PCSS
-        int pcf_size = 5;               // [1, 15] taps per side of the PCF kernel
-        int pcss_blocker_taps = 16;     // [1, 128] blocker-search taps
-        int pcss_taps = 32;             // [1, 256] filter taps of PCSS
-        float max_radius = 32.0f;       // [1, 64] texels: the largest PCSS search and filter radius
-        float normal_bias = 1.0f;       // [0, 16] texels at the receiver, along its normal
-        float depth_bias = 0.5f;        // [0, 16] texels at the receiver, towards the light
-        float slope_bias = 1.5f;        // [0, 16] polygon-offset factor of the caster pass
-        // [0, 4] filter taps r texels away compare against the receiver's plane: r * tan(theta)
-        // texels deeper, times this factor (wide PCF/PCSS kernels on tilted receivers)
-        float receiver_slope_bias = 1.0f;
-        int cascades = 1;               // [1, 4] directional-light cascades
-        int max_lights = 16;            // [0, 4096] lights with shadow maps: directional first, then brightest
-        float split_lambda = 0.7f;      // [0, 1] cascade splits: 0 uniform, 1 logarithmic
-    } shadow;
-    struct AreaLights {
-        // Raster approximation of each emissive mesh: this many Lambertian pieces, each a light at
-        // its piece's centroid with its own shadow map and a PCSS penumbra of the piece's size.
-        int samples = 4;  // [1, 64]
-    } arealight;
-    struct Rsm {
-        int resolution = 256;            // [16, 4096] texels per side of each light's RSM view
-        int samples = 64;                // [1, 1024] RSM texels gathered per pixel and light
-        std::string gather = "half";     // full|half|quarter: resolution of the gather pass
-        float radius = 0.15f;            // (0, 1] sampling radius, fraction of the RSM's width
-        int max_lights = 4;              // [1, 8] lights with an RSM: directional first, then brightest
-    } rsm_knobs;
     struct Debug {
-        std::string view = "none";  // none|visibility|ao|indirect: a debug buffer instead of radiance
+        DebugView view = DebugView::none;
         int light = 0;  // [0, 1e6] visibility of this light; >= the punctual count: all area lights
     } debug;
     struct AmbientOcclusion {
         float radius = 1.0f;  // (0, 1e9] world units; SSAO and `--raytrace ao` use the same radius
     } ao;
     struct RayTracing {
-        std::string jitter = "auto";       // auto|on|off: auto jitters (anti-aliases) path and whitted only
+        RtJitter jitter = RtJitter::automatic;  // auto jitters (anti-aliases) path and whitted only
         float whitted_max_roughness = 0.05f;  // [0, 1] smoother surfaces are mirrors in whitted mode
         bool indirect_occlusion = true;       // indirect mode: visibility between bounce points
         bool env_importance = true;           // path/direct: sample environment maps by luminance (MIS)

@@ -8,7 +8,7 @@
 
 namespace candela {
 
-// The raster renderer's programs: the base ones (forward, sky, tonemap, shadow, gbuffer,
+// The raster renderer's programs: the base ones (forward, sky, tonemap, gbuffer,
 // deferred_light, depth_normals, copy; image-based lighting: brdf_lut, equirect_to_cube,
 // prefilter; the viewer's buffer inspector: debug_view), then every registered effect's
 // (Effect::programs()). program_desc throws candela::Error (internal) for an unknown name.

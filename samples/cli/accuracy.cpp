@@ -166,9 +166,9 @@ RenderSettings variant_settings(const AccuracySweep& s, const AccuracySweep::Var
     RenderSettings rs;
     apply_effects(rs, v.effects);
     for (const auto& k : v.knobs) apply_knob(rs, k);
-    if (s.buffer == Buffer::visibility) rs.debug.view = "visibility", rs.debug.light = 0;
-    if (s.buffer == Buffer::ao) rs.debug.view = "ao";
-    if (s.buffer == Buffer::indirect) rs.debug.view = "indirect";
+    if (s.buffer == Buffer::visibility) rs.debug.view = DebugView::visibility, rs.debug.light = 0;
+    if (s.buffer == Buffer::ao) rs.debug.view = DebugView::ao;
+    if (s.buffer == Buffer::indirect) rs.debug.view = DebugView::indirect;
     return rs;
 }
 

@@ -47,7 +47,8 @@ int raytrace(const Parsed& p, const SceneSetup& s, const fs::path& out_path, flo
     o.indirect_occlusion = s.options.settings.rt.indirect_occlusion;
     o.visibility_light = s.options.settings.debug.light;
     o.env_importance = s.options.settings.rt.env_importance;
-    o.jitter = s.options.settings.rt.jitter == "auto" ? -1 : s.options.settings.rt.jitter == "on" ? 1 : 0;
+    const RtJitter jitter = s.options.settings.rt.jitter;
+    o.jitter = jitter == RtJitter::automatic ? -1 : jitter == RtJitter::on ? 1 : 0;
     o.progress = true;
     const ShaderLibrary shaders(s.shader_dir);
     GpuScene gpu(s.scene);

@@ -240,15 +240,15 @@ SceneSetup setup_scene(const Parsed& p, const std::string& scene_path, int defau
     if (p.has("--effects")) apply_effects(s.options.settings, p.get("--effects"));
     if (p.has("--path")) {
         const std::string path = p.get("--path");
-        if (path != "auto" && path != "forward" && path != "deferred")
-            throw bad_input("--path '" + path + "' must be auto, forward or deferred");
-        s.options.settings.path = path;
+        const std::optional<RenderPath> parsed = parse_choice(kRenderPaths, path);
+        if (!parsed) throw bad_input("--path '" + path + "' must be auto, forward or deferred");
+        s.options.settings.path = *parsed;
     }
     if (p.has("--output-buffer")) {
         const std::string b = p.get("--output-buffer");
         if (b != "radiance" && b != "visibility" && b != "ao" && b != "indirect")
             throw bad_input("--output-buffer '" + b + "' must be radiance, visibility (of light --set debug.light=K), ao or indirect");
-        s.options.settings.debug.view = b == "radiance" ? "none" : b;
+        s.options.settings.debug.view = b == "radiance" ? DebugView::none : *parse_choice(kDebugViews, b);
     }
     for (const std::string& knob : p.all("--set")) apply_knob(s.options.settings, knob);
     s.options.verify_state = p.flags.count("--verify-state") > 0;

@@ -1,4 +1,6 @@
-// GPU layouts shared by the passes; the C++ side is engine/render/gpu_scene.hpp (keep in sync).
+// GPU layouts shared by the passes; the C++ side is engine/render/gpu_scene.hpp (the Frame block's
+// size is checked against the GL in tests/unit/test_effects.cpp). Effects keep their own data in
+// their own blocks (engine/effects/*/*_data.h).
 #include "lights.glsl"
 
 layout(std140, binding = 0) uniform Frame {
@@ -11,16 +13,10 @@ layout(std140, binding = 0) uniform Frame {
     vec4 env_sh[9];        // irradiance SH of the environment map (rgb), scaled
     ivec4 counts;          // x = lights in the light buffer (punctual first, then area-light
                            // pieces), y = env map mip count, z = punctual lights
-    ivec4 shadow_mode;     // x filter (0 off, 1 hard, 2 pcf, 3 pcss), y pcf size, z pcss blocker
-                           // taps, w pcss filter taps
-    vec4 shadow_bias;      // x normal offset, y depth bias (both texels), z map resolution,
-                           // w largest filter radius (texels)
-    vec4 shadow_bias2;     // x receiver-slope bias of filter taps (multiple of tan(theta) per texel)
     ivec4 debug;           // x view (0 radiance, 1 light visibility, 2 ssao), y light index
     vec4 viewport;         // width, height, 1/width, 1/height
     ivec4 view_flags;      // x 1 in the camera's view (screen-space effect buffers are valid), 0 in
                            // other views (reflection probe faces)
-    ivec4 rsm_mode;        // x 1 when the RSM indirect irradiance is bound, y its downscale factor
     vec4 depth_to_view;    // view z of a depth d: (x * d + y) / (z * d + w) (rows of the inverse projection)
     ivec4 env_mode;        // x 1: the static environment cube is bound
 } frame;

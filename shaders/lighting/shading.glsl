@@ -2,42 +2,10 @@
 // that both compute the same image): punctual lights and area-light pieces with their shadows,
 // plus the environment's ambient term. `pixel` seeds the shadow filter's tap rotation.
 #include "../common/brdf.glsl"
-#include "shadows.glsl"
-
+#include "effects/shadows/shadows_shading.glsl"
 #include "effects/ssao/ssao_shading.glsl"
 
-layout(binding = 10) uniform sampler2D t_rsm_indirect;  // bound when frame.rsm_mode.x = 1
-// One-bounce diffuse light from the reflective shadow maps, reflected by the Lambert part. A
-// gather at lower resolution is upsampled geometry-aware: the four nearest gather samples
-// weighted bilinearly and by how close their view depth (alpha) is to this pixel's, so light
-// does not leak across silhouettes (joint bilateral upsampling, Kopf et al. 2007).
-vec3 rsm_indirect(BrdfInput bi, vec2 pixel, vec3 p) {
-    if (frame.rsm_mode.x == 0) return vec3(0.0);
-    int f = max(frame.rsm_mode.y, 1);
-    vec3 E;
-    if (f == 1) {
-        E = texelFetch(t_rsm_indirect, ivec2(pixel), 0).rgb;
-    } else {
-        // Gather sample i was computed at full-resolution pixel i * f (centre i * f + 0.5).
-        float z = (frame.view * vec4(p, 1.0)).z;
-        vec2 lo = (pixel - 0.5) / float(f);
-        ivec2 base = ivec2(floor(lo));
-        vec2 t = lo - vec2(base);
-        ivec2 size = textureSize(t_rsm_indirect, 0);
-        vec3 sum = vec3(0.0);
-        float wsum = 0.0;
-        for (int j = 0; j < 2; ++j)
-            for (int i = 0; i < 2; ++i) {
-                vec4 s = texelFetch(t_rsm_indirect, clamp(base + ivec2(i, j), ivec2(0), size - 1), 0);
-                float wb = (i == 0 ? 1.0 - t.x : t.x) * (j == 0 ? 1.0 - t.y : t.y);
-                float w = wb / (1e-3 + abs(s.a - z) / max(abs(z), 1e-30));
-                sum += s.rgb * w;
-                wsum += w;
-            }
-        E = wsum > 0.0 ? sum / wsum : vec3(0.0);
-    }
-    return bi.base_color * (1.0 - bi.metallic) * INV_PI * E;
-}
+#include "effects/rsm/rsm_shading.glsl"
 
 // Image-based lighting (render/environment.hpp): the static environment as a GGX-prefiltered
 // cube (frame.counts.y levels, roughness = level / (levels - 1)), reflection probes captured by

@@ -41,7 +41,7 @@ int main(int argc, char** argv) {
         if (a == "--update") update = true;
         else if (a == "--backend" && i + 1 < argc) backend = parse_backend(argv[++i]).value_or(Backend::egl);
         else if (a == "--size" && i + 1 < argc) std::sscanf(argv[++i], "%dx%d", &options.width, &options.height);
-        else if (a == "--path" && i + 1 < argc) options.settings.path = argv[++i];  // forward|deferred: one golden for both
+        else if (a == "--path" && i + 1 < argc) knobs.push_back(std::string("render.path=") + argv[++i]);  // forward|deferred: one golden for both
         else if (a == "--set" && i + 1 < argc) knobs.push_back(argv[++i]);
         else {
             std::fprintf(stderr, "candela_golden: unknown argument '%s'\n", a.c_str());
@@ -75,7 +75,7 @@ int main(int argc, char** argv) {
             ++failures;
         }
         fs::create_directories(out_dir);
-        const std::string stem = scene_path.stem().string() + "." + to_string(backend) + "." + options.settings.path;
+        const std::string stem = scene_path.stem().string() + "." + to_string(backend) + "." + choice_name(kRenderPaths, options.settings.path);
         const fs::path actual_path = out_dir / (stem + ".actual.png");
         write_display_rgba8(actual_path, result.display, options.width, options.height);
         if (update) {

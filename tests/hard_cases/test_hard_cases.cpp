@@ -149,7 +149,7 @@ TEST_P(HardCaseTest, DepthPrecisionAtADistance) {
     RenderSettings s;
     apply_effects(s, "none");
     for (const char* path : {"forward", "deferred"}) {
-        s.path = path;
+        apply_knob(s, std::string("render.path=") + path);
         const ImageF img = raster(scene, s, 128, 128).radiance;
         size_t wrong = 0;
         for (int y = 0; y < img.height; ++y)
@@ -253,7 +253,7 @@ TEST_P(HardCaseTest, DegenerateDataAndMaterialLimits) {
         for (const char* path : {"forward", "deferred"}) {
             RenderSettings s;
             apply_effects(s, "all");
-            s.path = path;
+            apply_knob(s, std::string("render.path=") + path);
             StillOptions so;
             so.width = 64;
             so.height = 48;

@@ -9,6 +9,7 @@
 
 #include "gl_fixture.hpp"
 #include "render/renderer.hpp"
+#include "effects/shadows/shadows.hpp"
 #include "rt/ray_tracer.hpp"
 
 namespace candela::test {
@@ -20,7 +21,7 @@ protected:
         GpuScene gpu(scene);
         Renderer renderer(lib_, scene, gpu, settings);
         renderer.render(scene.select_camera("", static_cast<float>(w) / static_cast<float>(h)), w, h);
-        last_views_ = renderer.shadow_views();
+        last_views_ = renderer.effect_runtime<ShadowsRuntime>()->views();
         ImageF img = renderer.read_radiance();
         EXPECT_EQ(count_nonfinite(img), 0u);
         return img;

@@ -10,6 +10,7 @@
 #include "effects/registry.hpp"
 #include "gl_fixture.hpp"
 #include "render/features.hpp"
+#include "render/gpu_scene.hpp"
 #include "render/settings.hpp"
 #include "shader/program_catalog.hpp"
 
@@ -21,8 +22,10 @@ TEST(EffectRegistry, NamesKnobsAndProgramsBelongToTheirEffect) {
     for (const Effect* e : effect_registry()) {
         EXPECT_TRUE(names.insert(e->name()).second) << "duplicate effect " << e->name();
         EXPECT_EQ(find_effect(e->name()), e);
-        // Its switch is an --effects name, and its knobs are all "name.knob".
-        EXPECT_NE(std::find(effect_names().begin(), effect_names().end(), e->name()), effect_names().end());
+        // Its switch is an --effects name (unless it always runs when called for), and its knobs
+        // are all "group.knob" for one of its groups.
+        const bool listed = std::find(effect_names().begin(), effect_names().end(), e->name()) != effect_names().end();
+        EXPECT_EQ(listed, e->switchable()) << e->name();
         for (const Knob& k : e->knobs()) {
             const auto groups = e->knob_groups();
             EXPECT_TRUE(std::any_of(groups.begin(), groups.end(), [&](const std::string& g) { return k.info.name.rfind(g + ".", 0) == 0; }))
@@ -93,6 +96,15 @@ TEST_P(EffectBlocks, CxxStructsMatchTheGlslBlocks) {
             ++checked;
         }
     EXPECT_GT(checked, 0);
+    // The base Frame block (render/gpu_scene.hpp and shaders/common/scene_data.glsl) too.
+    ShaderLibrary::BuildResult r = shaders.build(program_desc("forward"));
+    ASSERT_TRUE(r.ok()) << r.log;
+    const GLuint index = glGetProgramResourceIndex(r.program.id(), GL_UNIFORM_BLOCK, "Frame");
+    ASSERT_NE(index, GL_INVALID_INDEX);
+    const GLenum prop = GL_BUFFER_DATA_SIZE;
+    GLint size = 0;
+    glGetProgramResourceiv(r.program.id(), GL_UNIFORM_BLOCK, index, 1, &prop, 1, nullptr, &size);
+    EXPECT_EQ(static_cast<std::size_t>(size), sizeof(FrameData));
 }
 
 INSTANTIATE_TEST_SUITE_P(Backends, EffectBlocks, ::testing::Values(Backend::egl), test::backend_name);

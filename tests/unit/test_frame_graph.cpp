@@ -3,6 +3,7 @@
 
 #include "core/error.hpp"
 #include "render/frame_graph.hpp"
+#include "effects/area_lights/area_lights.hpp"
 #include "effects/reflections/reflections.hpp"
 #include "render/settings.hpp"
 
@@ -144,7 +145,7 @@ TEST(Settings, EffectsParsing) {
 TEST(Settings, KnobsAreRangeCheckedAndNamed) {
     RenderSettings s;
     apply_knob(s, "arealight.samples=5");
-    EXPECT_EQ(s.arealight.samples, 5);
+    EXPECT_EQ(s.get<AreaLightsOptions>().samples, 5);
     apply_knob(s, "forward.depth_prepass=on");
     EXPECT_TRUE(s.forward.depth_prepass);
     apply_knob(s, "reflections.max_roughness=0.5");
@@ -165,7 +166,7 @@ TEST(Settings, KnobsAreRangeCheckedAndNamed) {
     EXPECT_NE(message("forward.depth_prepass=maybe").find("bool"), std::string::npos);
     EXPECT_NE(message("bloom.strength=1").find("unknown knob 'bloom.strength'"), std::string::npos);
     EXPECT_NE(message("novalue").find("expected KNOB=VALUE"), std::string::npos);
-    EXPECT_EQ(s.arealight.samples, 5);  // rejected values change nothing
+    EXPECT_EQ(s.get<AreaLightsOptions>().samples, 5);  // rejected values change nothing
 }
 
 }  // namespace

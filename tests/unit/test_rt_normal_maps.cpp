@@ -188,7 +188,7 @@ TEST_P(RtNormalMapTest, NormalMappedMetalInAWhiteFurnaceStaysWithinItsAlbedoAndM
         const Batches path = trace_batches(lib_, scene, rt::Mode::path, n, batches, spp);
         StillOptions so;
         so.width = so.height = n;
-        so.settings.path = "forward";
+        so.settings.path = RenderPath::forward;
         apply_effects(so.settings, "reflections");  // no SSAO: a furnace has nothing to occlude
         const StillResult raster = render_still(scene, lib_, so);
         EXPECT_EQ(count_nonfinite(raster.radiance), 0u);

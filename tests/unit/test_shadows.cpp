@@ -274,9 +274,9 @@ TEST_P(ShadowTest, ForwardAndDeferredAgreeOnOpaqueScenes) {
         StillOptions o;
         o.width = o.height = 96;
         o.output = FrameOutput::display;
-        o.settings.path = "forward";
+        o.settings.path = RenderPath::forward;
         const StillResult fwd = render_still(scene, lib_, o);
-        o.settings.path = "deferred";
+        o.settings.path = RenderPath::deferred;
         const StillResult def = render_still(scene, lib_, o);
         EXPECT_TRUE(std::any_of(def.report.passes.begin(), def.report.passes.end(),
                                 [](const PassStats& p) { return p.name == "deferred_lighting"; }));

@@ -174,7 +174,7 @@ ImageF render_grid(const fs::path& scene_path, const std::string& path, int n) {
     const Scene scene = load_gltf(scene_path);
     StillOptions so;
     so.width = so.height = n;
-    so.settings.path = path;
+    apply_knob(so.settings, "render.path=" + path);
     so.settings.set_on("ssao", false);
     ImageF image = render_still(scene, shader_lib(), so).radiance;
     EXPECT_EQ(count_nonfinite(image), 0u);

@@ -109,7 +109,6 @@ void ReflectionsRuntime::prepare_faces(const FramePrep& prep) {
                 f.viewport = glm::vec4(static_cast<float>(size), static_cast<float>(size), 1.0f / static_cast<float>(size),
                                        1.0f / static_cast<float>(size));
                 f.view_flags = glm::ivec4(0);  // no screen-space effect buffers in a probe's faces
-                f.rsm_mode = glm::ivec4(0);
                 f.debug = glm::ivec4(0);
                 std::memcpy(bytes.data() + pr.frame_stride * (6 * k + face), &f, sizeof(FrameData));
             }
@@ -158,7 +157,7 @@ void ReflectionsRuntime::add_capture(FrameGraph& graph, const PassEnv& env) {
     graph.add_pass(
         "env_probe",
         [&](FrameGraph::Builder& b) {
-            read_lighting_inputs(b, env, FrameTargets{});
+            read_lighting_inputs(b, env);
             b.write(probes_id_);
         },
         [this, &env](FrameGraph::Context& ctx) {
@@ -225,7 +224,7 @@ void ReflectionsRuntime::add_transmissive(FrameGraph& graph, const PassEnv& env,
         "transmissive",
         [&](FrameGraph::Builder& b) {
             b.read(targets.depth);
-            read_lighting_inputs(b, env, targets);
+            read_lighting_inputs(b, env);
             b.write(targets.hdr);
         },
             [&env, &targets](FrameGraph::Context& ctx) {

@@ -147,7 +147,7 @@ public:
             .rows;
     }
     EffectDecision decide(const Features& f, const RenderSettings& s) const override {
-        return decide_effect(name(), s.on(name()) || s.debug.view == "ao", f.environment,
+        return decide_effect(name(), s.on(name()) || s.debug.view == DebugView::ao, f.environment,
                              f.environment ? "ambient/environment light to occlude" : "no ambient or environment light to occlude",
                              s.gating);
     }

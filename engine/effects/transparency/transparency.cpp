@@ -30,7 +30,7 @@ private:
             "transparent",
             [&](FrameGraph::Builder& b) {
                 b.read(targets.depth);
-                read_lighting_inputs(b, env, targets);
+                read_lighting_inputs(b, env);
                 b.write(targets.hdr);
             },
             [this, &env, &targets](FrameGraph::Context& ctx) {
@@ -99,7 +99,7 @@ private:
             "transparent_peeling",
             [&](FrameGraph::Builder& b, Data& d) {
                 b.read(targets.depth);
-                read_lighting_inputs(b, env, targets);
+                read_lighting_inputs(b, env);
                 b.write(targets.hdr);
                 d.ids[0] = b.create("peel_color", {GL_RGBA16F, env.width, env.height});
                 d.ids[1] = b.create("peel_depth_a", {GL_DEPTH_COMPONENT32F, env.width, env.height});
@@ -136,7 +136,7 @@ private:
                     const float clear_depth = 0.0f;
                     glClearBufferfv(GL_DEPTH, 0, &clear_depth);
                     bind_scene_buffers(env);
-                    bind_ssao(env, &ctx, targets);
+                    bind_effect_inputs(env, ctx);
                     glBindTextureUnit(12, ctx.texture(previous).id());
                     glBindSampler(12, 0);
                     ctx.state.use_program(forward);
@@ -190,7 +190,7 @@ public:
     // Debug views show surface values of the nearest surface: blended ones count as opaque there,
     // as they do for the ray tracer's rays.
     EffectDecision decide(const Features& f, const RenderSettings& s) const override {
-        return decide_effect(name(), s.on(name()) && s.debug.view == "none", f.scene.transparency.needed,
+        return decide_effect(name(), s.on(name()) && s.debug.view == DebugView::none, f.scene.transparency.needed,
                              f.scene.transparency.reason, s.gating);
     }
     void plan(Stage stage, const Features& f, const RenderSettings& s, std::vector<PlannedPass>& out) const override {

@@ -12,12 +12,12 @@ void add_deferred_lighting_pass(FrameGraph& graph, const PassEnv& env, FrameTarg
         [&](FrameGraph::Builder& b) {
             for (auto id : targets.gbuffer) b.read(id);
             b.read(targets.depth);
-            read_lighting_inputs(b, env, targets);
+            read_lighting_inputs(b, env);
             b.write(targets.hdr);
         },
         [&env, &targets](FrameGraph::Context& ctx) {
             bind_scene_buffers(env);
-            bind_ssao(env, &ctx, targets);
+            bind_effect_inputs(env, ctx);
             for (int i = 0; i < 3; ++i) {
                 glBindTextureUnit(static_cast<GLuint>(i), ctx.texture(targets.gbuffer[i]).id());
                 glBindSampler(static_cast<GLuint>(i), 0);

@@ -9,7 +9,7 @@ void add_forward_opaque_pass(FrameGraph& graph, const PassEnv& env, FrameTargets
         "forward_opaque",
         [&](FrameGraph::Builder& b) {
             b.write(targets.hdr);
-            read_lighting_inputs(b, env, targets);
+            read_lighting_inputs(b, env);
             if (prepass) b.read(targets.depth);
             else targets.depth = b.create("depth", {GL_DEPTH_COMPONENT32F, env.width, env.height});
         },
@@ -29,7 +29,7 @@ void add_forward_opaque_pass(FrameGraph& graph, const PassEnv& env, FrameTargets
                 glClearBufferfv(GL_DEPTH, 0, &clear_depth);
             }
             bind_scene_buffers(env);
-            bind_ssao(env, &ctx, targets);
+            bind_effect_inputs(env, ctx);
             ctx.state.use_program(env.programs.get("forward").id());
             ctx.state.bind_vertex_array(env.scene.vertex_array().id());
             for (const auto& d : env.scene.draws()) {

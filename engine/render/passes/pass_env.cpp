@@ -41,27 +41,14 @@ void bind_scene_buffers(const PassEnv& env) {
     }
     glBindTextureUnit(13, env.ibl.brdf_lut().id());
     glBindSampler(13, 0);
-    if (env.shadows_on) {
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, env.shadows.views.id());
-        glBindTextureUnit(7, env.shadows.array.id());
-        glBindSampler(7, env.shadows.compare.id());
-        glBindTextureUnit(8, env.shadows.array.id());
-        glBindSampler(8, env.shadows.raw.id());
-    }
 }
 
-void read_lighting_inputs(FrameGraph::Builder& b, const PassEnv& env, const FrameTargets& targets) {
-    for (const FrameGraph::ResourceId id : {targets.shadow_maps, targets.rsm_indirect})
-        if (id >= 0) b.read(id);
+void read_lighting_inputs(FrameGraph::Builder& b, const PassEnv& env) {
     for (const EffectRuntime* e : env.effects) e->read_shading_inputs(b);
 }
 
-void bind_ssao(const PassEnv& env, FrameGraph::Context* ctx, const FrameTargets& targets) {
-    for (const EffectRuntime* e : env.effects) e->bind_shading_inputs(env, ctx);
-    if (ctx && targets.rsm_indirect >= 0) {
-        glBindTextureUnit(10, ctx->texture(targets.rsm_indirect).id());
-        glBindSampler(10, env.linear_clamp.id());
-    }
+void bind_effect_inputs(const PassEnv& env, FrameGraph::Context& ctx) {
+    for (const EffectRuntime* e : env.effects) e->bind_shading_inputs(env, &ctx);
 }
 
 void begin_forward_shading(const PassEnv& env, FrameGraph::Context& ctx, const FrameTargets& targets,
@@ -70,18 +57,16 @@ void begin_forward_shading(const PassEnv& env, FrameGraph::Context& ctx, const F
     ctx.state.bind_framebuffer(env.fbos.get({&ctx.texture(targets.hdr)}, &ctx.texture(targets.depth)));
     ctx.state.viewport(0, 0, env.width, env.height);
     bind_scene_buffers(env);
-    bind_ssao(env, &ctx, targets);
+    bind_effect_inputs(env, ctx);
     ctx.state.use_program(env.programs.get("forward").id());
 }
 
 void draw_item(const PassEnv& env, FrameGraph::Context& ctx, const GpuScene::Draw& d, bool cull, GLenum cull_face,
-               GLuint program_id) {
+               GLuint program_id, bool depth_only) {
     ctx.state.set_cull(cull, cull_face);
     // A mirroring transform reverses the winding of its triangles.
     ctx.state.set_front_face(d.mirrored ? GL_CW : GL_CCW);
     const GLuint program = program_id ? program_id : env.programs.get("forward").id();
-    // The shadow program has only the model matrix, the material and the base colour texture.
-    const bool depth_only = program == env.programs.id_if_built("shadow");
     glProgramUniformMatrix4fv(program, 0, 1, GL_FALSE, glm::value_ptr(d.model));
     if (!depth_only) glProgramUniformMatrix3fv(program, 1, 1, GL_FALSE, glm::value_ptr(d.normal_matrix));
     glProgramUniform1i(program, 2, d.primitive_material);

@@ -10,7 +10,6 @@
 #include "render/environment.hpp"
 #include "render/gpu_scene.hpp"
 #include "render/program_cache.hpp"
-#include "render/shadows.hpp"
 #include "render/settings.hpp"
 
 namespace candela {
@@ -27,33 +26,6 @@ private:
     std::map<std::vector<GLuint>, gl::Framebuffer> fbos_;
 };
 
-// Reflective shadow maps: per layer one light view (a shadow view at rsm.resolution).
-struct RsmResources {
-    gl::Texture position, normal, flux, depth;  // 2D arrays, one layer per view
-    std::vector<gl::Framebuffer> layer_fbos;
-    struct View {
-        glm::mat4 view_proj;
-        glm::vec4 params;  // x light, y first layer of the light, z its layer count
-    };
-    std::vector<View> views;
-    std::vector<glm::vec4> kind_texel;  // per layer: x kind (0 ortho), y texel size at rsm.resolution
-    std::vector<int> light_first;       // first layer of each RSM light
-    gl::Buffer views_buffer;
-    GLsizeiptr views_bytes = 0;
-    int resolution = 0, layers = 0;
-};
-
-// The shadow maps of a frame: one DEPTH32F array layer per shadow view (render/shadows.hpp).
-struct ShadowResources {
-    gl::Texture array;
-    std::vector<gl::Framebuffer> layer_fbos;
-    gl::Buffer views;  // ShadowViewData[]
-    GLsizeiptr views_bytes = 0;
-    ShadowViews cpu;   // this frame's views
-    gl::Sampler compare, raw;
-    int resolution = 0, layers = 0;
-};
-
 struct PassEnv {
     GpuScene& scene;
     const RenderSettings& settings;
@@ -64,10 +36,7 @@ struct PassEnv {
     FramebufferCache& fbos;
     ProgramCache& programs;   // every planned pass's programs are built (Renderer::set_settings)
     const gl::VertexArray& empty_vao;
-    ShadowResources& shadows;
-    bool shadows_on;  // the shadow pass runs this frame
     const gl::Sampler& linear_clamp;   // for screen-space buffers read at other resolutions
-    RsmResources& rsm;
     const ImageBasedLighting& ibl;
     const gl::Texture& env_cube;  // the static environment's prefiltered cube (empty: none)
     // The effect modules' runtimes (engine/effects/), registry order: the shading passes let each
@@ -80,39 +49,34 @@ struct FrameTargets {
     FrameGraph::ResourceId hdr = -1;
     FrameGraph::ResourceId depth = -1;
     FrameGraph::ResourceId display = -1;  // RGBA8 display values (tonemap pass)
-    FrameGraph::ResourceId shadow_maps = -1;
     FrameGraph::ResourceId gbuffer[3] = {-1, -1, -1};  // layout: shaders/lighting/gbuffer.glsl
     FrameGraph::ResourceId normals = -1;  // xy octahedral normal: gbuffer[1] or the prepass's
     bool prepass_has_blend = false;       // the depth prepass drew BLEND materials as opaque
-    FrameGraph::ResourceId rsm = -1;            // the reflective shadow maps (imported)
-    FrameGraph::ResourceId rsm_indirect = -1;   // one-bounce irradiance from them
 };
 
-// Binds the frame UBO, material and light SSBOs, the environment texture and the shadow maps.
+// Binds the frame UBO, material and light SSBOs, the environment textures and what every effect
+// module gives the shading that is not a frame-graph resource (its uniform block, persistent maps).
 void bind_scene_buffers(const PassEnv& env);
-// Declares the reads of every shading pass: shadow maps, RSM indirect light (those that run this
-// frame) and every effect module's shading inputs.
-void read_lighting_inputs(FrameGraph::Builder& b, const PassEnv& env, const FrameTargets& targets);
-// Binds the RSM indirect irradiance (unit 10) when it runs and every effect module's shading
-// inputs (`ctx` null: outside the graph's view of the camera, e.g. probe faces: blocks only).
-void bind_ssao(const PassEnv& env, FrameGraph::Context* ctx, const FrameTargets& targets);
+// Declares the reads of a shading pass: every effect module's shading inputs this frame.
+void read_lighting_inputs(FrameGraph::Builder& b, const PassEnv& env);
+// Binds every effect module's shading inputs, frame-graph textures included.
+void bind_effect_inputs(const PassEnv& env, FrameGraph::Context& ctx);
 // The forward program shading into the HDR target over the frame's depth with `ps`, every
 // lighting input bound: the passes that draw after the opaque geometry.
 void begin_forward_shading(const PassEnv& env, FrameGraph::Context& ctx, const FrameTargets& targets,
                            const gl::PipelineState& ps);
 // Draws one scene item with `program` (default: forward), which has the forward vertex layout and
 // per-draw uniforms (locations 0-3), textures and winding.
+// `depth_only`: a program with only the model matrix, the material and the base colour texture
+// (shadow casters).
 void draw_item(const PassEnv& env, FrameGraph::Context& ctx, const GpuScene::Draw& d, bool cull, GLenum cull_face,
-               GLuint program = 0);
+               GLuint program = 0, bool depth_only = false);
 
 // The passes, in the order the renderer adds them.
-void add_shadow_pass(FrameGraph& graph, const PassEnv& env, FrameTargets& targets);
 void add_gbuffer_pass(FrameGraph& graph, const PassEnv& env, FrameTargets& targets, bool blend_as_opaque);
 void add_deferred_lighting_pass(FrameGraph& graph, const PassEnv& env, FrameTargets& targets);
 void add_depth_prepass(FrameGraph& graph, const PassEnv& env, FrameTargets& targets);
 void add_depth_normal_prepass(FrameGraph& graph, const PassEnv& env, FrameTargets& targets, bool blend_as_opaque);
-void add_rsm_pass(FrameGraph& graph, const PassEnv& env, FrameTargets& targets);
-void add_rsm_gather_pass(FrameGraph& graph, const PassEnv& env, FrameTargets& targets);
 void add_forward_opaque_pass(FrameGraph& graph, const PassEnv& env, FrameTargets& targets, bool blend_as_opaque);
 void add_sky_pass(FrameGraph& graph, const PassEnv& env, FrameTargets& targets);
 void add_tonemap_pass(FrameGraph& graph, const PassEnv& env, FrameTargets& targets, const gl::Texture& display,

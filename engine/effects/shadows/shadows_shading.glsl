@@ -1,10 +1,12 @@
-// Shadow-map lookups shared by the forward and deferred lighting (engine/render/shadows.hpp builds
-// the views). All maps are layers of one depth array, reversed-Z (1 near the light, 0 far):
+// Shadow-map lookups shared by the forward and deferred lighting (included by
+// shaders/lighting/shading.glsl; shadow_views.hpp builds the views). All maps are layers of one depth array, reversed-Z (1 near the light, 0 far):
 // directional lights have one orthographic view per cascade, spot lights one perspective view,
 // point lights and area-light pieces six 90-degree views (+X, -X, +Y, -Y, +Z, -Z).
 // Biases are in shadow-map texels converted to world units at the receiver, so they hold at any
 // scene scale: a normal offset (receiver moved along its normal) and a depth bias (reference moved
 // towards the light); the caster side adds slope-scaled polygon offset.
+
+#include "effects/shadows/shadows_data.h"
 
 struct ShadowView {
     mat4 view_proj;
@@ -58,7 +60,7 @@ float shadow_linear_depth(ShadowView sv, float d) {
 
 // Fraction of the light reaching p (1 lit, 0 shadowed). n: the shading normal, l: towards the light.
 float shadow_factor(PunctualLight light, vec3 p, vec3 n, vec3 l, vec2 pixel) {
-    int mode = frame.shadow_mode.x;
+    int mode = shadows.filter_mode;
     if (mode == SHADOW_OFF || light.cone.w < 0.5) return 1.0;
     ShadowView sv = shadow_views[shadow_view_index(light, p)];
     bool ortho = sv.params.x < 0.5;
@@ -66,7 +68,7 @@ float shadow_factor(PunctualLight light, vec3 p, vec3 n, vec3 l, vec2 pixel) {
     float texel_world = ortho ? sv.params.y : sv.params.y * max(c0.w, 0.0);
     // Normal offset: more where the light grazes the surface.
     float NdotL = saturate(dot(n, l));
-    vec3 q = p + n * (frame.shadow_bias.x * texel_world * (1.0 - NdotL * NdotL));
+    vec3 q = p + n * (shadows.normal_bias * texel_world * (1.0 - NdotL * NdotL));
     vec4 c = sv.view_proj * vec4(q, 1.0);
     if (c.w <= 0.0) return 1.0;
     vec3 ndc = c.xyz / c.w;
@@ -78,17 +80,17 @@ float shadow_factor(PunctualLight light, vec3 p, vec3 n, vec3 l, vec2 pixel) {
     // wide kernels do not shadow the receiver with itself.
     float tan_theta = min(sqrt(max(1.0 - NdotL * NdotL, 0.0)) / max(NdotL, 0.1), 10.0);
     float depth_per_world = ortho ? 1.0 / sv.params.z : sv.params.z / (c.w * c.w);
-    float ref0 = ndc.z + frame.shadow_bias.y * texel_world * depth_per_world;
-    float slope_per_texel = frame.shadow_bias2.x * tan_theta * texel_world * depth_per_world;
+    float ref0 = ndc.z + shadows.depth_bias * texel_world * depth_per_world;
+    float slope_per_texel = shadows.receiver_slope_bias * tan_theta * texel_world * depth_per_world;
     if (ref0 >= 1.0) return 1.0;  // nearer to the light than anything in the map
     float layer = sv.params.w;
-    float res = frame.shadow_bias.z;
+    float res = shadows.resolution;
     vec2 texel_uv = vec2(1.0 / res);
 
     if (mode == SHADOW_HARD) return texture(t_shadow, vec4(uv, layer, ref0 + slope_per_texel));
     if (mode == SHADOW_PCF) {
         // size x size taps one texel apart, centred (half-texel offsets for an even size).
-        int size = frame.shadow_mode.y;
+        int size = shadows.pcf_size;
         float h = 0.5 * float(size - 1);
         float ref = ref0 + slope_per_texel * (h + 1.0);
         float sum = 0.0;
@@ -98,7 +100,7 @@ float shadow_factor(PunctualLight light, vec3 p, vec3 n, vec3 l, vec2 pixel) {
     }
     // PCSS (Fernando 2005): blocker search, penumbra estimate, variable-size PCF.
     float light_size = sv.params2.y;
-    float max_radius = frame.shadow_bias.w;
+    float max_radius = shadows.max_radius;
     float z_receiver = shadow_linear_depth(sv, ndc.z);
     float phi = 2.0 * PI * shadow_noise(pixel);
     float search_texels;
@@ -109,7 +111,7 @@ float shadow_factor(PunctualLight light, vec3 p, vec3 n, vec3 l, vec2 pixel) {
         search_texels = 0.5 * light_size * (z_receiver - near) / (z_receiver * near) / sv.params.y;
     }
     search_texels = clamp(search_texels, 1.0, max_radius);
-    int blocker_taps = frame.shadow_mode.z;
+    int blocker_taps = shadows.blocker_taps;
     float blocker_sum = 0.0;
     int blockers = 0;
     float ref = ref0 + slope_per_texel * (search_texels + 1.0);
@@ -127,7 +129,7 @@ float shadow_factor(PunctualLight light, vec3 p, vec3 n, vec3 l, vec2 pixel) {
                                  : light_size * (z_receiver - z_blocker) / max(z_blocker, 1e-30);
     float radius = clamp(0.5 * penumbra_world / texel_world, 1.0, max_radius);
     ref = ref0 + slope_per_texel * (radius + 1.0);
-    int taps = frame.shadow_mode.w;
+    int taps = shadows.pcss_taps;
     float sum = 0.0;
     for (int i = 0; i < taps; ++i) {
         vec2 o = vogel_disk(i, taps, phi) * radius * texel_uv;

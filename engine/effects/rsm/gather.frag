@@ -7,8 +7,8 @@
 // Output: the one-bounce irradiance E at the pixel (rgb) and its view depth (a); the lighting
 // upsamples it geometry-aware and adds albedo / pi * E. Nothing
 // tests visibility between the texel and the pixel: RSM's known missing occlusion.
-#include "../common/scene_data.glsl"
-#include "../lighting/gbuffer.glsl"
+#include "common/scene_data.glsl"
+#include "lighting/gbuffer.glsl"
 
 layout(binding = 0) uniform sampler2D t_depth;    // full resolution, reversed-Z
 layout(binding = 1) uniform sampler2D t_normals;  // xy: octahedral normal

@@ -12,10 +12,11 @@
 #include <glm/glm.hpp>
 
 #include "render/gpu_scene.hpp"
-#include "render/settings.hpp"
 #include "scene/scene.hpp"
 
 namespace candela {
+
+struct ShadowsOptions;
 
 struct ShadowViewData {  // std430, binding 3
     glm::mat4 view_proj;
@@ -33,7 +34,7 @@ struct ShadowViews {
 
 // The frame's views for every light that has shadow views assigned (GpuScene::update_lights).
 ShadowViews build_shadow_views(const GpuScene& gpu, const Bounds& scene_bounds, const Camera& camera, float aspect,
-                               const RenderSettings::Shadows& settings);
+                               const ShadowsOptions& options);
 
 // An orthographic view of a directional light over the whole scene (what a reflective shadow map
 // needs: bounce surfaces outside the camera's view light what is in it).

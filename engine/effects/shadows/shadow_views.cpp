@@ -1,4 +1,6 @@
-#include "render/shadows.hpp"
+#include "effects/shadows/shadow_views.hpp"
+
+#include "effects/shadows/shadows.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -80,7 +82,7 @@ std::vector<float> cascade_splits(float near, float far, int cascades, float lam
 }
 
 ShadowViews build_shadow_views(const GpuScene& gpu, const Bounds& bounds, const Camera& camera, float aspect,
-                               const RenderSettings::Shadows& settings) {
+                               const ShadowsOptions& settings) {
     ShadowViews out;
     const int total = gpu.shadow_view_count();
     out.views.resize(static_cast<size_t>(total));

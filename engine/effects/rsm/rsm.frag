@@ -5,8 +5,8 @@
 // incidence (light_incidence: intensity, spot cone, range); it reflects rho * E * A with rho the
 // diffuse albedo. A = texel width^2 for orthographic views; for perspective ones the texel's solid
 // angle (tangent width^2 * cos^3 of the off-axis angle) times distance^2.
-#include "../common/scene_data.glsl"
-#include "../lighting/surface.glsl"
+#include "common/scene_data.glsl"
+#include "lighting/surface.glsl"
 
 layout(location = 5) uniform int u_light;
 layout(location = 6) uniform vec4 u_view;  // x kind (0 ortho), y texel size (world or tangent), zw unused

@@ -1,0 +1,301 @@
+// Reflective shadow maps (Dachsbacher & Stamminger 2005) and their gather: the RSM pass renders,
+// for each RSM light, its shadow views again at rsm.resolution with position, normal and
+// reflected flux; the gather pass sums rsm.samples texels per pixel into one-bounce irradiance at
+// rsm.gather resolution, which the lighting upsamples and adds through the Lambert term
+// (rsm_shading.glsl).
+#include "effects/rsm/rsm.hpp"
+
+#include <algorithm>
+
+#include <glm/gtc/type_ptr.hpp>
+
+#include "effects/rsm/rsm_data.h"
+#include "effects/rsm/rsm_sweep.hpp"
+#include "effects/shadows/shadows.hpp"
+#include "render/features.hpp"
+#include "render/passes/pass_env.hpp"
+
+namespace candela {
+namespace {
+
+int downscale(RsmGather g) { return g == RsmGather::quarter ? 4 : g == RsmGather::half ? 2 : 1; }
+
+// The passes: "rsm" (the maps, light_views stage) and "rsm_indirect" (the gather, screen stage).
+class RsmRuntime final : public EffectRuntime {
+public:
+    void prepare(const FramePrep& p) override {
+        options_ = p.settings.get<RsmOptions>();
+        on_ = p.decision.planned;
+        maps_ = indirect_ = -1;
+        gpu::RsmData d{};
+        d.on = on_ ? 1 : 0;
+        d.downscale = downscale(options_.gather);
+        if (!block_) {
+            block_ = gl::Buffer(sizeof d, nullptr, GL_DYNAMIC_STORAGE_BIT);
+            nearest_ = gl::Sampler::create(GL_NEAREST, GL_NEAREST, GL_CLAMP_TO_EDGE, GL_CLAMP_TO_EDGE);
+        }
+        block_.update(0, sizeof d, &d);
+        if (on_) prepare_maps(p);
+    }
+
+    void begin_graph(FrameGraph& graph) override {
+        if (on_) maps_ = graph.import_texture("rsm", res_.position, {GL_RGBA32F, res_.resolution, res_.resolution});
+    }
+
+    void add_pass(const std::string& name, FrameGraph& graph, const PassEnv& env, FrameTargets& targets) override {
+        if (name == "rsm") add_maps(graph, env);
+        else add_gather(graph, env, targets);
+    }
+
+    void read_shading_inputs(FrameGraph::Builder& b) const override {
+        if (indirect_ >= 0) b.read(indirect_);
+    }
+
+    void bind_shading_inputs(const PassEnv& env, FrameGraph::Context* ctx) const override {
+        glBindBufferBase(GL_UNIFORM_BUFFER, RSM_BINDING, block_.id());
+        if (ctx && indirect_ >= 0) {
+            glBindTextureUnit(10, ctx->texture(indirect_).id());
+            glBindSampler(10, env.linear_clamp.id());
+        }
+    }
+
+    void inspectables(std::vector<std::pair<std::string, const gl::Texture*>>& out) const override {
+        if (res_.flux) out.emplace_back("rsm_flux", &res_.flux);
+    }
+
+private:
+    // The RSM views: per RSM light (punctual lights with shadow views, directional first, then
+    // the brightest), its shadow views at rsm.resolution.
+    void prepare_maps(const FramePrep& p) {
+        const ShadowsRuntime* shadows = p.runtime<ShadowsRuntime>();
+        const ShadowViews& shadow_views = shadows->views();
+        const float shadow_resolution = static_cast<float>(p.settings.get<ShadowsOptions>().resolution);
+
+        Resources& r = res_;
+        const auto& infos = p.gpu.light_infos();
+        const auto placed = p.gpu.scene().placed_lights();
+        // The RSM lights: punctual lights with shadow views, directional first, then the brightest.
+        std::vector<int> chosen;
+        for (int i = 0; i < p.gpu.punctual_light_count(); ++i)
+            if (infos[static_cast<size_t>(i)].view_count > 0) chosen.push_back(i);
+        auto priority = [&](int i) {
+            const Light& l = *placed[static_cast<size_t>(i)].light;
+            if (l.type == LightType::directional) return 1e30f;
+            return (l.color.r + l.color.g + l.color.b) * l.intensity;
+        };
+        std::stable_sort(chosen.begin(), chosen.end(), [&](int a, int b) { return priority(a) > priority(b); });
+        if (chosen.size() > static_cast<size_t>(options_.max_lights)) chosen.resize(static_cast<size_t>(options_.max_lights));
+        r.views.clear();
+        r.kind_texel.clear();
+        r.light_first.clear();
+        const float scale = static_cast<float>(shadow_resolution) / static_cast<float>(options_.resolution);
+        for (int li : chosen) {
+            const LightInfo& info = infos[static_cast<size_t>(li)];
+            // A directional light's RSM covers the whole scene (bounce surfaces outside the view
+            // light what is in it); spot and point lights reuse their shadow views.
+            const bool directional = info.kind == LightInfo::Kind::directional;
+            const int count = directional ? 1 : info.view_count;
+            const int first = static_cast<int>(r.views.size());
+            r.light_first.push_back(first);
+            for (int k = 0; k < count; ++k) {
+                const ShadowViewData sv =
+                    directional ? directional_scene_view(info.direction, p.scene_bounds, options_.resolution)
+                                : shadow_views.views[static_cast<size_t>(info.first_view + k)];
+                // Cube faces: their tangent half-width (a guard band beyond 90 degrees), for the gather.
+                const float half_width = count == 6 ? sv.params.y * static_cast<float>(shadow_resolution) * 0.5f : 1.0f;
+                r.views.push_back({sv.view_proj, glm::vec4(static_cast<float>(li), static_cast<float>(first), static_cast<float>(count), half_width)});
+                r.kind_texel.push_back(glm::vec4(sv.params.x, directional ? sv.params.y : sv.params.y * scale, 0.0f, 0.0f));
+            }
+        }
+        const int res = options_.resolution;
+        const int layers = std::max<int>(1, static_cast<int>(r.views.size()));
+        if (r.resolution != res || r.layers != layers) {
+            auto make = [&](GLenum format) {
+                GLuint id = 0;
+                glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &id);
+                glTextureStorage3D(id, 1, format, res, res, layers);
+                return gl::Texture::adopt(id, res, res, format);
+            };
+            r.position = make(GL_RGBA32F);
+            r.normal = make(GL_RGBA16F);
+            r.flux = make(GL_RGBA16F);
+            r.depth = make(GL_DEPTH_COMPONENT32F);
+            r.layer_fbos.clear();
+            for (int layer = 0; layer < layers; ++layer) {
+                gl::Framebuffer fbo = gl::Framebuffer::create();
+                const GLuint colors[3] = {r.position.id(), r.normal.id(), r.flux.id()};
+                for (int i = 0; i < 3; ++i)
+                    glNamedFramebufferTextureLayer(fbo.id(), GL_COLOR_ATTACHMENT0 + static_cast<GLenum>(i), colors[i], 0, layer);
+                glNamedFramebufferTextureLayer(fbo.id(), GL_DEPTH_ATTACHMENT, r.depth.id(), 0, layer);
+                const GLenum buffers[3] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2};
+                glNamedFramebufferDrawBuffers(fbo.id(), 3, buffers);
+                fbo.check_complete("reflective shadow map layer");
+                r.layer_fbos.push_back(std::move(fbo));
+            }
+            r.resolution = res;
+            r.layers = layers;
+        }
+        std::vector<Resources::View> views = r.views;
+        if (views.empty()) views.push_back({});
+        const auto bytes = static_cast<GLsizeiptr>(views.size() * sizeof(Resources::View));
+        if (!r.views_buffer || r.views_bytes != bytes) {
+            r.views_buffer = gl::Buffer(bytes, nullptr, GL_DYNAMIC_STORAGE_BIT);
+            r.views_bytes = bytes;
+        }
+        r.views_buffer.update(0, bytes, views.data());
+    }
+
+    void add_maps(FrameGraph& graph, const PassEnv& env) {
+        graph.add_pass(
+            "rsm", [&](FrameGraph::Builder& b) { b.write(maps_); },
+            [this, &env](FrameGraph::Context& ctx) {
+                const Resources& r = res_;
+                gl::PipelineState ps;
+                ps.depth_test = true;
+                ctx.state.apply(ps);
+                ctx.state.viewport(0, 0, r.resolution, r.resolution);
+                bind_scene_buffers(env);
+                const GLuint program = env.programs.get("rsm").id();
+                ctx.state.use_program(program);
+                ctx.state.bind_vertex_array(env.scene.vertex_array().id());
+                for (size_t layer = 0; layer < r.views.size(); ++layer) {
+                    ctx.state.bind_framebuffer(r.layer_fbos[layer].id());
+                    const float zero[4] = {0, 0, 0, 0};
+                    for (int i = 0; i < 3; ++i) glClearBufferfv(GL_COLOR, i, zero);
+                    const float clear_depth = 0.0f;
+                    glClearBufferfv(GL_DEPTH, 0, &clear_depth);
+                    const glm::mat4& vp = r.views[layer].view_proj;
+                    glProgramUniformMatrix4fv(program, 4, 1, GL_FALSE, glm::value_ptr(vp));
+                    glProgramUniform1i(program, 5, static_cast<int>(r.views[layer].params.x));
+                    glProgramUniform4fv(program, 6, 1, glm::value_ptr(r.kind_texel[layer]));
+                    // Perspective: clip w = distance along the view axis, so row 3 of the matrix is it.
+                    const glm::vec3 axis(vp[0][3], vp[1][3], vp[2][3]);
+                    glProgramUniform3fv(program, 7, 1, glm::value_ptr(axis));
+                    for (const auto& d : env.scene.draws()) draw_item(env, ctx, d, false, GL_BACK, program);
+                }
+            });
+    }
+
+    void add_gather(FrameGraph& graph, const PassEnv& env, const FrameTargets& targets) {
+        struct Data {
+            FrameGraph::ResourceId depth = -1, normals = -1, out = -1;
+        };
+        const Data& data = graph.add_pass<Data>(
+            "rsm_indirect",
+            [&](FrameGraph::Builder& b, Data& d) {
+                d.depth = b.read(targets.depth);
+                d.normals = b.read(targets.normals);
+                b.read(maps_);
+                const int f = downscale(options_.gather);
+                d.out = b.create("rsm_indirect", {GL_RGBA16F, (env.width + f - 1) / f, (env.height + f - 1) / f});
+            },
+            [this, &env](const Data& d, FrameGraph::Context& ctx) {
+                const Resources& r = res_;
+                bind_scene_buffers(env);
+                glBindTextureUnit(0, ctx.texture(d.depth).id());
+                glBindSampler(0, 0);
+                glBindTextureUnit(1, ctx.texture(d.normals).id());
+                glBindSampler(1, 0);
+                const gl::Texture* maps[3] = {&r.position, &r.normal, &r.flux};
+                for (int i = 0; i < 3; ++i) {
+                    glBindTextureUnit(static_cast<GLuint>(2 + i), maps[i]->id());
+                    glBindSampler(static_cast<GLuint>(2 + i), nearest_.id());  // nearest: never blend two surfaces
+                }
+                glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, r.views_buffer.id());
+                const GLuint program = env.programs.get("rsm_gather").id();
+                const int f = downscale(options_.gather);
+                glProgramUniform1i(program, 0, static_cast<int>(r.light_first.size()));
+                glProgramUniform4i(program, 1, r.resolution, options_.samples, f, 0);
+                glProgramUniform1f(program, 2, options_.radius);
+                std::vector<int> first(8, 0);
+                std::copy_n(r.light_first.begin(), std::min<size_t>(8, r.light_first.size()), first.begin());
+                glProgramUniform1iv(program, 3, 8, first.data());
+                gl::PipelineState ps;
+                ctx.state.apply(ps);
+                const TextureDesc& desc = ctx.desc(d.out);
+                ctx.state.bind_framebuffer(env.fbos.get({&ctx.texture(d.out)}, nullptr));
+                ctx.state.viewport(0, 0, desc.width, desc.height);
+                ctx.state.use_program(program);
+                ctx.state.bind_vertex_array(env.empty_vao.id());
+                glDrawArrays(GL_TRIANGLES, 0, 3);
+                ++ctx.counters.draw_calls;
+                ctx.counters.triangles += 1;
+            });
+        indirect_ = data.out;
+    }
+
+    // Reflective shadow maps: per layer one light view (a shadow view at rsm.resolution).
+    struct Resources {
+        gl::Texture position, normal, flux, depth;  // 2D arrays, one layer per view
+        std::vector<gl::Framebuffer> layer_fbos;
+        struct View {
+            glm::mat4 view_proj;
+            glm::vec4 params;  // x light, y first layer of the light, z its layer count
+        };
+        std::vector<View> views;
+        std::vector<glm::vec4> kind_texel;  // per layer: x kind (0 ortho), y texel size at rsm.resolution
+        std::vector<int> light_first;       // first layer of each RSM light
+        gl::Buffer views_buffer;
+        GLsizeiptr views_bytes = 0;
+        int resolution = 0, layers = 0;
+    } res_;
+    RsmOptions options_;
+    bool on_ = false;
+    gl::Buffer block_;
+    gl::Sampler nearest_;  // never blend two surfaces of a map
+    FrameGraph::ResourceId maps_ = -1, indirect_ = -1;
+};
+
+class Rsm final : public Effect {
+public:
+    const char* name() const override { return "rsm"; }
+    bool on_by_default() const override { return false; }  // indirect light costs the most; opt-in
+    std::any default_options() const override { return RsmOptions{}; }
+    std::vector<Knob> knobs() const override {
+        using O = RsmOptions;
+        return KnobRows<O>("rsm", [](RenderSettings& s) -> O& { return s.get<O>(); })
+            .integer("resolution", &O::resolution, 16, 4096, "texels per side of each light's reflective shadow map")
+            .integer("samples", &O::samples, 1, 1024, "RSM texels gathered per pixel and light")
+            .choice("gather", &O::gather, kRsmGathers, "resolution of the RSM gather pass")
+            .real("radius", &O::radius, 1e-3f, 1.0f, "RSM sampling radius, as a fraction of the map's width")
+            .integer("max_lights", &O::max_lights, 1, 8, "lights with a reflective shadow map: directional first, then the brightest")
+            .rows;
+    }
+    // RSM renders from the lights' shadow views: it needs the shadow pass and a punctual light
+    // with a shadow map (area-light pieces get none).
+    EffectDecision decide(const Features& f, const RenderSettings& s) const override {
+        const bool shadows = f.decision("shadows").planned;
+        const bool needed = shadows && f.punctual_lights > 0 && s.get<ShadowsOptions>().max_lights > 0;
+        return decide_effect(name(), s.on(name()) || s.debug.view == DebugView::indirect, needed,
+                             needed ? std::to_string(std::min(f.punctual_lights, s.get<RsmOptions>().max_lights)) +
+                                          " shadowed punctual light(s) to bounce"
+                             : f.punctual_lights == 0 ? "no punctual light (area-light pieces have no RSM)"
+                                                      : "no shadow pass for the RSM to reuse the light views of",
+                             s.gating || !shadows);  // without shadow views there is nothing to run it on
+    }
+    void plan(Stage stage, const Features& f, const RenderSettings& s, std::vector<PlannedPass>& out) const override {
+        if (stage == Stage::light_views) out.push_back({"rsm", f.decision(name()).reason.substr(4), this, {"rsm"}});
+        if (stage == Stage::screen)
+            out.push_back({"rsm_indirect",
+                           std::string("gather rsm.samples texels per pixel, rsm.gather=") + choice_name(kRsmGathers, s.get<RsmOptions>().gather),
+                           this, {"rsm_gather"}});
+    }
+    const char* needs_depth_normals() const override { return "RSM"; }
+    std::vector<ProgramDesc> programs() const override {
+        using S = ShaderStage;
+        return {{"rsm", {{S::vertex, "effects/rsm/rsm.vert"}, {S::fragment, "effects/rsm/rsm.frag"}}, {}},
+                {"rsm_gather", {{S::vertex, "post/fullscreen.vert"}, {S::fragment, "effects/rsm/gather.frag"}}, {}}};
+    }
+    std::vector<GpuBlockInfo> gpu_blocks() const override { return {{"RsmData", RSM_BINDING, sizeof(gpu::RsmData), "forward"}}; }
+    std::unique_ptr<EffectRuntime> create_runtime() const override { return std::make_unique<RsmRuntime>(); }
+    std::vector<AccuracySweep> accuracy_sweeps(bool quick) const override { return rsm_accuracy_sweeps(quick); }
+};
+
+}  // namespace
+
+const Effect& rsm_effect() {
+    static const Rsm effect;
+    return effect;
+}
+
+}  // namespace candela

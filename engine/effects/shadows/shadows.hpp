@@ -1,0 +1,62 @@
+#pragma once
+// Shadow maps (engine/effects/shadows/): one depth layer per shadow view (shadow_views.hpp) of
+// every shadowed light, filtered by the lighting (shadows_shading.glsl) with a hard 2x2 PCF tap,
+// a PCF kernel or PCSS.
+#include "effects/effect.hpp"
+#include "effects/shadows/shadow_views.hpp"
+
+namespace candela {
+
+enum class ShadowFilter { hard = 1, pcf = 2, pcss = 3 };  // the values of ShadowsData::filter_mode
+inline constexpr ChoiceName<ShadowFilter> kShadowFilters[] = {
+    {"hard", ShadowFilter::hard}, {"pcf", ShadowFilter::pcf}, {"pcss", ShadowFilter::pcss}};
+
+struct ShadowsOptions {
+    int resolution = 1024;                      // [64, 8192] texels per side of every shadow view
+    ShadowFilter filter = ShadowFilter::pcss;   // one 2x2 hardware PCF tap, pcf_size^2 taps, PCSS
+    int pcf_size = 5;                           // [1, 15] taps per side of the PCF kernel
+    int pcss_blocker_taps = 16;                 // [1, 128] blocker-search taps
+    int pcss_taps = 32;                         // [1, 256] filter taps of PCSS
+    float max_radius = 32.0f;                   // [1, 64] texels: the largest PCSS search and filter radius
+    float normal_bias = 1.0f;                   // [0, 16] texels at the receiver, along its normal
+    float depth_bias = 0.5f;                    // [0, 16] texels at the receiver, towards the light
+    float slope_bias = 1.5f;                    // [0, 16] polygon-offset factor of the caster pass
+    // [0, 4] filter taps r texels away compare against the receiver's plane: r * tan(theta)
+    // texels deeper, times this factor (wide PCF/PCSS kernels on tilted receivers)
+    float receiver_slope_bias = 1.0f;
+    int cascades = 1;                           // [1, 4] directional-light cascades
+    int max_lights = 16;                        // [0, 4096] lights with shadow maps: directional first, then brightest
+    float split_lambda = 0.7f;                  // [0, 1] cascade splits: 0 uniform, 1 logarithmic
+};
+
+const Effect& shadows_effect();
+
+// The effect's state in a renderer (Renderer::effect_runtime<ShadowsRuntime>()).
+class ShadowsRuntime final : public EffectRuntime {
+public:
+    // This frame's shadow views (empty when the shadow pass does not run).
+    const ShadowViews& views() const { return cpu_; }
+    // The nearest-texel sampler of the maps (other effects read their own light views with it).
+    const gl::Sampler& raw_sampler() const { return raw_; }
+
+    void prepare(const FramePrep& prep) override;
+    void begin_graph(FrameGraph& graph) override;
+    void add_pass(const std::string& name, FrameGraph& graph, const PassEnv& env, FrameTargets& targets) override;
+    void read_shading_inputs(FrameGraph::Builder& b) const override;
+    void bind_shading_inputs(const PassEnv& env, FrameGraph::Context* ctx) const override;
+
+private:
+    ShadowsOptions options_;
+    bool on_ = false;
+    gl::Texture array_;                      // DEPTH32F, one layer per view
+    std::vector<gl::Framebuffer> layer_fbos_;
+    gl::Buffer views_;                       // ShadowViewData[]
+    GLsizeiptr views_bytes_ = 0;
+    ShadowViews cpu_;
+    gl::Sampler compare_, raw_;
+    int resolution_ = 0, layers_ = 0;
+    gl::Buffer block_;
+    FrameGraph::ResourceId maps_ = -1;
+};
+
+}  // namespace candela

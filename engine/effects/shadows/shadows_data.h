@@ -1,0 +1,21 @@
+// The shadows effect's uniform block, shared by shadows.cpp and the GLSL (effects/gpu_block.h).
+#include "effects/gpu_block.h"
+#define SHADOWS_BINDING 1
+
+GPU_NAMESPACE_BEGIN
+GPU_BLOCK(ShadowsData, SHADOWS_BINDING) {
+    int filter_mode;     // 0 off (no shadow pass this frame), 1 hard, 2 pcf, 3 pcss (shadows.filter)
+    int pcf_size;        // PCF kernel width in taps (shadows.pcf_size)
+    int blocker_taps;    // PCSS blocker-search taps (shadows.pcss_blocker_taps)
+    int pcss_taps;       // PCSS filter taps (shadows.pcss_taps)
+    float normal_bias;   // receiver offset along its normal, texels (shadows.normal_bias)
+    float depth_bias;    // reference moved towards the light, texels (shadows.depth_bias)
+    float resolution;    // texels per side of every shadow view (shadows.resolution)
+    float max_radius;    // largest PCSS search/filter radius, texels (shadows.max_radius)
+    float receiver_slope_bias;  // multiple of tan(theta) per texel of filter taps (shadows.receiver_slope_bias)
+    float pad0;
+    float pad1;
+    float pad2;
+} GPU_BLOCK_INSTANCE(shadows);
+GPU_BLOCK_CHECK(ShadowsData, 48)
+GPU_NAMESPACE_END
