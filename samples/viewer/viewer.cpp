@@ -95,7 +95,7 @@ class Viewer {
 public:
     Viewer(const Scene& scene, const ViewerOptions& o, Context& ctx, std::vector<ScriptCommand> script)
         : scene_(scene), o_(o), ctx_(ctx), shaders_(o.shader_dir), gpu_(scene), settings_(o.settings),
-          renderer_(shaders_, scene, gpu_, settings_), watcher_(shaders_.root()), bounds_(scene.world_bounds()),
+          renderer_(shaders_, scene, gpu_, settings_), watcher_(shaders_.root()), effects_watcher_(shaders_.effects_root() / "effects"), bounds_(scene.world_bounds()),
           script_(std::move(script)) {
         select_camera(o.camera);
         IMGUI_CHECKVERSION();
@@ -105,7 +105,8 @@ public:
         ImGui_ImplGlfw_InitForOpenGL(ctx.window(), true);
         ImGui_ImplOpenGL3_Init("#version 450 core");
         blit_ = gl::Framebuffer::create();
-        log::info(std::string("viewer: watching ") + shaders_.root().string() + (watcher_.uses_inotify() ? " (inotify)" : " (polling)"));
+        log::info(std::string("viewer: watching ") + shaders_.root().string() + " and " + (shaders_.effects_root() / "effects").string() +
+                  (watcher_.uses_inotify() ? " (inotify)" : " (polling)"));
     }
     ~Viewer() {
         ImGui_ImplOpenGL3_Shutdown();
@@ -172,7 +173,8 @@ private:
     GpuScene gpu_;
     RenderSettings settings_;
     Renderer renderer_;
-    FileWatcher watcher_;
+    FileWatcher watcher_;          // shaders/
+    FileWatcher effects_watcher_;  // engine/effects/: each effect's GLSL beside its C++
     Bounds bounds_;
     std::vector<ScriptCommand> script_;
     CameraController controller_;
@@ -361,7 +363,8 @@ void Viewer::handle_input(float dt) {
 }
 
 void Viewer::reload_shaders() {
-    const std::vector<fs::path> changed = watcher_.poll();
+    std::vector<fs::path> changed = watcher_.poll();
+    for (fs::path& f : effects_watcher_.poll()) changed.push_back(std::move(f));
     if (changed.empty()) return;
     const auto t0 = Clock::now();
     const ShaderReload r = renderer_.reload_shaders(changed);
