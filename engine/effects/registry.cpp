@@ -1,6 +1,7 @@
 #include "effects/registry.hpp"
 
 #include "effects/area_lights/area_lights.hpp"
+#include "effects/fog/fog.hpp"
 #include "effects/reflections/reflections.hpp"
 #include "effects/rsm/rsm.hpp"
 #include "effects/shadows/shadows.hpp"
@@ -19,6 +20,7 @@ const std::vector<const Effect*>& effect_registry() {
         &ssao_effect(),
         &rsm_effect(),
         &transparency_effect(),
+        &fog_effect(),
     };
     return all;
 }
