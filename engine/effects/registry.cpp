@@ -1,7 +1,6 @@
 #include "effects/registry.hpp"
 
 #include "effects/area_lights/area_lights.hpp"
-#include "effects/fog/fog.hpp"
 #include "effects/reflections/reflections.hpp"
 #include "effects/rsm/rsm.hpp"
 #include "effects/shadows/shadows.hpp"
@@ -20,7 +19,6 @@ const std::vector<const Effect*>& effect_registry() {
         &ssao_effect(),
         &rsm_effect(),
         &transparency_effect(),
-        &fog_effect(),
     };
     return all;
 }
