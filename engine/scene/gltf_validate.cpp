@@ -1590,12 +1590,18 @@ public:
     DataChecker(const json& doc, const std::vector<std::string_view>& buffers) : d_(doc), buffers_(buffers) {}
 
     std::vector<Issue> run() {
-        const json* accessors = d_.find("accessors") != d_.end() ? &d_["accessors"] : nullptr;
-        if (accessors && accessors->is_array())
-            for (size_t i = 0; i < accessors->size(); ++i) check_accessor(i);
-        check_mesh_data();
-        check_animation_data();
-        check_skin_data();
+        try {
+            const json* accessors = d_.find("accessors") != d_.end() ? &d_["accessors"] : nullptr;
+            if (accessors && accessors->is_array())
+                for (size_t i = 0; i < accessors->size(); ++i) check_accessor(i);
+            check_mesh_data();
+            check_animation_data();
+            check_skin_data();
+        } catch (const json::exception&) {
+            // A member of an unexpected type that the guards above missed (e.g. a numeric
+            // "interpolation"): the structure checks name it; these checks only add warnings, so
+            // they stop here rather than end the load with an internal error.
+        }
         return std::move(issues_);
     }
 
@@ -1681,6 +1687,7 @@ private:
 
     void check_accessor(size_t i) {
         const json& a = d_["accessors"][i];
+        if (!a.is_object()) return;  // the structure checks name it
         const std::string p = at("accessors", i);
         const std::vector<double>& v = values(i);
         if (v.empty()) return;
@@ -1737,12 +1744,16 @@ private:
     }
 
     void check_mesh_data() {
-        if (!d_.contains("meshes")) return;
+        // Only well-formed parts: a malformed one is the structure checks' error, and tinygltf may
+        // still have read the file (a non-array "meshes" must not throw here).
+        if (!d_.contains("meshes") || !d_["meshes"].is_array()) return;
         const json& meshes = d_["meshes"];
         for (size_t mi = 0; mi < meshes.size(); ++mi) {
+            if (!meshes[mi].is_object() || !meshes[mi].contains("primitives") || !meshes[mi]["primitives"].is_array()) continue;
             const json& prims = meshes[mi]["primitives"];
             for (size_t pi = 0; pi < prims.size(); ++pi) {
                 const json& prim = prims[pi];
+                if (!prim.is_object() || !prim.contains("attributes") || !prim["attributes"].is_object()) continue;
                 const std::string pp = at(at(at("meshes", mi), "primitives"), pi);
                 const json& attrs = prim["attributes"];
                 int nc = 0;
@@ -1841,7 +1852,7 @@ private:
     }
 
     void check_animation_data() {
-        if (!d_.contains("animations")) return;
+        if (!d_.contains("animations") || !d_["animations"].is_array()) return;
         const json& anims = d_["animations"];
         for (size_t ai = 0; ai < anims.size(); ++ai) {
             const json& a = anims[ai];
@@ -1895,7 +1906,7 @@ private:
     }
 
     void check_skin_data() {
-        if (!d_.contains("skins")) return;
+        if (!d_.contains("skins") || !d_["skins"].is_array()) return;
         const json& skins = d_["skins"];
         for (size_t i = 0; i < skins.size(); ++i) {
             if (!skins[i].is_object() || !skins[i].contains("inverseBindMatrices")) continue;

@@ -83,6 +83,14 @@ TEST(FuzzCorpus, NumberBeyondDoubleIsBadJsonNotACrash) {
     EXPECT_NE(message.find("invalid JSON: number overflow parsing '1e381'"), std::string::npos) << message;
 }
 
+TEST(FuzzCorpus, NonArraySkinsIsAWarningNotAnInternalError) {
+    // Found by the fuzzer: "skins": 0 passed tinygltf and the structure checks (a warning), and
+    // the buffer-data checks then indexed it as an array: a json type_error escaped as an internal
+    // error (exit 1). The data checks now look only at well-formed parts.
+    std::string message;
+    EXPECT_EQ(replay(kSource / "tests" / "fuzz" / "regressions" / "skins_not_an_array.gltf", &message), Outcome::loaded) << message;
+}
+
 TEST(FuzzCorpus, FactorBeyondFloatIsBadInput) {
     // Found by the fuzzer: baseColorFactor 2.2e98 is a finite double but +Inf as a float; the
     // loaded material was not finite. Numbers that do not fit a float are now bad input, factors
