@@ -14,17 +14,14 @@
 #include "scene/gltf_loader.hpp"
 #include "shader/file_watcher.hpp"
 
+#include "text_file.hpp"
+
 namespace candela {
 namespace {
 namespace fs = std::filesystem;
 
-std::string read_text(const fs::path& p) {
-    std::ifstream in(p);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-}
-void write_text(const fs::path& p, const std::string& s) { std::ofstream(p, std::ios::trunc) << s; }
+using test::read_text;
+using test::write_text;
 
 // A white pure-Lambert quad filling an orthographic view, lit only by a constant environment
 // of 0.5: every pixel's radiance is exactly 0.5 in each channel.

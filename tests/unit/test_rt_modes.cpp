@@ -16,6 +16,8 @@
 #include "shader/file_watcher.hpp"
 #include "shader/program_catalog.hpp"
 
+#include "text_file.hpp"
+
 namespace candela {
 namespace {
 namespace fs = std::filesystem;
@@ -23,13 +25,8 @@ namespace fs = std::filesystem;
 const rt::Mode kAllModes[] = {rt::Mode::whitted, rt::Mode::path,    rt::Mode::direct,     rt::Mode::indirect,
                               rt::Mode::ao,      rt::Mode::primary, rt::Mode::visibility, rt::Mode::bounce};
 
-std::string read_text(const fs::path& p) {
-    std::ifstream in(p);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-}
-void write_text(const fs::path& p, const std::string& s) { std::ofstream(p, std::ios::trunc) << s; }
+using test::read_text;
+using test::write_text;
 
 bool lists(const std::vector<fs::path>& files, const fs::path& want) {
     return std::any_of(files.begin(), files.end(), [&](const fs::path& f) {
