@@ -28,7 +28,10 @@ struct AccuracySweep {
         rt::Mode mode = rt::Mode::direct;
         int spp = 16;
         int max_depth = -1;             // -1: the tracer's default
-        int jitter = -1;                // -1: rt.jitter=auto, 0 off, 1 on
+        // 0: pixel centres, as the rasterizer samples them, so that the measured error is the
+        // effect's and not the rasterizer's own edge aliasing; 1 (or -1, the tracer's default):
+        // the box-filtered pixel average.
+        int jitter = 0;
         bool indirect_occlusion = true;
     };
 

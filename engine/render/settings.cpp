@@ -39,7 +39,7 @@ std::vector<Knob> base_knobs() {
             .real("radius", &S::AmbientOcclusion::radius, 1e-6f, 1e9f, "ambient occlusion radius in world units (SSAO and --raytrace ao)")
             .rows);
     add(KnobRows<S::RayTracing>("rt", [](S& s) -> S::RayTracing& { return s.rt; })
-            .choice("jitter", &S::RayTracing::jitter, kRtJitters, "jittered primary rays; auto: on for path and whitted, off for the raster references")
+            .choice("jitter", &S::RayTracing::jitter, kRtJitters, "camera rays at random points of the pixel (its box-filtered average; auto = on, every mode) or off: through its centre, as the rasterizer samples")
             .real("whitted_max_roughness", &S::RayTracing::whitted_max_roughness, 0.0f, 1.0f,
                   "surfaces at most this rough reflect as mirrors in whitted mode")
             .boolean("indirect_occlusion", &S::RayTracing::indirect_occlusion,

@@ -76,7 +76,7 @@ struct RenderSettings {
         float radius = 1.0f;  // (0, 1e9] world units; SSAO and `--raytrace ao` use the same radius
     } ao;
     struct RayTracing {
-        RtJitter jitter = RtJitter::automatic;  // auto jitters (anti-aliases) path and whitted only
+        RtJitter jitter = RtJitter::automatic;  // auto = on: the box-filtered pixel average, every mode
         float whitted_max_roughness = 0.05f;  // [0, 1] smoother surfaces are mirrors in whitted mode
         bool indirect_occlusion = true;       // indirect mode: visibility between bounce points
         bool env_importance = true;           // path/direct: sample environment maps by luminance (MIS)

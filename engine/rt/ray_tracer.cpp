@@ -123,10 +123,15 @@ RayTracer::RayTracer(const ShaderLibrary& shaders, const Scene& scene, GpuScene&
     if (options_.spp < 1 || options_.spp > (1 << 24)) throw bad_input("--spp must be in [1, 16777216]");
     if (options_.shard_count < 1 || options_.shard < 0 || options_.shard >= options_.shard_count)
         throw bad_input("--spp-shard K/N needs 0 <= K < N");
-    if (options_.max_depth < 0) options_.max_depth = options_.mode == Mode::whitted ? 5 : options_.mode == Mode::direct ? 1 : 8;
+    // Unbiased by default (issue 20): path has no depth cap, only Russian roulette; an explicit
+    // max_depth is a truncation the caller asked for.
+    if (options_.max_depth < 0) options_.max_depth = options_.mode == Mode::whitted ? 5 : options_.mode == Mode::direct ? 1 : kUnboundedDepth;
     if (options_.mode == Mode::direct) options_.max_depth = 1;
-    if (options_.max_depth > 64) throw bad_input("--max-depth must be in [0, 64]");
-    if (options_.jitter < 0) options_.jitter = options_.mode == Mode::path || options_.mode == Mode::whitted;
+    // Whitted has no roulette: its recursion is bounded by the depth alone.
+    const int depth_limit = options_.mode == Mode::whitted ? 64 : kUnboundedDepth;
+    if (options_.max_depth > depth_limit) throw bad_input("--max-depth must be in [0, " + std::to_string(depth_limit) + "] in this mode");
+    // A reference is the box-filtered pixel average: every mode jitters unless told not to.
+    if (options_.jitter < 0) options_.jitter = 1;
     // One program per mode (shaders/rt/modes/), specialised: code for features the scene lacks
     // is never compiled or run.
     const ModeProgram program = mode_program(options_.mode);
@@ -152,6 +157,12 @@ RayTracer::RayTracer(const ShaderLibrary& shaders, const Scene& scene, GpuScene&
 }
 
 RayTracer::~RayTracer() = default;
+
+void RayTracer::set_shard(int shard, int count) {
+    if (count < 1 || shard < 0 || shard >= count) throw bad_input("--spp-shard K/N needs 0 <= K < N");
+    options_.shard = shard;
+    options_.shard_count = count;
+}
 
 FrameGpu RayTracer::make_frame(const Camera& camera, int width, int height) const {
     FrameGpu f{};

@@ -28,16 +28,27 @@ struct ModeProgram {
 };
 ModeProgram mode_program(Mode mode);
 
+// The default depth of `path`: no cap in practice. Russian roulette survives with probability at
+// most 0.95 from the fourth bounce, so a path reaches this depth with probability < 0.95^(2^20).
+inline constexpr int kUnboundedDepth = 1 << 20;
+
 struct Options {
     Mode mode = Mode::path;
     int spp = 16;          // [1, 1 << 24] samples per pixel (the whole render, before sharding)
-    int max_depth = -1;    // bounces; -1: the mode's default (whitted 5, path 8)
+    // Bounces. -1: the mode's default: whitted 5, direct 1, path unbounded (Russian roulette ends
+    // every path; kUnboundedDepth is only a safety net, its truncation bias is below 1e-300 for albedos up to 0.999). A
+    // set value N truncates path: light after more than N reflections is dropped, a bias of
+    // -a^(N+1) in a closed box of albedo a (docs/raytracing.md), for speed only.
+    int max_depth = -1;
     std::uint32_t seed = 1;
     int shard = 0;         // --spp-shard K/N: this run computes samples s with s % N == K
     int shard_count = 1;
     double time_limit_s = 0.0;  // > 0: stop at the first sample boundary past it
     float ao_radius = 1.0f;     // world units (ao.radius, shared with SSAO)
-    int jitter = -1;            // -1: on for path/whitted (anti-aliasing), off for direct/indirect/ao
+    // Camera rays at uniformly random points of the pixel (on: the box-filtered pixel average, what
+    // a reference renderer computes) or through its centre (off: the point sample a rasterizer
+    // takes; partly covered pixels then come out 0 or 1). -1: on, in every mode.
+    int jitter = -1;
     float whitted_max_roughness = 0.05f;  // smoother surfaces reflect as mirrors in whitted mode
     // indirect mode: with false, the bounce points y are sampled over all surfaces by area and the
     // visibility between x and y is ignored (RSM's own model), so RSM's sampling error can be
@@ -83,6 +94,9 @@ public:
     bool progressive_done() const { return progressive_.sample >= options_.spp; }
     // Changes the sample count for the next render (benchmarks warm up with one sample first).
     void set_spp(int spp) { options_.spp = spp; }
+    // The next render computes the samples s with s % count == shard (--spp-shard K/N): independent
+    // batches from one tracer (the statistical tests). Throws bad_input unless 0 <= shard < count.
+    void set_shard(int shard, int count);
     const RtScene& scene() const { return rt_scene_; }
 
 private:

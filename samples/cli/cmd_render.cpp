@@ -31,7 +31,7 @@ int raytrace(const Parsed& p, const SceneSetup& s, const fs::path& out_path, flo
     if (!mode) throw bad_input("--raytrace '" + p.get("--raytrace") + "' must be whitted, path, direct, indirect, ao, primary or visibility");
     o.mode = *mode;
     if (p.has("--spp")) o.spp = parse_int("--spp", p.get("--spp"), 1, 1 << 24);
-    if (p.has("--max-depth")) o.max_depth = parse_int("--max-depth", p.get("--max-depth"), 0, 64);
+    if (p.has("--max-depth")) o.max_depth = parse_int("--max-depth", p.get("--max-depth"), 0, rt::kUnboundedDepth);
     if (p.has("--seed")) o.seed = static_cast<std::uint32_t>(parse_int("--seed", p.get("--seed"), 0, 2147483647));
     if (p.has("--time-limit")) o.time_limit_s = parse_float("--time-limit", p.get("--time-limit"), 0.0f, 1e9f);
     if (p.has("--spp-shard")) {

@@ -78,6 +78,7 @@ protected:
         rt::Options o;
         o.mode = rt::Mode::visibility;
         o.spp = 1;
+        o.jitter = 0;  // pixel centres, where the rasterizer samples: the shadow's error alone
         return traced(scene, w, h, o).image;
     }
 };

@@ -13,7 +13,7 @@ std::vector<AccuracySweep> rsm_accuracy_sweeps(bool quick) {
     s.buffer = AccuracySweep::Buffer::indirect;
     s.own_passes = {"depth_normal_prepass", "rsm", "rsm_indirect"};
     s.reference = AccuracySweep::Reference{rt::Mode::indirect, quick ? 32 : 128};
-    s.split = AccuracySweep::Reference{rt::Mode::indirect, quick ? 32 : 128, -1, -1, false};
+    s.split = AccuracySweep::Reference{rt::Mode::indirect, quick ? 32 : 128, -1, 0, false};
     s.compared = "one-bounce indirect light (`--output-buffer indirect`) vs `--raytrace indirect`; the column "
                  "`rmse_no_occlusion` compares with the tracer's indirect light without visibility between the "
                  "bounce points (RSM's own model), which isolates RSM's sampling error";
