@@ -57,7 +57,7 @@ std::string num(double v, const char* f = "%.4g") {
     return b;
 }
 
-// The sweeps: every effect's own (effects/*/*_sweep.cpp), then the two that belong to no effect.
+// The sweeps: every effect's own (effects/*/*_sweep.cpp), then the three that belong to no effect.
 // Each reading says what the error is made of; the numbers come from the run.
 std::vector<AccuracySweep> make_sweeps(bool quick) {
     std::vector<AccuracySweep> sweeps = effect_accuracy_sweeps(quick);
@@ -76,6 +76,17 @@ std::vector<AccuracySweep> make_sweeps(bool quick) {
         s.compared = "`--raytrace path` at rising spp vs a high-spp render of itself: the price of the truth";
         s.reading = "Monte Carlo error falls as 1/sqrt(spp) while time grows linearly: each halving of the error "
                     "costs four times the time.";
+        sweeps.push_back(s);
+    }
+    {
+        AccuracySweep s;
+        s.effect = "ray_tracer_depth";
+        s.scene = "cornell_box.gltf";
+        s.compared = "`--raytrace path --max-depth N` vs the default (no cap: Russian roulette ends paths), same seed and "
+                     "spp, so both follow the same paths up to the cap and the difference is the truncation bias alone";
+        s.reading = "A cap of N drops the light that arrives after more than N bounces: -a^(N+1) of the radiance in a "
+                    "closed box of albedo a, a bias no number of samples removes. It saves the time of the long paths; "
+                    "the default pays it so that the reference is unbiased.";
         sweeps.push_back(s);
     }
     return sweeps;
@@ -364,7 +375,7 @@ int run_accuracy(const AccuracyOptions& o) {
     };
     std::vector<Job> jobs;
     for (const AccuracySweep& s : sweeps) {
-        if (s.effect == "forward_deferred" || s.effect == "ray_tracer" || o.scenes.empty()) {
+        if (s.effect == "forward_deferred" || s.effect == "ray_tracer" || s.effect == "ray_tracer_depth" || o.scenes.empty()) {
             jobs.push_back({&s, s.scene});
             continue;
         }
@@ -375,9 +386,11 @@ int run_accuracy(const AccuracyOptions& o) {
     }
     const std::vector<int> light_counts = o.quick ? std::vector<int>{4, 16} : std::vector<int>{4, 16, 64};
     const std::vector<int> spps = o.quick ? std::vector<int>{1, 4, 16} : std::vector<int>{1, 4, 16, 64};
+    const std::vector<int> depths = o.quick ? std::vector<int>{2, 8} : std::vector<int>{2, 4, 8, 16, 32};
     for (const Job& j : jobs) {
         if (j.sweep->effect == "forward_deferred") progress.total += 2 * static_cast<int>(light_counts.size());
         else if (j.sweep->effect == "ray_tracer") progress.total += static_cast<int>(spps.size()) + 1;
+        else if (j.sweep->effect == "ray_tracer_depth") progress.total += static_cast<int>(depths.size()) + 1;
         else progress.total += static_cast<int>(j.sweep->variants.size()) + 1 + (j.sweep->split ? 1 : 0);
     }
 
@@ -440,6 +453,41 @@ int run_accuracy(const AccuracyOptions& o) {
                 rows.push_back(std::move(row));
                 progress.step("ray_tracer: " + std::to_string(spp) + " spp");
             }
+        } else if (s.effect == "ray_tracer_depth") {
+            const Scene scene = load(c, j.scene);
+            GpuScene gpu(scene);
+            const int spp = o.quick ? 16 : 64;
+            auto row_for = [&](int depth) {
+                AccuracySweep::Reference r{rt::Mode::path, spp};
+                r.max_depth = depth;
+                const rt::Result res = trace(c, scene, gpu, r, spp, 7, RenderSettings{});
+                Row row;
+                row.effect = s.effect;
+                row.variant = depth < 0 ? std::string("no cap (default)") : "max depth " + std::to_string(depth);
+                row.settings = "--raytrace path --spp " + std::to_string(spp) + (depth < 0 ? "" : " --max-depth " + std::to_string(depth));
+                row.scene = j.scene;
+                row.width = c.width;
+                row.height = c.height;
+                row.ms = row.frame_ms = res.trace_ms;
+                row.iqr = 0.0;
+                row.image = res.image;
+                return row;
+            };
+            Row unbounded = row_for(-1);
+            progress.step("ray_tracer_depth: no cap");
+            // The same paths up to the cap: no noise between the rows, only the dropped light.
+            const Reference ref{unbounded.image, 0.0, unbounded.ms, spp};
+            sec.noise = 0.0;
+            sec.ref_spp = spp;
+            sec.reference = ref.image;
+            for (int depth : depths) {
+                Row row = row_for(depth);
+                measure_errors(row, row.image, ref, Buffer::radiance);
+                rows.push_back(std::move(row));
+                progress.step("ray_tracer_depth: max depth " + std::to_string(depth));
+            }
+            measure_errors(unbounded, unbounded.image, ref, Buffer::radiance);
+            rows.push_back(std::move(unbounded));
         } else {
             const Scene scene = load(c, j.scene);
             GpuScene gpu(scene);

@@ -10,7 +10,7 @@ import sys
 rows = list(csv.DictReader(open(sys.argv[1])))
 problems = []
 effects = {r["effect"] for r in rows}
-for e in ["shadows", "shadows_colour", "area_lights", "ssao", "rsm", "transparency", "reflections", "forward_deferred", "ray_tracer"]:
+for e in ["shadows", "shadows_colour", "area_lights", "ssao", "rsm", "transparency", "reflections", "forward_deferred", "ray_tracer", "ray_tracer_depth"]:
     if e not in effects:
         problems.append(f"no rows for {e}")
 
@@ -49,6 +49,19 @@ def samples_key(v):
 monotone("ssao", samples_key)
 monotone("rsm", samples_key)
 monotone("ray_tracer", samples_key)
+
+# The depth cap: the same paths up to the cap, so the error is the truncation alone. It falls as the
+# cap rises, and the default (no cap) is the reference itself.
+depth_rows = sorted(((int(re.match(r"max depth (\d+)", r["variant"]).group(1)), f(r, "rmse"), r["variant"])
+                     for r in rows if r["effect"] == "ray_tracer_depth" and r["variant"].startswith("max depth")))
+for (d0, e0, v0), (d1, e1, v1) in zip(depth_rows, depth_rows[1:]):
+    if not e1 < e0:
+        problems.append(f"ray_tracer_depth: '{v1}' has error {e1:.5g}, not below '{v0}' {e0:.5g}")
+if depth_rows and not depth_rows[0][1] > 0:
+    problems.append(f"ray_tracer_depth: '{depth_rows[0][2]}' has no error: the cap does not truncate")
+for r in rows:
+    if r["effect"] == "ray_tracer_depth" and r["variant"].startswith("no cap") and f(r, "rmse") != 0:
+        problems.append(f"ray_tracer_depth: the default differs from itself (rmse {r['rmse']})")
 
 for e in effects - {"forward_deferred"}:
     part = [r for r in rows if r["effect"] == e and r["scene"] == r["scene"]]
