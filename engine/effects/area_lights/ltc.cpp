@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <thread>
 
 #include "rt/sampling.hpp"
@@ -25,7 +26,7 @@ constexpr float kMinCos = 1e-4f;
 constexpr int kFitGrid = 32;     // per-axis samples of each distribution in the fit objective
 constexpr double kFitPower = 3.0;  // the paper's L3 norm
 constexpr int kErrorGrid = 96;   // the same, for the reported L1 residual
-constexpr int kAlbedoTheta = 512, kAlbedoPhi = 256;  // norm/fresnel quadrature (half of phi)
+constexpr int kAlbedoGrid = 256;  // norm/fresnel quadrature
 
 float alpha_of(float roughness) { return std::max(roughness * roughness, 1e-3f); }  // brdf_alpha
 
@@ -81,39 +82,39 @@ struct Lobe {
     glm::dvec3 average{0.0, 0.0, 1.0};  // normalised average direction of the lobe
 };
 
-// Norm, Fresnel moment and average direction by a midpoint quadrature over the GGX normal
-// distribution's own parametrisation: h has density D(h) NdotH for xi uniform, with
-// tan^2(theta_h) = alpha^2 xi / (1 - xi) (Walter et al. 2007); dl = 4 VdotH dh, so
-// integral f cos dl = E[D V NdotL 4 VdotH / (D NdotH)]. Only half of phi is integrated (the lobe
-// is symmetric in y).
+// Norm, Fresnel moment and average direction by stratified sampling of GGX visible normals
+// (Heitz 2018, engine/rt/sampling.hpp), one jittered sample per cell of a 256 x 256 grid (fixed
+// hash, so deterministic): integral f cos dl = E[f cos / pdf], pdf = G1(v) D / (4 NdotV); the
+// weight (G2 / G1) is bounded. Measured at r = 0.19, NdotV = 0.99: jittered 256^2 is 1.7e-4 from
+// the converged value, cell midpoints were 1.4e-3 off (they converge as 1/n: the visible-normal
+// warp is not smooth). A first version integrated over the normal distribution's CDF, whose cells
+// squeeze the horizon of grazing views into the last few: 1.7e-2 off at NdotV = 1e-4.
 void integrate_lobe(Lobe& lobe) {
-    const double a2 = lobe.alpha * lobe.alpha;
+    const glm::vec3 v(lobe.v);
     double norm = 0.0, fresnel = 0.0;
     glm::dvec3 avg(0.0);
-    for (int it = 0; it < kAlbedoTheta; ++it) {
-        const double xi = (it + 0.5) / kAlbedoTheta;
-        const double tan2 = a2 * xi / (1.0 - xi);
-        const double cos_h = 1.0 / std::sqrt(1.0 + tan2);
-        const double sin_h = std::sqrt(std::max(0.0, 1.0 - cos_h * cos_h));
-        for (int ip = 0; ip < kAlbedoPhi; ++ip) {
-            const double phi = kPi * (ip + 0.5) / kAlbedoPhi;
-            const glm::dvec3 h(sin_h * std::cos(phi), sin_h * std::sin(phi), cos_h);
-            const double VdotH = glm::dot(lobe.v, h);
-            if (VdotH <= 0.0) continue;
-            const glm::dvec3 l = 2.0 * VdotH * h - lobe.v;
-            if (l.z <= 0.0) continue;
-            const double f = lobe_cos(lobe.alpha, lobe.v, l);
-            const double D = a2 / (kPi * std::pow(cos_h * cos_h * (a2 - 1.0) + 1.0, 2.0));
-            const double w = f * 4.0 * VdotH / (D * cos_h);
+    std::uint32_t seed = 12345u;
+    auto jitter = [&seed] {
+        seed = rt::pcg_hash(seed);
+        return float(seed >> 8) * (1.0f / 16777216.0f);
+    };
+    for (int a = 0; a < kAlbedoGrid; ++a)
+        for (int b = 0; b < kAlbedoGrid; ++b) {
+            const glm::vec2 u((a + jitter()) / kAlbedoGrid, (b + jitter()) / kAlbedoGrid);
+            const glm::dvec3 h(rt::sample_ggx_vndf(v, float(lobe.alpha), u));
+            const glm::dvec3 l = glm::normalize(2.0 * glm::dot(lobe.v, h) * h - lobe.v);
+            const double pdf = vndf_pdf(lobe.alpha, lobe.v, l);
+            if (l.z <= 0.0 || !(pdf > 0.0)) continue;
+            const double w = lobe_cos(lobe.alpha, lobe.v, l) / pdf;
+            const double VdotH = std::clamp(glm::dot(lobe.v, glm::normalize(lobe.v + l)), 0.0, 1.0);
             norm += w;
             fresnel += w * std::pow(1.0 - VdotH, 5.0);
             avg += w * l;
         }
-    }
-    const double n = double(kAlbedoTheta) * kAlbedoPhi;
+    const double n = double(kAlbedoGrid) * kAlbedoGrid;
     lobe.norm = norm / n;
     lobe.fresnel = fresnel / n;
-    avg.y = 0.0;  // the other half of phi cancels it
+    avg.y = 0.0;  // 0 by symmetry
     if (glm::length(avg) > 0.0) lobe.average = glm::normalize(avg);
 }
 
