@@ -1,7 +1,8 @@
 // Fitting linearly transformed cosines to Candela's GGX specular lobe (ltc.hpp says what and in
 // which frame). The method follows Heitz, Dupuy, Hill & Neubelt 2016, section 4: for each
-// (roughness, view angle), Nelder-Mead over M's free parameters (below), minimising the L3 norm of
-// the difference between the normalised lobe and the LTC, the integral estimated with both
+// (roughness, view angle), Nelder-Mead over M's free parameters (below), minimising an Lp norm of
+// the difference between the normalised lobe and the LTC (p = 1.5 here, the paper's is 3: see
+// kFitPower), the integral estimated with both
 // distributions' samples combined by the balance heuristic; the initial guess is the neighbouring
 // entry (previous view angle, or the next rougher entry at normal incidence) or a cosine turned to
 // the lobe's average direction, whichever fits better. All sample sets are fixed grids, so the
@@ -24,7 +25,15 @@ constexpr double kPi = 3.14159265358979323846;
 // NdotV <= 0 test), the limit from above is not. Same floor as the split-sum LUT (brdf_lut.comp).
 constexpr float kMinCos = 1e-4f;
 constexpr int kFitGrid = 32;     // per-axis samples of each distribution in the fit objective
-constexpr double kFitPower = 3.0;  // the paper's L3 norm
+// The norm minimised by the fit. The paper's L3 favours the lobe's peak; a polygon integral's error
+// is bounded by half the L1 distance instead. At grazing views no LTC matches the GGX lobe (the
+// best L1 any M reaches, by a grid search of all four parameters, is 0.27 at r = 0.48, NdotV =
+// 0.25, where the L3 fit had 0.35 and gave 8x the exact integral of a quad towards the viewer), and
+// the choice of norm trades the peak against the tails. Measured on polygon integrals of quads
+// around the hemisphere (tests/unit/test_ltc.cpp), p = 1 loses 28 % on a small quad at the peak,
+// p = 1.5 keeps it within 8 % and has the smallest worst error of the three (0.021 of the albedo
+// against 0.034 for p = 3 and 0.028 for p = 1 at that entry).
+constexpr double kFitPower = 1.5;
 constexpr int kErrorGrid = 96;   // the same, for the reported L1 residual
 constexpr int kAlbedoGrid = 256;  // norm/fresnel quadrature
 
@@ -144,7 +153,9 @@ Samples make_samples(const Lobe& lobe, int grid) {
     return s;
 }
 
-double power(double x, double p) { return p == 3.0 ? x * x * x : p == 1.0 ? x : std::pow(x, p); }
+double power(double x, double p) {
+    return p == 1.5 ? x * std::sqrt(x) : p == 3.0 ? x * x * x : p == 1.0 ? x : std::pow(x, p);
+}
 
 // Integral over the sphere of |f/norm - D_ltc|^p (balance heuristic of both sample sets).
 double distance(const Lobe& lobe, const Samples& s, const glm::dvec4& m_inv, double p) {
@@ -289,21 +300,31 @@ Fit fit_entry(float roughness, float cos_theta, const Fit* initial_guess) {
     }
     const Samples samples = make_samples(lobe, kFitGrid);
     const glm::dmat3 rotation = axis_rotation(lobe.average);
-    auto objective = [&](const glm::dvec4& p) { return distance(lobe, samples, m_inv_of(rotation, p), kFitPower); };
     auto l1 = [&](const glm::dvec4& p) { return distance(lobe, samples, m_inv_of(rotation, p), 1.0); };
-    auto optimise = [&](glm::dvec4 start) {
+    auto optimise = [&](glm::dvec4 start, double norm_power) {
+        auto objective = [&](const glm::dvec4& p) { return distance(lobe, samples, m_inv_of(rotation, p), norm_power); };
         start = nelder_mead(objective, start, 0.05, 500);
         return nelder_mead(objective, start, 0.01, 300);  // restart: a collapsed simplex stops early
     };
 
     // Two starts: a cosine of the lobe's width (alpha) on the average direction, and the
-    // neighbour's fit; the result with the smaller L1 distance wins (the L3 norm itself would
+    // neighbour's fit; the result with the smaller L1 distance wins (an Lp norm with large p would
     // prefer a wide LTC away from a sharp lobe to a slightly misplaced narrow one).
-    glm::dvec4 p = optimise(glm::dvec4(std::log(lobe.alpha), 0.0, std::log(lobe.alpha), 0.0));
+    const glm::dvec4 isotropic(std::log(lobe.alpha), 0.0, std::log(lobe.alpha), 0.0);
     glm::dvec4 guess;
-    if (initial_guess && params_of(rotation, glm::dvec4(initial_guess->m_inv), guess)) {
-        const glm::dvec4 q = optimise(guess);
-        if (l1(q) < l1(p)) p = q;
+    const bool has_guess = initial_guess && params_of(rotation, glm::dvec4(initial_guess->m_inv), guess);
+    glm::dvec4 p = optimise(isotropic, kFitPower);
+    double best = l1(p);
+    auto consider = [&](const glm::dvec4& q) {
+        const double e = l1(q);
+        if (e < best) p = q, best = e;
+    };
+    if (has_guess) consider(optimise(guess, kFitPower));
+    // Where that fit is poor (only the sharp lobes at NdotV ~ 0, the last row) the p = 1.5 minimum
+    // can lie off the lobe altogether (L1 1.98, disjoint, at r = 0.03): try the paper's L3 too.
+    if (best > 0.5) {
+        consider(optimise(isotropic, 3.0));
+        if (has_guess) consider(optimise(guess, 3.0));
     }
     fit.m_inv = glm::vec4(m_inv_of(rotation, p));
     const Samples check = make_samples(lobe, kErrorGrid);
