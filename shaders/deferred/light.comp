@@ -85,9 +85,11 @@ void main() {
         s_zrange = vec2(min(f00.z, min(f10.z, min(f01.z, f11.z))), max(n00.z, max(n10.z, max(n01.z, n11.z))));
     }
     barrier();
-    bool tiled = frame.counts.x <= kMaxTiledLights;
+    // The lights shaded one by one (with LTC area lights: the punctual ones; the polygons follow).
+    int light_count = shaded_light_count();
+    bool tiled = light_count <= kMaxTiledLights;
     if (any_geometry && tiled) {
-        for (int i = int(local); i < frame.counts.x; i += 256)
+        for (int i = int(local); i < light_count; i += 256)
             if (light_in_tile(lights[i])) atomicOr(s_mask[i >> 5], 1u << uint(i & 31));
     }
     barrier();
@@ -113,9 +115,9 @@ void main() {
     }
     vec3 color = imageLoad(light_buffer, gid).rgb;
     if (!tiled) {
-        for (int i = 0; i < frame.counts.x; ++i) color += shade_light(i, bi, p, n, v, pixel);
+        for (int i = 0; i < light_count; ++i) color += shade_light(i, bi, p, n, v, pixel);
     } else {
-        for (int w = 0; w < (frame.counts.x + 31) / 32; ++w) {
+        for (int w = 0; w < (light_count + 31) / 32; ++w) {
             uint bits = s_mask[w];
             while (bits != 0u) {
                 int b = findLSB(bits);
@@ -124,6 +126,7 @@ void main() {
             }
         }
     }
+    color += shade_area_lights(bi, p, n, v, pixel, 0.0);
     color += shade_ambient(bi, p, n, v, base_occlusion.a * ssao_at(pixel));
     color += rsm_indirect(bi, pixel, p);
     imageStore(light_buffer, gid, vec4(color, 1.0));

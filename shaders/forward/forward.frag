@@ -36,7 +36,8 @@ void main() {
     // Transmission needs the refraction lookup (reflections effect); without it the surface is
     // an opaque dielectric.
     float transmission = reflections.refraction != 0 ? s.transmission : 0.0;
-    for (int i = 0; i < frame.counts.x; ++i) color += shade_light(i, s.brdf, v_world_pos, s.n, v, pixel, transmission);
+    for (int i = 0; i < shaded_light_count(); ++i) color += shade_light(i, s.brdf, v_world_pos, s.n, v, pixel, transmission);
+    color += shade_area_lights(s.brdf, v_world_pos, s.n, v, pixel, transmission);
     color += shade_ambient(s.brdf, v_world_pos, s.n, v, s.occlusion * ssao_at(pixel), transmission, s.thin);
     color += rsm_indirect(s.brdf, pixel, v_world_pos);
     float alpha = s.alpha_mode == 2 ? s.alpha : 1.0;

@@ -6,6 +6,7 @@
 #include "effects/ssao/ssao_shading.glsl"
 
 #include "effects/rsm/rsm_shading.glsl"
+#include "effects/area_lights/area_lights_shading.glsl"
 
 // Image-based lighting (render/environment.hpp): the static environment as a GGX-prefiltered
 // cube (frame.counts.y levels, roughness = level / (levels - 1)), reflection probes captured by

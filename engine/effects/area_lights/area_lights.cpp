@@ -1,14 +1,116 @@
 #include "effects/area_lights/area_lights.hpp"
 
+#include <cmath>
+#include <map>
+
+#include "effects/area_lights/area_lights_data.h"
 #include "effects/area_lights/area_lights_sweep.hpp"
+#include "effects/area_lights/ltc.hpp"
+#include "effects/area_lights/ltc_table.hpp"
 #include "render/features.hpp"
+#include "render/gpu_scene.hpp"
+#include "scene/scene.hpp"
 
 namespace candela {
 namespace {
 
-class NoPasses final : public EffectRuntime {
+float srgb_to_linear(float c) { return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f); }
+
+// The emissive texture's mean over a triangle: 16 points (the centroids of a 4x4 barycentric
+// subdivision), nearest texel, repeat wrapping, sRGB decoded. 1 without a (valid) texture.
+glm::vec3 emissive_texture_average(const Scene& scene, const Material& m, const Primitive& prim, size_t tri) {
+    const TextureRef& t = m.emissive_texture;
+    if (!t.present() || t.image >= static_cast<int>(scene.images.size())) return glm::vec3(1.0f);
+    const Image& img = scene.images[static_cast<size_t>(t.image)];
+    if (!img.valid || img.width < 1 || img.height < 1) return glm::vec3(1.0f);
+    glm::vec2 uv[3];
+    for (int c = 0; c < 3; ++c) {
+        const Vertex& v = prim.vertices[prim.indices[tri * 3 + static_cast<size_t>(c)]];
+        uv[c] = glm::vec2(t.transform * glm::vec3(t.texcoord == 1 ? v.uv1 : v.uv0, 1.0f));
+    }
+    constexpr int k = 4;
+    glm::vec3 sum(0.0f);
+    int count = 0;
+    for (int i = 0; i < k; ++i)
+        for (int j = 0; j < k - i; ++j)
+            for (int inverted = 0; inverted < (j < k - i - 1 ? 2 : 1); ++inverted) {
+                const float a = (static_cast<float>(i) + (inverted ? 2.0f : 1.0f) / 3.0f) / k;
+                const float b = (static_cast<float>(j) + (inverted ? 2.0f : 1.0f) / 3.0f) / k;
+                const glm::vec2 q = uv[0] + a * (uv[1] - uv[0]) + b * (uv[2] - uv[0]);
+                const float fx = q.x - std::floor(q.x), fy = q.y - std::floor(q.y);
+                const int x = std::min(img.width - 1, static_cast<int>(fx * static_cast<float>(img.width)));
+                const int y = std::min(img.height - 1, static_cast<int>(fy * static_cast<float>(img.height)));
+                const std::uint8_t* px = &img.rgba8[(static_cast<size_t>(y) * static_cast<size_t>(img.width) + static_cast<size_t>(x)) * 4];
+                sum += glm::vec3(srgb_to_linear(px[0] / 255.0f), srgb_to_linear(px[1] / 255.0f), srgb_to_linear(px[2] / 255.0f));
+                ++count;
+            }
+    return sum / static_cast<float>(count);
+}
+
+class AreaLightsRuntime final : public EffectRuntime {
 public:
+    void prepare(const FramePrep& p) override {
+        const AreaLightsOptions& o = p.settings.get<AreaLightsOptions>();
+        gpu::AreaLightsData d{};
+        d.method = o.method == AreaLightMethod::ltc ? 1 : 0;
+        d.ltc_size = ltc::kTableSize;
+        if (d.method == 1) {
+            if (built_for_ != &p.gpu || built_samples_ != o.samples) {
+                const std::vector<PolygonLightGpu> polys = polygon_lights(p.gpu.scene(), p.gpu, o.samples);
+                polygon_count_ = static_cast<int>(polys.size());
+                const PolygonLightGpu none{};
+                polygons_ = gl::Buffer(static_cast<GLsizeiptr>(std::max<size_t>(polys.size(), 1) * sizeof(PolygonLightGpu)),
+                                       polys.empty() ? &none : polys.data());
+                built_for_ = &p.gpu;
+                built_samples_ = o.samples;
+            }
+            if (!ltc_matrix_) upload_tables();
+            d.polygon_count = polygon_count_;
+        }
+        if (!block_) block_ = gl::Buffer(sizeof d, nullptr, GL_DYNAMIC_STORAGE_BIT);
+        block_.update(0, sizeof d, &d);
+        method_ = d.method;
+    }
     void add_pass(const std::string&, FrameGraph&, const PassEnv&, FrameTargets&) override {}
+    void bind_shading_inputs(const PassEnv&, FrameGraph::Context*) const override {
+        glBindBufferBase(GL_UNIFORM_BUFFER, AREA_LIGHTS_BINDING, block_.id());
+        if (method_ != 1) return;
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, AREA_POLYGONS_BINDING, polygons_.id());
+        glBindTextureUnit(LTC_MATRIX_UNIT, ltc_matrix_.id());
+        glBindSampler(LTC_MATRIX_UNIT, 0);
+        glBindTextureUnit(LTC_AMPLITUDE_UNIT, ltc_amplitude_.id());
+        glBindSampler(LTC_AMPLITUDE_UNIT, 0);
+    }
+    void inspectables(std::vector<std::pair<std::string, const gl::Texture*>>& out) const override {
+        if (ltc_matrix_) {
+            out.emplace_back("ltc_matrix", &ltc_matrix_);
+            out.emplace_back("ltc_amplitude", &ltc_amplitude_);
+        }
+    }
+
+private:
+    // The fitted table (ltc_table.inc) as two linearly filtered textures, row j = view angle.
+    void upload_tables() {
+        const int n = ltc::kTableSize;
+        const std::vector<glm::vec4> m = ltc::table_matrices();
+        const std::vector<glm::vec2> a = ltc::table_amplitudes();
+        ltc_matrix_ = gl::Texture::create_2d(GL_RGBA32F, n, n, 1);
+        glTextureSubImage2D(ltc_matrix_.id(), 0, 0, 0, n, n, GL_RGBA, GL_FLOAT, m.data());
+        ltc_amplitude_ = gl::Texture::create_2d(GL_RG32F, n, n, 1);
+        glTextureSubImage2D(ltc_amplitude_.id(), 0, 0, 0, n, n, GL_RG, GL_FLOAT, a.data());
+        for (const gl::Texture* t : {&ltc_matrix_, &ltc_amplitude_}) {
+            glTextureParameteri(t->id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+            glTextureParameteri(t->id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+            glTextureParameteri(t->id(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+            glTextureParameteri(t->id(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+        }
+    }
+    gl::Buffer block_, polygons_;
+    gl::Texture ltc_matrix_, ltc_amplitude_;
+    const GpuScene* built_for_ = nullptr;
+    int built_samples_ = -1;
+    int polygon_count_ = 0;
+    int method_ = 0;
 };
 
 class AreaLights final : public Effect {
@@ -18,7 +120,10 @@ public:
     std::any default_options() const override { return AreaLightsOptions{}; }
     std::vector<Knob> knobs() const override {
         return KnobRows<AreaLightsOptions>("arealight", [](RenderSettings& s) -> AreaLightsOptions& { return s.get<AreaLightsOptions>(); })
-            .integer("samples", &AreaLightsOptions::samples, 1, 64, "shadowed Lambertian pieces per emissive mesh (raster area-light approximation)")
+            .integer("samples", &AreaLightsOptions::samples, 1, 64,
+                     "pieces per emissive mesh: its shadow maps (ltc) or its Lambertian point lights (pieces)")
+            .choice("method", &AreaLightsOptions::method, kAreaLightMethods,
+                    "ltc: emissive triangles as polygon lights (exact unshadowed, LTC specular), pieces: point lights")
             .rows;
     }
     std::vector<std::string> knob_groups() const override { return {"arealight"}; }
@@ -30,11 +135,49 @@ public:
     void light_setup(const RenderSettings& s, const EffectDecision&, LightSetup& out) const override {
         out.area_samples = s.get<AreaLightsOptions>().samples;
     }
-    std::unique_ptr<EffectRuntime> create_runtime() const override { return std::make_unique<NoPasses>(); }
+    std::vector<GpuBlockInfo> gpu_blocks() const override {
+        return {{"AreaLightsData", AREA_LIGHTS_BINDING, sizeof(gpu::AreaLightsData), "forward"}};
+    }
+    std::unique_ptr<EffectRuntime> create_runtime() const override { return std::make_unique<AreaLightsRuntime>(); }
     std::vector<AccuracySweep> accuracy_sweeps(bool quick) const override { return area_lights_accuracy_sweeps(quick); }
 };
 
 }  // namespace
+
+std::vector<PolygonLightGpu> polygon_lights(const Scene& scene, const GpuScene& gpu, int samples) {
+    // Each emissive draw's pieces, in the light buffer's order: punctual lights, then the pieces.
+    std::map<int, std::pair<int, int>> pieces_of;  // draw -> (first light index, count)
+    const std::vector<AreaPiece> pieces = area_light_pieces(scene, gpu, samples);
+    for (size_t k = 0; k < pieces.size(); ++k) {
+        auto [it, fresh] = pieces_of.try_emplace(pieces[k].draw, gpu.punctual_light_count() + static_cast<int>(k), 0);
+        ++it->second.second;
+    }
+    std::vector<PolygonLightGpu> out;
+    const auto& draws = gpu.draws();
+    for (const auto& [di, range] : pieces_of) {
+        const GpuScene::Draw& d = draws[static_cast<size_t>(di)];
+        const Node& node = scene.nodes[static_cast<size_t>(d.node)];
+        const Primitive& prim = scene.meshes[static_cast<size_t>(node.mesh)].primitives[static_cast<size_t>(d.primitive)];
+        const Material& m = scene.material(prim.material);
+        for (size_t t = 0; t < prim.triangle_count(); ++t) {
+            glm::vec3 p[3];
+            for (int c = 0; c < 3; ++c)
+                p[c] = glm::vec3(d.model * glm::vec4(prim.vertices[prim.indices[t * 3 + static_cast<size_t>(c)]].position, 1.0f));
+            if (d.mirrored) std::swap(p[1], p[2]);  // a mirroring transform reverses the winding
+            const float area2 = glm::length(glm::cross(p[1] - p[0], p[2] - p[0]));
+            if (!(area2 > 0.0f) || !std::isfinite(area2)) continue;
+            const glm::vec3 radiance = m.emission() * emissive_texture_average(scene, m, prim, t);
+            if (!(radiance.r + radiance.g + radiance.b > 0.0f)) continue;
+            PolygonLightGpu g;
+            g.p0 = glm::vec4(p[0], m.double_sided ? 1.0f : 0.0f);
+            g.p1 = glm::vec4(p[1], static_cast<float>(range.first));
+            g.p2 = glm::vec4(p[2], static_cast<float>(range.second));
+            g.radiance = glm::vec4(radiance, 0.0f);
+            out.push_back(g);
+        }
+    }
+    return out;
+}
 
 const Effect& area_lights_effect() {
     static const AreaLights effect;

@@ -1,17 +1,47 @@
 #pragma once
-// The rasterizer's area-light approximation (engine/effects/area_lights/): each emissive
-// primitive becomes arealight.samples Lambertian pieces (render/gpu_scene.hpp: AreaPiece), each
-// a light at its piece's centroid with its own shadow map and a PCSS penumbra of the piece's
-// size. It has no pass of its own: the pieces join the light buffer, which every lighting pass
-// reads. It is not switchable: emitters are lights whenever the scene has them.
+// The rasterizer's area lights (engine/effects/area_lights/). Each emissive primitive is split
+// into arealight.samples pieces (render/gpu_scene.hpp: AreaPiece), each a light at its centroid
+// with its own shadow map. How the emitters shade (arealight.method):
+// - ltc (default): every emissive triangle is a polygon light, integrated exactly over the
+//   Lambert lobe and a linearly transformed cosine fitted to Candela's GGX lobe (Heitz et al.
+//   2016; the table: ltc.hpp, fitted by samples/ltc_fit). The pieces only cast shadows, applied
+//   as the ratio of their shadowed to unshadowed estimates (Heitz, Hill & McGuire 2018), so an
+//   unoccluded point gets exactly the LTC value. A textured emitter shades with its texture's
+//   average over each triangle.
+// - pieces: the pieces themselves shade, as Lambertian point lights (the old approximation,
+//   kept for comparison in `bench accuracy`).
+// It has no pass of its own: the lighting passes read the light buffer and the polygons. It is
+// not switchable: emitters are lights whenever the scene has them.
+#include <glm/glm.hpp>
+
+#include <vector>
+
 #include "effects/effect.hpp"
 
 namespace candela {
 
+enum class AreaLightMethod { ltc, pieces };
+inline constexpr ChoiceName<AreaLightMethod> kAreaLightMethods[] = {{"ltc", AreaLightMethod::ltc}, {"pieces", AreaLightMethod::pieces}};
+
 struct AreaLightsOptions {
-    int samples = 4;  // [1, 64] shadowed Lambertian pieces per emissive primitive
+    int samples = 4;  // [1, 64] shadowed pieces per emissive primitive
+    AreaLightMethod method = AreaLightMethod::ltc;
 };
 
 const Effect& area_lights_effect();
+
+struct Scene;
+class GpuScene;
+
+// One emissive triangle as the lighting passes read it (area_lights_shading.glsl: PolygonLight).
+struct PolygonLightGpu {
+    glm::vec4 p0;        // world position; w: 1 if double-sided
+    glm::vec4 p1;        // w: index of its emitter's first piece in the light buffer
+    glm::vec4 p2;        // w: its emitter's piece count
+    glm::vec4 radiance;  // rgb emitted radiance (texture averaged over the triangle)
+};
+// The polygon lights of the scene's emissive primitives, grouped by emitter in the light
+// buffer's piece order (GpuScene::update_lights with `samples` pieces per primitive).
+std::vector<PolygonLightGpu> polygon_lights(const Scene& scene, const GpuScene& gpu, int samples);
 
 }  // namespace candela

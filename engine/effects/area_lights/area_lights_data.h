@@ -1,0 +1,16 @@
+// The area-light effect's uniform block, shared by area_lights.cpp and the GLSL (effects/gpu_block.h).
+#include "effects/gpu_block.h"
+#define AREA_LIGHTS_BINDING 5
+#define AREA_POLYGONS_BINDING 7   // SSBO: one PolygonLight per emissive triangle
+#define LTC_MATRIX_UNIT 19        // RGBA32F: M^-1 entries, engine/effects/area_lights/ltc.hpp
+#define LTC_AMPLITUDE_UNIT 20     // RG32F: (norm, fresnel)
+
+GPU_NAMESPACE_BEGIN
+GPU_BLOCK(AreaLightsData, AREA_LIGHTS_BINDING) {
+    int method;         // 0: the pieces shade (arealight.method=pieces); 1: LTC polygons
+    int polygon_count;  // PolygonLight entries (method 1)
+    int ltc_size;       // the LTC table's side
+    int pad;
+} GPU_BLOCK_INSTANCE(area_lights);
+GPU_BLOCK_CHECK(AreaLightsData, 16)
+GPU_NAMESPACE_END

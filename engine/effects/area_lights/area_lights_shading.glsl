@@ -1,0 +1,153 @@
+// Polygon lights shaded by linearly transformed cosines (included by shaders/lighting/shading.glsl).
+// Heitz, Dupuy, Hill & Neubelt 2016, "Real-Time Polygonal-Light Shading with Linearly
+// Transformed Cosines": the integral of a GGX lobe times the cosine over a polygon equals the
+// integral of a clamped cosine over the polygon transformed by M^-1, which has a closed form
+// (Lambert's formula for the irradiance from a polygon). The tables come from Candela's own BRDF
+// (engine/effects/area_lights/ltc.hpp, fitted by samples/ltc_fit).
+// Shadows: Heitz, Hill & McGuire 2018, "Combining Analytic Direct Illumination and Stochastic
+// Shadows": the unshadowed LTC value times a ratio of shadowed to unshadowed estimates, here
+// those of the emitter's pieces (the shadowed point lights of the pieces method), so an
+// unoccluded point receives exactly the LTC value.
+#include "effects/area_lights/area_lights_data.h"
+
+struct PolygonLight {
+    vec4 p0;        // xyz world position; w: 1 if the emitter is double-sided
+    vec4 p1;        // xyz; w: the first of its emitter's pieces in lights[]
+    vec4 p2;        // xyz; w: its emitter's piece count
+    vec4 radiance;  // rgb emitted radiance (emissive texture averaged over the triangle)
+};
+layout(std430, binding = AREA_POLYGONS_BINDING) readonly buffer PolygonLights { PolygonLight polygon_lights[]; };
+layout(binding = LTC_MATRIX_UNIT) uniform sampler2D t_ltc_matrix;
+layout(binding = LTC_AMPLITUDE_UNIT) uniform sampler2D t_ltc_amplitude;
+
+// The lights the per-light loops shade one by one: with LTC the pieces only cast shadows.
+int shaded_light_count() { return area_lights.method == 1 ? frame.counts.z : frame.counts.x; }
+
+// Integral over the edge a->b (unit vectors) of the clamped cosine's vector form factor, z part:
+// theta * normalize(a x b).z with theta the angle between a and b, stable near 0.
+float ltc_edge(vec3 a, vec3 b) {
+    vec3 c = cross(a, b);
+    float s = length(c);
+    float theta = atan(s, dot(a, b));
+    return c.z * (s > 1e-7 ? theta / s : 1.0);
+}
+
+// The polygon's vector form factor in its frame: sum over the edges (a, b) of the polygon spanned
+// by L0..L2 (any lengths), clipped to z >= 0, of theta * normalize(a x b) / (2 pi). Its z is the
+// integral of the normalised clamped cosine (z / pi) over the polygon (Lambert's formula), signed
+// by the winding; its direction is the cosine-weighted mean direction of the light.
+vec3 ltc_polygon_vector(vec3 L0, vec3 L1, vec3 L2) {
+    vec3 v[3] = vec3[3](L0, L1, L2);
+    vec3 clipped[4];
+    int n = 0;
+    for (int i = 0; i < 3; ++i) {
+        vec3 a = v[i], b = v[(i + 1) % 3];
+        if (a.z >= 0.0) clipped[n++] = a;
+        if ((a.z >= 0.0) != (b.z >= 0.0)) {
+            float t = a.z / (a.z - b.z);
+            clipped[n++] = mix(a, b, t);
+        }
+    }
+    if (n < 3) return vec3(0.0);
+    vec3 sum = vec3(0.0);
+    for (int i = 0; i < n; ++i) {
+        vec3 a = normalize(clipped[i]);
+        vec3 b = normalize(clipped[(i + 1) % n]);
+        vec3 c = cross(a, b);
+        float s = length(c);
+        float theta = atan(s, dot(a, b));
+        sum += c * (s > 1e-7 ? theta / s : 1.0);
+    }
+    return sum / (2.0 * PI);
+}
+
+// Texture coordinates of (roughness, NdotV) in the table: ltc.hpp's table_coords, the same formula.
+vec2 ltc_table_coords(float roughness, float NdotV) {
+    float u = acos(clamp(NdotV, 0.0, 1.0)) * 0.63661977236758134;  // theta / (pi / 2)
+    vec2 rt = vec2(clamp(roughness, 0.0, 1.0), u * (0.5 + 0.5 * u));
+    float n = float(area_lights.ltc_size);
+    return (rt * (n - 1.0) + 0.5) / n;
+}
+
+// The fitted M^-1 for this roughness and view angle (layout: engine/effects/area_lights/ltc.hpp).
+mat3 ltc_matrix(float roughness, float NdotV, out vec2 amplitude) {
+    vec2 uv = ltc_table_coords(roughness, NdotV);
+    vec4 m = texture(t_ltc_matrix, uv);
+    amplitude = texture(t_ltc_amplitude, uv).rg;
+    // Columns of the GLSL matrix: M^-1 = [[m.x, 0, m.y], [0, m.z, 0], [m.w, 0, 1]] (rows).
+    return mat3(vec3(m.x, 0.0, m.w), vec3(0.0, m.z, 0.0), vec3(m.y, 0.0, 1.0));
+}
+
+// The share of an emitter's light that reaches p: its pieces' shadowed over unshadowed Lambert
+// estimates (1 exactly where no piece is shadowed). Pieces all below p's horizon: their plain mean.
+float area_visibility(int first, int count, vec3 p, vec3 n, vec2 pixel) {
+    float shadowed = 0.0, unshadowed = 0.0, plain = 0.0;
+    for (int k = first; k < first + count; ++k) {
+        PunctualLight light = lights[k];
+        vec3 l, E;
+        float dist;
+        light_incidence(light, p, l, E, dist);
+        float s = shadow_factor(light, p, n, l, pixel);
+        float w = max(dot(n, l), 0.0) * (E.r + E.g + E.b);
+        shadowed += w * s;
+        unshadowed += w;
+        plain += s;
+    }
+    if (unshadowed > 0.0) return shadowed / unshadowed;
+    return count > 0 ? plain / float(count) : 1.0;
+}
+
+// Light from the polygon lights towards v, with each emitter's visibility ratio.
+vec3 shade_area_lights(BrdfInput bi, vec3 p, vec3 n, vec3 v, vec2 pixel, float transmission) {
+    if (area_lights.method != 1 || area_lights.polygon_count == 0) return vec3(0.0);
+    float NdotV = saturate(dot(n, v));
+    // The frame of the table: z = n, x towards v (v in the xz plane).
+    vec3 t1 = v - n * dot(v, n);
+    t1 = dot(t1, t1) > 1e-12 ? normalize(t1) : (abs(n.x) < 0.9 ? normalize(cross(n, vec3(1, 0, 0))) : normalize(cross(n, vec3(0, 1, 0))));
+    vec3 t2 = cross(n, t1);
+    mat3 to_local = transpose(mat3(t1, t2, n));
+    vec3 v_local = vec3(sqrt(max(1.0 - NdotV * NdotV, 0.0)), 0.0, NdotV);
+    vec2 amplitude;
+    mat3 m_inv_local = ltc_matrix(bi.roughness, max(NdotV, 1e-4), amplitude);
+    mat3 m_local = inverse(m_inv_local);
+    mat3 m_inv = m_inv_local * to_local;
+    vec3 f0_d = dielectric_f0(bi);
+    float f90_d = dielectric_f90(bi);
+    vec3 sum = vec3(0.0);
+    vec3 group_sum = vec3(0.0);
+    int group = -1;
+    for (int i = 0; i < area_lights.polygon_count; ++i) {
+        PolygonLight pl = polygon_lights[i];
+        int first = int(pl.p1.w);
+        if (first != group) {
+            if (group >= 0) sum += group_sum * area_visibility(group, int(polygon_lights[i - 1].p2.w), p, n, pixel);
+            group = first;
+            group_sum = vec3(0.0);
+        }
+        vec3 a = pl.p0.xyz - p, b = pl.p1.xyz - p, c = pl.p2.xyz - p;
+        // One-sided: only the side the winding's normal points to emits.
+        float facing = dot(cross(b - a, c - a), -a);
+        if (pl.p0.w < 0.5 && facing <= 0.0) continue;
+        vec3 form = ltc_polygon_vector(to_local * a, to_local * b, to_local * c);
+        float diffuse = abs(form.z);
+        vec3 spec_form = ltc_polygon_vector(m_inv * a, m_inv * b, m_inv * c);
+        float specular = abs(spec_form.z) * amplitude.x;  // times the lobe's albedo (F = 1)
+        // Schlick's Fresnel at the light's mean direction within the lobe (the vector form factor
+        // taken back through M), not the lobe's average: a small light sees one F.
+        vec3 l_spec = m_local * (spec_form.z < 0.0 ? -spec_form : spec_form);
+        l_spec = dot(l_spec, l_spec) > 0.0 ? normalize(l_spec) : vec3(0.0, 0.0, 1.0);
+        float VdotHs = saturate(dot(v_local, normalize(v_local + l_spec)));
+        vec3 spec_d = F_Schlick(f0_d, vec3(f90_d), VdotHs);
+        vec3 spec_m = F_Schlick(bi.base_color, vec3(1.0), VdotHs);
+        // The Lambert lobe keeps 1 - F(v.h) of the light (brdf.glsl), h halfway between v and
+        // the light's cosine-weighted mean direction (the vector form factor's).
+        float lf = length(form);
+        vec3 l_mean = lf > 0.0 ? (form.z < 0.0 ? -form : form) / lf : vec3(0.0, 0.0, 1.0);
+        float VdotH = saturate(dot(v_local, normalize(v_local + l_mean)));
+        vec3 dielectric = (1.0 - F_Schlick(f0_d, vec3(f90_d), VdotH)) * bi.base_color * diffuse * (1.0 - transmission) + spec_d * specular;
+        vec3 metal = spec_m * specular;
+        group_sum += pl.radiance.rgb * mix(dielectric, metal, bi.metallic);
+    }
+    if (group >= 0) sum += group_sum * area_visibility(group, int(polygon_lights[area_lights.polygon_count - 1].p2.w), p, n, pixel);
+    return sum;
+}
