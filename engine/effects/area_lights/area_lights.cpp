@@ -47,6 +47,9 @@ glm::vec3 emissive_texture_average(const Scene& scene, const Material& m, const 
     return sum / static_cast<float>(count);
 }
 
+// The most emissive triangles shaded as LTC polygons; more: the pieces shade (see prepare).
+constexpr int kMaxPolygons = 64;
+
 class AreaLightsRuntime final : public EffectRuntime {
 public:
     void prepare(const FramePrep& p) override {
@@ -66,6 +69,10 @@ public:
             }
             if (!ltc_matrix_) upload_tables();
             d.polygon_count = polygon_count_;
+            // Every pixel integrates every polygon: beyond kMaxPolygons emissive triangles the
+            // pieces shade instead (a mesh with thousands of emissive triangles would take
+            // minutes per frame on llvmpipe).
+            if (polygon_count_ > kMaxPolygons) d.method = 0;
         }
         if (!block_) block_ = gl::Buffer(sizeof d, nullptr, GL_DYNAMIC_STORAGE_BIT);
         block_.update(0, sizeof d, &d);
