@@ -188,6 +188,14 @@ protected:
         std::printf("%s: %s\n", what.c_str(), describe(r).c_str());
         EXPECT_TRUE(fails(r)) << what << " went unseen: " << describe(r);
     }
+    // `direct` with the default jitter passes; through pixel centres (the old default) it fails.
+    void direct_with_and_without_jitter(const Scene& scene, const ImageF& reference, const std::string& what, int spp) {
+        rt::Options o;
+        o.mode = rt::Mode::direct;
+        expect_unbiased(batches(scene, o, reference.width, reference.height, spp), reference, what + ", direct");
+        o.jitter = 0;
+        expect_caught(batches(scene, o, reference.width, reference.height, 4), reference, what + ", direct, jitter off");
+    }
     ShaderLibrary shaders_{fs::path(CANDELA_SOURCE_DIR) / "shaders"};
 };
 
@@ -256,11 +264,7 @@ TEST_P(RtStatisticsTest, PointLightIsInverseSquareAndCosine) {
         const double d2 = glm::dot(d, d);
         return glm::dvec3(I * (d.y / std::sqrt(d2)) / d2 / kPi);
     });
-    rt::Options o;
-    o.mode = rt::Mode::direct;
-    expect_unbiased(batches(scene, o, n, n, 4), reference, "point light, direct");
-    o.jitter = 0;
-    expect_caught(batches(scene, o, n, n, 4), reference, "point light, direct, jitter off");
+    direct_with_and_without_jitter(scene, reference, "point light", 4);
 }
 
 // A spot light's cone edge: KHR_lights_punctual's falloff s^2, s = clamp((cos - cos_outer) /
@@ -282,11 +286,7 @@ TEST_P(RtStatisticsTest, SpotLightConeEdgeFollowsTheGltfFalloff) {
         const double s = std::clamp((cos_axis - std::cos(outer)) / (std::cos(inner) - std::cos(outer)), 0.0, 1.0);
         return glm::dvec3(I * s * s * (d.y / dist) / d2 / kPi);
     });
-    rt::Options o;
-    o.mode = rt::Mode::direct;
-    expect_unbiased(batches(scene, o, n, n, 32), reference, "spot light, direct");
-    o.jitter = 0;
-    expect_caught(batches(scene, o, n, n, 4), reference, "spot light, direct, jitter off");
+    direct_with_and_without_jitter(scene, reference, "spot light", 32);
 }
 
 // Pixel coverage of polygon edges at known sub-pixel positions under the box filter: emissive
