@@ -197,8 +197,8 @@ std::vector<std::string> pass_names(const StillResult& r) {
 TEST_P(GlTest, ExecutedPassesPerSampleScene) {
     using V = std::vector<std::string>;
     const std::vector<std::tuple<std::string, std::string, V>> expected = {
-        // cornell_box: area light only (no RSM: its pieces have no reflective shadow map), no ambient.
-        {"cornell_box", "all", V{"shadow_maps", "forward_opaque"}},
+        // cornell_box: area light only (RSM through its pieces' cube views), no ambient.
+        {"cornell_box", "all", V{"shadow_maps", "rsm", "depth_normal_prepass", "rsm_indirect", "forward_opaque"}},
         {"cornell_point", "all", V{"shadow_maps", "rsm", "depth_normal_prepass", "rsm_indirect", "forward_opaque"}},
         {"cornell_point", "shadows", V{"shadow_maps", "forward_opaque"}},
         {"cornell_point", "none", V{"forward_opaque"}},

@@ -18,8 +18,9 @@ layout(binding = 4) uniform sampler2DArray t_rsm_flux;
 
 struct RsmView {
     mat4 view_proj;
-    vec4 params;  // x light index, y first layer, z layer count (1 or 6), w cube: the face's
-                  // tangent half-width (> 1: a guard band beyond the 90 degrees)
+    vec4 params;  // x light index, y first layer of its RSM light, z that light's layer count,
+                  // w cube faces: the face's tangent half-width (> 1: a guard band beyond the 90
+                  // degrees); 0: one view (directional, spot)
 };
 layout(std430, binding = 4) readonly buffer RsmViews { RsmView rsm_views[]; };  // per layer
 layout(location = 0) uniform int u_lights;       // RSM lights: rsm_views[first layer of each]
@@ -30,6 +31,24 @@ layout(location = 3) uniform int u_light_first[8];
 layout(location = 0) out vec4 out_irradiance;
 
 float gather_noise(vec2 pixel) { return fract(52.9829189 * fract(dot(pixel, vec2(0.06711056, 0.00583715)))); }
+
+// Uniform numbers per pixel independent of gather_noise (an integer hash, "lowbias32" by
+// C. Wellons): the cube gather's layer rotation. Interleaved gradient noise is linear in the
+// pixel, so a rotation drawn from it would correlate with the sequence shift (which layer a
+// sample takes with where it lands in it), which biased the sum by up to 20 %.
+uint hash32(uint x) {
+    x ^= x >> 16;
+    x *= 0x7feb352du;
+    x ^= x >> 15;
+    x *= 0x846ca68bu;
+    x ^= x >> 16;
+    return x;
+}
+vec3 pixel_random(uvec2 pixel) {
+    uint h = hash32(pixel.x ^ hash32(pixel.y + 0x9e3779b9u));
+    uint h2 = hash32(h), h3 = hash32(h2);
+    return vec3(uvec3(h, h2, h3) >> 8) / 16777216.0;
+}
 
 void main() {
     ivec2 size = textureSize(t_depth, 0);
@@ -49,24 +68,39 @@ void main() {
     for (int li = 0; li < u_lights; ++li) {
         int first = u_light_first[li];
         RsmView v0 = rsm_views[first];
-        // One view (directional, spot): the paper's pattern around the pixel's projection. A cube
-        // (point light): the bounce light comes from every face, so the samples are spread
-        // uniformly over all six (an R2 sequence, shifted per pixel), weighted 6 res^2 / n.
-        bool cube = int(v0.params.z) == 6;
+        // One view (directional, spot): the paper's pattern around the pixel's projection. Cube
+        // faces (a point light; an area light: the faces of its pieces that it emits into): the
+        // bounce light comes from every face, so the samples are spread uniformly over all the
+        // light's layers, weighted layers res^2 / n.
+        int count = int(v0.params.z);
+        bool cube = v0.params.w > 0.0;
         vec2 centre = vec2(0.5);
         if (!cube) {
             vec4 c = rsm_views[first].view_proj * vec4(p, 1.0);
             if (c.w <= 0.0) continue;
             centre = c.xy / c.w * 0.5 + 0.5;
         }
-        float weight = cube ? 6.0 * res * res / float(samples) : 2.0 * PI * u_radius * u_radius * res * res / float(samples);
+        float weight = cube ? float(count) * res * res / float(samples) : 2.0 * PI * u_radius * u_radius * res * res / float(samples);
+        // Sample i takes layer i % count: with at least as many samples as layers each layer
+        // gets n_k of them and weight res^2 / n_k (stratified, exact). With fewer, a random
+        // (per-pixel hash) rotation picks which layers; every layer is still reached over
+        // pixels, with weight count res^2 / n.
+        int per_layer = samples / count, extra = samples % count;
+        int rotate = 0;
+        if (cube && per_layer == 0) rotate = min(int(pixel_random(uvec2(gl_FragCoord.xy)).x * float(count)), count - 1);
         for (int i = 0; i < samples; ++i) {
             vec2 uv;
             float w = weight;
             int layer = first;
             if (cube) {
-                layer = first + i % 6;
-                uv = fract(vec2(0.5 + float(i / 6) * 0.7548776662, 0.5 + float(i / 6) * 0.5698402910) + vec2(phi0 * 0.15915494, gather_noise(gl_FragCoord.yx)));
+                // Each layer walks its own R2 sequence (index i / count), shifted per pixel and per
+                // layer: the faces of two pieces that look the same way do not sample the same texels.
+                int k = (i + rotate) % count;
+                layer = first + k;
+                if (per_layer > 0) w = res * res / float(per_layer + (k < extra ? 1 : 0));
+                float j = float(i / count);
+                uv = fract(vec2(0.5 + j * 0.7548776662, 0.5 + j * 0.5698402910) + vec2(phi0 * 0.15915494, gather_noise(gl_FragCoord.yx)) +
+                           float(k) * vec2(0.4142135624, 0.7320508076));
                 // The guard band belongs to the neighbouring face: counting it here too would
                 // add its light twice. (Same weight: the estimate sums the faces' 90-degree parts.)
                 if (any(greaterThan(abs(uv * 2.0 - 1.0), vec2(1.0 / v0.params.w)))) continue;

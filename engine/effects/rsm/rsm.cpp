@@ -9,6 +9,7 @@
 
 #include <glm/gtc/type_ptr.hpp>
 
+#include "effects/area_lights/area_lights.hpp"
 #include "effects/rsm/rsm_data.h"
 #include "effects/rsm/rsm_sweep.hpp"
 #include "effects/shadows/shadows.hpp"
@@ -17,6 +18,8 @@
 
 namespace candela {
 namespace {
+
+constexpr float kPi = 3.14159265358979f;
 
 int downscale(RsmGather g) { return g == RsmGather::quarter ? 4 : g == RsmGather::half ? 2 : 1; }
 
@@ -64,8 +67,68 @@ public:
     }
 
 private:
-    // The RSM views: per RSM light (punctual lights with shadow views, directional first, then
-    // the brightest), its shadow views at rsm.resolution.
+    // An RSM light: a punctual light, or an area light (one emissive draw) as some of its
+    // shadowed pieces, whose views share one gather budget.
+    struct RsmLight {
+        std::vector<int> lights;  // indices into the light buffer
+        float priority = 0.0f;    // emitted flux (rgb sum, W); directional lights first
+        float flux_scale = 1.0f;  // the emitter's power over its pieces' here (unchosen pieces)
+    };
+
+    // The RSM lights: punctual lights with shadow views and area lights with shadowed pieces,
+    // directional first, then by emitted flux (point/spot 4 pi I; area pi Le A).
+    std::vector<RsmLight> rsm_lights(const FramePrep& p) const {
+        const auto& infos = p.gpu.light_infos();
+        const auto placed = p.gpu.scene().placed_lights();
+        std::vector<RsmLight> out;
+        for (int i = 0; i < p.gpu.punctual_light_count(); ++i) {
+            if (infos[static_cast<size_t>(i)].view_count <= 0) continue;
+            const Light& l = *placed[static_cast<size_t>(i)].light;
+            RsmLight rl;
+            rl.lights = {i};
+            rl.priority = l.type == LightType::directional ? 1e30f : 4.0f * kPi * (l.color.r + l.color.g + l.color.b) * l.intensity;
+            out.push_back(std::move(rl));
+        }
+        // The pieces follow the punctual lights, each emitter's consecutively (GpuScene::update_lights).
+        const Scene& scene = p.gpu.scene();
+        const int count = static_cast<int>(infos.size());
+        for (int i = p.gpu.punctual_light_count(); i < count;) {
+            const int draw = infos[static_cast<size_t>(i)].own_draw;
+            int end = i;
+            float area_all = 0.0f;
+            std::vector<int> shadowed;
+            for (; end < count && infos[static_cast<size_t>(end)].own_draw == draw; ++end) {
+                const LightInfo& info = infos[static_cast<size_t>(end)];
+                area_all += info.size * info.size;
+                if (info.view_count > 0) shadowed.push_back(end);
+            }
+            i = end;
+            if (shadowed.empty() || draw < 0) continue;
+            // At most rsm.area_pieces of them, spread evenly over the emitter's piece order.
+            RsmLight rl;
+            const size_t n = std::min(shadowed.size(), static_cast<size_t>(options_.area_pieces));
+            float area_chosen = 0.0f;
+            for (size_t k = 0; k < n; ++k) {
+                const int li = shadowed[k * shadowed.size() / n];
+                rl.lights.push_back(li);
+                area_chosen += infos[static_cast<size_t>(li)].size * infos[static_cast<size_t>(li)].size;
+            }
+            if (!(area_chosen > 0.0f)) continue;
+            rl.flux_scale = area_all / area_chosen;
+            const GpuScene::Draw& d = p.gpu.draws()[static_cast<size_t>(draw)];
+            const Node& node = scene.nodes[static_cast<size_t>(d.node)];
+            const Material& m = scene.material(scene.meshes[static_cast<size_t>(node.mesh)].primitives[static_cast<size_t>(d.primitive)].material);
+            const glm::vec3 le = m.emission();
+            rl.priority = kPi * (le.r + le.g + le.b) * area_all;
+            out.push_back(std::move(rl));
+        }
+        std::stable_sort(out.begin(), out.end(), [](const RsmLight& a, const RsmLight& b) { return a.priority > b.priority; });
+        if (out.size() > static_cast<size_t>(options_.max_lights)) out.resize(static_cast<size_t>(options_.max_lights));
+        return out;
+    }
+
+    // The RSM views: per RSM light, its shadow views at rsm.resolution (a directional light: one
+    // view of the whole scene; an area light: the faces of its chosen pieces that it emits into).
     void prepare_maps(const FramePrep& p) {
         const ShadowsRuntime* shadows = p.runtime<ShadowsRuntime>();
         const ShadowViews& shadow_views = shadows->views();
@@ -73,39 +136,35 @@ private:
 
         Resources& r = res_;
         const auto& infos = p.gpu.light_infos();
-        const auto placed = p.gpu.scene().placed_lights();
-        // The RSM lights: punctual lights with shadow views, directional first, then the brightest.
-        std::vector<int> chosen;
-        for (int i = 0; i < p.gpu.punctual_light_count(); ++i)
-            if (infos[static_cast<size_t>(i)].view_count > 0) chosen.push_back(i);
-        auto priority = [&](int i) {
-            const Light& l = *placed[static_cast<size_t>(i)].light;
-            if (l.type == LightType::directional) return 1e30f;
-            return (l.color.r + l.color.g + l.color.b) * l.intensity;
-        };
-        std::stable_sort(chosen.begin(), chosen.end(), [&](int a, int b) { return priority(a) > priority(b); });
-        if (chosen.size() > static_cast<size_t>(options_.max_lights)) chosen.resize(static_cast<size_t>(options_.max_lights));
         r.views.clear();
         r.kind_texel.clear();
+        r.own_draw.clear();
         r.light_first.clear();
         const float scale = static_cast<float>(shadow_resolution) / static_cast<float>(options_.resolution);
-        for (int li : chosen) {
-            const LightInfo& info = infos[static_cast<size_t>(li)];
-            // A directional light's RSM covers the whole scene (bounce surfaces outside the view
-            // light what is in it); spot and point lights reuse their shadow views.
-            const bool directional = info.kind == LightInfo::Kind::directional;
-            const int count = directional ? 1 : info.view_count;
+        for (const RsmLight& rl : rsm_lights(p)) {
             const int first = static_cast<int>(r.views.size());
-            r.light_first.push_back(first);
-            for (int k = 0; k < count; ++k) {
-                const ShadowViewData sv =
-                    directional ? directional_scene_view(info.direction, p.scene_bounds, options_.resolution)
-                                : shadow_views.views[static_cast<size_t>(info.first_view + k)];
-                // Cube faces: their tangent half-width (a guard band beyond 90 degrees), for the gather.
-                const float half_width = count == 6 ? sv.params.y * static_cast<float>(shadow_resolution) * 0.5f : 1.0f;
-                r.views.push_back({sv.view_proj, glm::vec4(static_cast<float>(li), static_cast<float>(first), static_cast<float>(count), half_width)});
-                r.kind_texel.push_back(glm::vec4(sv.params.x, directional ? sv.params.y : sv.params.y * scale, 0.0f, 0.0f));
+            for (int li : rl.lights) {
+                const LightInfo& info = infos[static_cast<size_t>(li)];
+                // A directional light's RSM covers the whole scene (bounce surfaces outside the view
+                // light what is in it); spot, point lights and area pieces reuse their shadow views.
+                const bool directional = info.kind == LightInfo::Kind::directional;
+                const int count = directional ? 1 : info.view_count;
+                for (int k = 0; k < count; ++k) {
+                    const size_t layer = static_cast<size_t>(info.first_view + k);
+                    if (!directional && layer < shadow_views.skip.size() && shadow_views.skip[layer]) continue;  // behind a one-sided emitter
+                    const ShadowViewData sv =
+                        directional ? directional_scene_view(info.direction, p.scene_bounds, options_.resolution) : shadow_views.views[layer];
+                    // Cube faces: their tangent half-width (a guard band beyond 90 degrees), for the gather.
+                    const float half_width = count == 6 ? sv.params.y * static_cast<float>(shadow_resolution) * 0.5f : 0.0f;
+                    r.views.push_back({sv.view_proj, glm::vec4(static_cast<float>(li), static_cast<float>(first), 0.0f, half_width)});
+                    r.kind_texel.push_back(glm::vec4(sv.params.x, directional ? sv.params.y : sv.params.y * scale, rl.flux_scale, 0.0f));
+                    r.own_draw.push_back(info.own_draw);
+                }
             }
+            const int layers = static_cast<int>(r.views.size()) - first;
+            if (layers == 0) continue;
+            for (int k = first; k < first + layers; ++k) r.views[static_cast<size_t>(k)].params.z = static_cast<float>(layers);
+            r.light_first.push_back(first);
         }
         const int res = options_.resolution;
         const int layers = std::max<int>(1, static_cast<int>(r.views.size()));
@@ -171,7 +230,11 @@ private:
                     // Perspective: clip w = distance along the view axis, so row 3 of the matrix is it.
                     const glm::vec3 axis(vp[0][3], vp[1][3], vp[2][3]);
                     glProgramUniform3fv(program, 7, 1, glm::value_ptr(axis));
-                    for (const auto& d : env.scene.draws()) draw_item(env, ctx, d, false, GL_BACK, program);
+                    // An area piece's own emitter lies in the plane of its views' origin: it neither
+                    // reflects that light nor may it hide what it shines on.
+                    const auto& draws = env.scene.draws();
+                    for (size_t di = 0; di < draws.size(); ++di)
+                        if (static_cast<int>(di) != r.own_draw[layer]) draw_item(env, ctx, draws[di], false, GL_BACK, program);
                 }
             });
     }
@@ -230,11 +293,14 @@ private:
         std::vector<gl::Framebuffer> layer_fbos;
         struct View {
             glm::mat4 view_proj;
-            glm::vec4 params;  // x light, y first layer of the light, z its layer count
+            glm::vec4 params;  // x light, y first layer of the RSM light, z its layer count, w cube
+                               // faces: their tangent half-width (0: one view)
         };
         std::vector<View> views;
-        std::vector<glm::vec4> kind_texel;  // per layer: x kind (0 ortho), y texel size at rsm.resolution
-        std::vector<int> light_first;       // first layer of each RSM light
+        std::vector<glm::vec4> kind_texel;  // per layer: x kind (0 ortho), y texel size at rsm.resolution,
+                                            // z flux scale (an area light's unchosen pieces)
+        std::vector<int> own_draw;          // per layer: the area piece's emitter (not drawn), -1 none
+        std::vector<int> light_first;       // first layer of each RSM light (its layers are consecutive)
         gl::Buffer views_buffer;
         GLsizeiptr views_bytes = 0;
         int resolution = 0, layers = 0;
@@ -258,19 +324,29 @@ public:
             .integer("samples", &O::samples, 1, 1024, "RSM texels gathered per pixel and light")
             .choice("gather", &O::gather, kRsmGathers, "resolution of the RSM gather pass")
             .real("radius", &O::radius, 1e-3f, 1.0f, "RSM sampling radius, as a fraction of the map's width")
-            .integer("max_lights", &O::max_lights, 1, 8, "lights with a reflective shadow map: directional first, then the brightest")
+            .integer("max_lights", &O::max_lights, 1, 8, "lights with a reflective shadow map: directional first, then the brightest (an area light counts once)")
+            .integer("area_pieces", &O::area_pieces, 1, 64, "shadowed pieces of an area light with RSM views (they carry the others' flux)")
             .rows;
     }
     // RSM renders from the lights' shadow views: it needs the shadow pass and a punctual light
-    // with a shadow map (area-light pieces get none).
+    // or an emitter (whose pieces get cube shadow views like point lights).
     EffectDecision decide(const Features& f, const RenderSettings& s) const override {
         const bool shadows = f.decision("shadows").planned;
-        const bool needed = shadows && f.punctual_lights > 0 && s.get<ShadowsOptions>().max_lights > 0;
-        return decide_effect(name(), s.on(name()) || s.debug.view == DebugView::indirect, needed,
-                             needed ? std::to_string(std::min(f.punctual_lights, s.get<RsmOptions>().max_lights)) +
-                                          " shadowed punctual light(s) to bounce"
-                             : f.punctual_lights == 0 ? "no punctual light (area-light pieces have no RSM)"
-                                                      : "no shadow pass for the RSM to reuse the light views of",
+        const int area = f.scene.emissive_primitives;
+        const bool needed = shadows && (f.punctual_lights > 0 || area > 0) && s.get<ShadowsOptions>().max_lights > 0;
+        std::string what;
+        if (needed) {
+            const int rsm_lights = std::min(f.punctual_lights + area, s.get<RsmOptions>().max_lights);
+            what = std::to_string(rsm_lights) + " shadowed light(s) to bounce:";
+            if (f.punctual_lights > 0) what += " " + std::to_string(f.punctual_lights) + " punctual" + (area > 0 ? "," : "");
+            if (area > 0)
+                what += " " + std::to_string(area) + " area (up to " +
+                        std::to_string(std::min(s.get<RsmOptions>().area_pieces, s.get<AreaLightsOptions>().samples)) +
+                        " shadowed pieces each)";
+        } else {
+            what = f.punctual_lights + area == 0 ? "no punctual or area light" : "no shadow pass for the RSM to reuse the light views of";
+        }
+        return decide_effect(name(), s.on(name()) || s.debug.view == DebugView::indirect, needed, what,
                              s.gating || !shadows);  // without shadow views there is nothing to run it on
     }
     void plan(Stage stage, const Features& f, const RenderSettings& s, std::vector<PlannedPass>& out) const override {

@@ -29,7 +29,7 @@ std::vector<AccuracySweep> rsm_accuracy_sweeps(bool quick) {
                                       {"rsm.resolution=" + std::to_string(res), "rsm.samples=" + std::to_string(n),
                                        std::string("rsm.gather=") + g}});
     s.shipped = "64 samples 256 half";
-    s.needed = [](const Features& f) { return f.decision("shadows").needed && f.punctual_lights > 0; };
+    s.needed = [](const Features& f) { return f.decision("shadows").needed && (f.punctual_lights > 0 || f.scene.emissive_primitives > 0); };
     return {s};
 }
 
