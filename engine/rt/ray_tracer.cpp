@@ -12,19 +12,6 @@
 namespace candela::rt {
 namespace {
 
-}  // namespace
-struct FrameGpu {  // std140, binding 8: mirrors RtFrame in shaders/rt/scene.glsl
-    glm::mat4 inv_view_proj;
-    glm::vec4 camera_pos;
-    glm::vec4 env_radiance;
-    glm::ivec4 counts;
-    glm::ivec4 counts2;
-    glm::ivec4 image;
-    glm::ivec4 params;
-    glm::vec4 fparams;
-    glm::vec4 fparams2;
-};
-namespace {
 
 void progress_bar(int done, int total, double elapsed_s) {
     const int width = 30;
@@ -164,8 +151,35 @@ void RayTracer::set_shard(int shard, int count) {
     options_.shard_count = count;
 }
 
-FrameGpu RayTracer::make_frame(const Camera& camera, int width, int height) const {
+FrameGpu scene_frame_block(const Scene& scene, const RtScene& rt_scene, const GpuScene& gpu) {
     FrameGpu f{};
+    const Bounds b = scene.world_bounds();
+    const float diagonal = b.empty() ? 1.0f : glm::length(b.extent());
+    f.env_radiance = glm::vec4(gpu.environment_radiance(), gpu.has_environment_map() ? 1.0f : 0.0f);
+    const RtGeometry& g = rt_scene.geometry();
+    f.counts = glm::ivec4(static_cast<int>(g.triangles.size()), static_cast<int>(g.spheres.size()),
+                          static_cast<int>(g.emitters.size()), static_cast<int>(scene.placed_lights().size()));
+    f.counts2 = glm::ivec4(static_cast<int>(g.surfaces.size()), 0, 0, 0);
+    f.params = glm::ivec4(1, 0, 1, 0);
+    f.fparams = glm::vec4(1.0f, 0.05f, static_cast<float>(g.emitted_power), 0.0f);
+    f.fparams2 = glm::vec4(ray_offset_for_extent(diagonal), 0.0f, 0.0f, 0.0f);
+    return f;
+}
+
+void bind_scene(const RtScene& rt_scene, GpuScene& gpu) {
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, gpu.materials().id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, gpu.lights().id());  // punctual lights come first
+    rt_scene.bind();
+    glBindTextureUnit(5, gpu.environment_map().id());
+    glBindSampler(5, 0);
+    glBindTextureUnit(6, gpu.image_array().id());
+    glBindSampler(6, 0);
+    glBindTextureUnit(15, gpu.image_array_srgb().id());
+    glBindSampler(15, 0);
+}
+
+FrameGpu RayTracer::make_frame(const Camera& camera, int width, int height) const {
+    FrameGpu f = scene_frame_block(scene_, rt_scene_, gpu_);
     const float aspect = static_cast<float>(width) / static_cast<float>(height);
     // Camera-relative: the view without its translation, so that unprojected points stay near 0
     // and keep their precision when the camera is far from the origin (hard case
@@ -174,13 +188,10 @@ FrameGpu RayTracer::make_frame(const Camera& camera, int width, int height) cons
     rotation[3] = glm::vec4(0.0f, 0.0f, 0.0f, 1.0f);
     f.inv_view_proj = glm::inverse(projection_matrix(camera, aspect) * glm::inverse(rotation));
     f.camera_pos = glm::vec4(glm::vec3(camera.world[3]), 1.0f);
-    f.env_radiance = glm::vec4(gpu_.environment_radiance(), gpu_.has_environment_map() ? 1.0f : 0.0f);
-    const RtGeometry& g = rt_scene_.geometry();
-    f.counts = glm::ivec4(static_cast<int>(g.triangles.size()), static_cast<int>(g.spheres.size()),
-                          static_cast<int>(g.emitters.size()), static_cast<int>(scene_.placed_lights().size()));
-    f.counts2 = glm::ivec4(static_cast<int>(g.surfaces.size()), env_width_, env_height_, 0);
+    f.counts2.y = env_width_;
+    f.counts2.z = env_height_;
     f.params = glm::ivec4(options_.max_depth, options_.jitter, options_.indirect_occlusion ? 1 : 0, 0);
-    f.fparams = glm::vec4(options_.ao_radius, options_.whitted_max_roughness, static_cast<float>(g.emitted_power),
+    f.fparams = glm::vec4(options_.ao_radius, options_.whitted_max_roughness, f.fparams.z,
                           static_cast<float>(options_.visibility_light));
     f.fparams2 = glm::vec4(ray_offset_for_extent(scene_diagonal_), 0.0f, 0.0f, 0.0f);
     return f;
@@ -188,19 +199,11 @@ FrameGpu RayTracer::make_frame(const Camera& camera, int width, int height) cons
 
 void RayTracer::bind(const gl::Buffer& accum, const gl::Buffer& diagnostics) const {
     glUseProgram(program_.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, gpu_.materials().id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, gpu_.lights().id());  // punctual lights come first
-    rt_scene_.bind();
+    bind_scene(rt_scene_, gpu_);
     glBindBufferBase(GL_UNIFORM_BUFFER, 8, frame_ubo_.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 9, accum.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 10, diagnostics.id());
     if (env_distribution_) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 12, env_distribution_.id());
-    glBindTextureUnit(5, gpu_.environment_map().id());
-    glBindSampler(5, 0);
-    glBindTextureUnit(6, gpu_.image_array().id());
-    glBindSampler(6, 0);
-    glBindTextureUnit(15, gpu_.image_array_srgb().id());
-    glBindSampler(15, 0);
 }
 
 void RayTracer::progressive_restart(const Camera& camera, int width, int height) {

@@ -64,6 +64,26 @@ struct Options {
     bool traversal_stats = false;  // count BVH nodes and primitives per ray (slower; benchmarks)
 };
 
+// The tracer's frame block (std140, binding 8; RtFrame in shaders/rt/scene.glsl).
+struct FrameGpu {
+    glm::mat4 inv_view_proj;
+    glm::vec4 camera_pos;
+    glm::vec4 env_radiance;
+    glm::ivec4 counts;
+    glm::ivec4 counts2;
+    glm::ivec4 image;
+    glm::ivec4 params;
+    glm::vec4 fparams;
+    glm::vec4 fparams2;
+};
+
+// For other compute programs over shaders/rt/scene.glsl (the GI probes, engine/effects/gi/): the
+// frame block with the scene's counts and ray offset (no camera), and the scene's bindings
+// (materials 1, lights 2, the RtScene's, environment 5, images 6 and 15). Environment-map
+// importance sampling is not bound.
+FrameGpu scene_frame_block(const Scene& scene, const RtScene& rt_scene, const GpuScene& gpu);
+void bind_scene(const RtScene& rt_scene, GpuScene& gpu);
+
 struct Result {
     ImageF image;  // rgb: mean radiance (ao: unoccluded fraction); a: samples accumulated
     int samples = 0;           // samples per pixel this run computed
@@ -94,6 +114,9 @@ public:
     bool progressive_done() const { return progressive_.sample >= options_.spp; }
     // Changes the sample count for the next render (benchmarks warm up with one sample first).
     void set_spp(int spp) { options_.spp = spp; }
+    // Changes the bounce limit of path mode for the next render (1: direct light only; the planner's
+    // indirect estimate renders path and direct with one program).
+    void set_max_depth(int depth) { options_.max_depth = depth; }
     // The next render computes the samples s with s % count == shard (--spp-shard K/N): independent
     // batches from one tracer (the statistical tests). Throws bad_input unless 0 <= shard < count.
     void set_shard(int shard, int count);

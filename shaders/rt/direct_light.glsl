@@ -136,3 +136,20 @@ float emitter_pdf(Ray ray, Hit hit, SurfaceHit s) {
     return cos_l > 0.0 ? select_pdf / area * dist * dist / cos_l : 0.0;
 }
 #endif
+
+// Light leaving y towards x after one diffuse reflection at y (Lambertian, y's diffuse albedo):
+// the direct light at y, with visibility from y to the lights. The indirect mode's bounce points
+// and the GI probes' ray hits (engine/effects/gi/probe_trace.comp) use it. Needs
+// shadow_visibility; with HAS_EMITTERS, one emitter sample.
+vec3 lambert_direct_light(SurfaceHit y, vec3 to_x, inout Rng rng) {
+    BrdfInput my = brdf_input(y);
+    BrdfInput lambert_y = my;
+    lambert_y.base_color = my.base_color * (1.0 - my.metallic);
+    lambert_y.metallic = 0.0;
+    lambert_y.specular_factor = 0.0;
+    vec3 L = direct_punctual(y, lambert_y, to_x);
+#ifdef HAS_EMITTERS
+    if (rt.counts.z > 0) L += direct_emitters(y, lambert_y, to_x, rng, false);
+#endif
+    return L;
+}

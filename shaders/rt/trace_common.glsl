@@ -34,6 +34,7 @@ Ray make_ray(vec3 origin, vec3 dir) {
     return r;
 }
 
+#ifndef RT_NO_CAMERA  // programs that trace from elsewhere (the GI probes) have their own main()
 // ---- camera ------------------------------------------------------------------------------------
 
 Ray camera_ray(ivec2 pixel, inout Rng rng) {
@@ -68,3 +69,4 @@ void main() {
     }
     accum[index] += vec4(L, 1.0);
 }
+#endif

@@ -8,21 +8,6 @@
 // Shadow rays from the bounce point: every surface blocks the light.
 vec3 shadow_visibility(Ray ray, float tmax) { return opaque_visibility(ray, tmax); }
 
-// Light leaving y towards x after one diffuse reflection at y (Lambertian, y's diffuse albedo):
-// the direct light at y, with visibility from y to the lights.
-vec3 diffuse_outgoing(SurfaceHit y, vec3 to_x, inout Rng rng) {
-    BrdfInput my = brdf_input(y);
-    BrdfInput lambert_y = my;
-    lambert_y.base_color = my.base_color * (1.0 - my.metallic);
-    lambert_y.metallic = 0.0;
-    lambert_y.specular_factor = 0.0;
-    vec3 L = direct_punctual(y, lambert_y, to_x);
-#ifdef HAS_EMITTERS
-    L += direct_emitters(y, lambert_y, to_x, rng, false);
-#endif
-    return L;
-}
-
 // One diffuse bounce: light that reached the first visible point x after exactly one reflection
 // off another surface y (Lambertian at both ends, as RSM models it). The ground truth for RSM.
 vec3 radiance(Ray ray, inout Rng rng) {
@@ -39,7 +24,7 @@ vec3 radiance(Ray ray, inout Rng rng) {
         Hit hy = trace_closest(bounce, 3.0e38);
         if (hy.prim < 0) return vec3(0.0);
         // Cosine sampling: f_x * cos / pdf = albedo_x.
-        return albedo_x * diffuse_outgoing(surface_at(bounce, hy), -dir, rng);
+        return albedo_x * lambert_direct_light(surface_at(bounce, hy), -dir, rng);
     }
     // Without occlusion between x and y: y uniform by area over every triangle,
     // L = f_x * L_o(y) * cos_x * cos_y / d^2 / pdf_area(y).
@@ -73,5 +58,5 @@ vec3 radiance(Ray ray, inout Rng rng) {
     float cos_y = dot(y.ng, -dir);
     if (cos_y <= 0.0) return vec3(0.0);
     float pdf_area = pick.pdf / pick.area;
-    return albedo_x * INV_PI * diffuse_outgoing(y, -dir, rng) * cos_x * cos_y / (dist2 * pdf_area);
+    return albedo_x * INV_PI * lambert_direct_light(y, -dir, rng) * cos_x * cos_y / (dist2 * pdf_area);
 }
