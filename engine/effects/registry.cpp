@@ -1,6 +1,7 @@
 #include "effects/registry.hpp"
 
 #include "effects/area_lights/area_lights.hpp"
+#include "effects/gi/gi.hpp"
 #include "effects/reflections/reflections.hpp"
 #include "effects/rsm/rsm.hpp"
 #include "effects/shadows/shadows.hpp"
@@ -11,12 +12,13 @@ namespace candela {
 
 const std::vector<const Effect*>& effect_registry() {
     // One line per effect. Order: decisions are made in this order (rsm reads the shadows
-    // decision), and within a stage passes run in this order.
+    // and gi decisions), and within a stage passes run in this order.
     static const std::vector<const Effect*> all = {
         &shadows_effect(),
         &area_lights_effect(),
         &reflections_effect(),
         &ssao_effect(),
+        &gi_effect(),
         &rsm_effect(),
         &transparency_effect(),
     };

@@ -40,9 +40,10 @@ const EffectDecision& Features::decision(std::string_view name) const {
     throw Error(ExitCode::internal, "no effect named '" + std::string(name) + "'");
 }
 
-Features analyze(const Scene& scene, const RenderSettings& s) {
+Features analyze(const Scene& scene, const RenderSettings& s, const IndirectEstimate* indirect) {
     Features f;
     f.source = &scene;
+    if (indirect) f.indirect = *indirect;
     f.scene = analyze_features(scene);
     f.environment = scene.environment.present();
     f.punctual_lights = static_cast<int>(scene.placed_lights().size());
@@ -111,6 +112,9 @@ nlohmann::json to_json(const Features& f) {
     j["path_reason"] = f.path_reason;
     j["emissive_area_lights"] = f.scene.emissive_area_lights.needed;
     j["transmission"] = f.scene.transmission.needed;
+    if (f.indirect)
+        j["indirect_estimate"] = {{"fraction", f.indirect->fraction}, {"ms", f.indirect->ms}, {"width", f.indirect->width},
+                                  {"height", f.indirect->height}, {"spp", f.indirect->spp}};
     return j;
 }
 

@@ -8,7 +8,10 @@
 
 #include <nlohmann/json_fwd.hpp>
 
+#include <optional>
+
 #include "effects/effect.hpp"
+#include "effects/gi/estimate.hpp"
 #include "render/settings.hpp"
 #include "scene/features.hpp"
 #include "scene/scene.hpp"
@@ -41,6 +44,9 @@ struct Features {
     bool deferred = false;      // the render path
     std::string path_reason;
     SceneFeatures scene;
+    // The planner's estimate of the indirect fraction of the image (effects/gi/estimate.hpp),
+    // when the caller could trace it (the renderer, `info`); the GI effect plans from it.
+    std::optional<IndirectEstimate> indirect;
     std::vector<const EffectDecision*> effects() const {
         std::vector<const EffectDecision*> v;
         for (const EffectDecision& d : modules) v.push_back(&d);
@@ -51,7 +57,7 @@ struct Features {
     const EffectDecision& decision(std::string_view name) const;
 };
 
-Features analyze(const Scene& scene, const RenderSettings& settings);
+Features analyze(const Scene& scene, const RenderSettings& settings, const IndirectEstimate* indirect = nullptr);
 
 // The raster passes a frame runs, in order, with the reason for each; the renderer builds its
 // frame graph from exactly this list (so `candela info` shows what will run).

@@ -6,6 +6,7 @@
 
 #include "core/error.hpp"
 #include "core/log.hpp"
+#include "effects/gi/gi.hpp"
 #include "effects/registry.hpp"
 #include "shader/program_catalog.hpp"
 
@@ -37,7 +38,17 @@ Renderer::Renderer(const ShaderLibrary& shaders, const Scene& scene, GpuScene& g
 
 void Renderer::set_settings(const RenderSettings& settings) {
     settings_ = settings;
-    features_ = analyze(scene_, settings_);
+    // GI is planned by how much indirect light the image has: a tiny trace, once per renderer.
+    if (gi_needs_estimate(settings_) && !indirect_estimate_) {
+        try {
+            indirect_estimate_ = estimate_indirect(shaders_, scene_, gpu_);
+            log::debug("indirect light estimate: " + indirect_estimate_->text());
+        } catch (const Error& e) {
+            if (e.code() == ExitCode::internal) throw;
+            indirect_estimate_ = IndirectEstimate{};  // nothing to trace (e.g. no triangles): none planned
+        }
+    }
+    features_ = analyze(scene_, settings_, indirect_estimate_ ? &*indirect_estimate_ : nullptr);
     const LightSetup& ls = features_.lights;
     gpu_.update_lights(ls.area_samples, ls.shadows, ls.cascades, ls.max_shadowed);
     features_.area_light_pieces = gpu_.light_count() - gpu_.punctual_light_count();

@@ -3,6 +3,7 @@
 // settings call for (features.hpp), compiled, executed with per-pass GPU/CPU timing and counters.
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
@@ -106,6 +107,8 @@ private:
     const Scene& scene_;
     GpuScene& gpu_;
     Bounds scene_bounds_;
+    // The indirect-light estimate the planner uses (traced once, on the first settings that ask).
+    std::optional<IndirectEstimate> indirect_estimate_;
     gl::Sampler linear_clamp_;
     ImageBasedLighting ibl_;
     gl::Texture env_cube_;   // static environment map, prefiltered (empty without a map)

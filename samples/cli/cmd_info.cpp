@@ -6,13 +6,18 @@
 
 #include "core/error.hpp"
 #include "options.hpp"
+#include "effects/gi/estimate.hpp"
+#include "effects/gi/gi.hpp"
+#include "platform/context.hpp"
 #include "render/features.hpp"
+#include "render/gpu_scene.hpp"
+#include "shader/shader_library.hpp"
 #include "render/settings.hpp"
 
 namespace candela::cli {
 
 int cmd_info(const Args& args) {
-    const Parsed p = parse(args, {"--effects", "--set", "--path", "--lighting", "--environment", "--camera"}, {"--strict", "--knobs"});
+    const Parsed p = parse(args, {"--effects", "--set", "--path", "--lighting", "--environment", "--camera", "--shader-dir"}, {"--strict", "--knobs"});
     if (p.flags.count("--knobs")) {
         for (const KnobInfo& k : knob_infos())
             std::printf("%-28s %-6s %-22s %s\n", k.name.c_str(), k.type.c_str(), k.range.c_str(), k.help.c_str());
@@ -71,7 +76,26 @@ int cmd_info(const Args& args) {
                                             format_number("%.3g", scene.environment.radiance.g) + ", " +
                                             format_number("%.3g", scene.environment.radiance.b) + ")").c_str()
                                          : "none");
-    const Features features = analyze(scene, settings);
+    // The GI effect plans from an estimate of the indirect light, which the tracer computes: a
+    // headless context when one can be had (without one, `info` says the estimate is missing).
+    std::optional<IndirectEstimate> estimate;
+    if (gi_needs_estimate(settings)) {
+        ContextResult ctx = create_context(Backend::auto_select);
+        if (ctx.context) {
+            const ShaderLibrary shaders(shader_dir_option(p));
+            GpuScene gpu(scene);
+            try {
+                estimate = estimate_indirect(shaders, scene, gpu);
+            } catch (const Error& e) {
+                if (e.code() == ExitCode::internal) throw;
+                estimate = IndirectEstimate{};
+            }
+            std::printf("indirect estimate: %s\n", estimate->text().c_str());
+        } else {
+            std::printf("indirect estimate: none (no usable OpenGL: %s)\n", ctx.error.c_str());
+        }
+    }
+    const Features features = analyze(scene, settings, estimate ? &*estimate : nullptr);
     std::printf("scene features:\n");
     for (const Feature* feat : features.scene.all())
         std::printf("  %-22s %-4s %s\n", (feat->name + ":").c_str(), feat->needed ? "yes" : "no", feat->reason.c_str());

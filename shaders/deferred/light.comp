@@ -105,7 +105,7 @@ void main() {
     vec3 v = normalize(frame.camera_pos.xyz - p);
     vec2 pixel = vec2(gid) + 0.5;
     if (frame.debug.x == 3) {
-        imageStore(light_buffer, gid, vec4(rsm_indirect(bi, pixel, p), 1.0));
+        imageStore(light_buffer, gid, vec4(rsm_indirect(bi, pixel, p) + shade_gi(bi, p, n, v, base_occlusion.a, 0.0), 1.0));
         return;
     }
     if (frame.debug.x != 0) {
@@ -129,5 +129,6 @@ void main() {
     color += shade_area_lights(bi, p, n, v, pixel, 0.0);
     color += shade_ambient(bi, p, n, v, base_occlusion.a * ssao_at(pixel));
     color += rsm_indirect(bi, pixel, p);
+    color += shade_gi(bi, p, n, v, base_occlusion.a, 0.0);
     imageStore(light_buffer, gid, vec4(color, 1.0));
 }

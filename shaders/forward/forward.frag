@@ -24,7 +24,7 @@ void main() {
     vec3 v = normalize(frame.camera_pos.xyz - v_world_pos);
     vec2 pixel = gl_FragCoord.xy;
     if (frame.debug.x == 3) {
-        out_radiance = vec4(rsm_indirect(s.brdf, pixel, v_world_pos), 1.0);
+        out_radiance = vec4(rsm_indirect(s.brdf, pixel, v_world_pos) + shade_gi(s.brdf, v_world_pos, s.n, v, s.occlusion, 0.0), 1.0);
         return;
     }
     if (frame.debug.x != 0) {
@@ -40,6 +40,7 @@ void main() {
     color += shade_area_lights(s.brdf, v_world_pos, s.n, v, pixel, transmission);
     color += shade_ambient(s.brdf, v_world_pos, s.n, v, s.occlusion * ssao_at(pixel), transmission, s.thin);
     color += rsm_indirect(s.brdf, pixel, v_world_pos);
+    color += shade_gi(s.brdf, v_world_pos, s.n, v, s.occlusion, transmission);
     float alpha = s.alpha_mode == 2 ? s.alpha : 1.0;
     out_radiance = u_peel != 0 ? vec4(color * alpha, alpha) : vec4(color, alpha);
 }

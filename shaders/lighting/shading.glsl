@@ -1,11 +1,12 @@
 // Lighting of one surface point, shared by the forward pass and the deferred lighting pass (so
 // that both compute the same image): punctual lights and area-light pieces with their shadows,
-// plus the environment's ambient term. `pixel` seeds the shadow filter's tap rotation.
+// plus the environment's ambient term and the indirect light (RSM, GI probes). `pixel` seeds the shadow filter's tap rotation.
 #include "../common/brdf.glsl"
 #include "effects/shadows/shadows_shading.glsl"
 #include "effects/ssao/ssao_shading.glsl"
 
 #include "effects/rsm/rsm_shading.glsl"
+#include "effects/gi/gi_shading.glsl"
 #include "effects/area_lights/area_lights_shading.glsl"
 
 // Image-based lighting (render/environment.hpp): the static environment as a GGX-prefiltered
@@ -67,6 +68,18 @@ vec3 shade_ambient(BrdfInput bi, vec3 p, vec3 n, vec3 v, float occlusion, float 
 }
 vec3 shade_ambient(BrdfInput bi, vec3 p, vec3 n, vec3 v, float occlusion) {
     return shade_ambient(bi, p, n, v, occlusion, 0.0, false);
+}
+
+// Indirect light from the GI probes (effects/gi), reflected as the ambient term reflects the
+// environment (split sum): the irradiance E for the Lambert lobe, which keeps what the specular
+// lobe leaves it, and E / pi as the radiance the specular lobe sees, unless a reflection probe
+// gives the surroundings (it captured the walls with their indirect light already).
+vec3 shade_gi(BrdfInput bi, vec3 p, vec3 n, vec3 v, float occlusion, float transmission) {
+    if (gi.origin.w < 0.5) return vec3(0.0);
+    vec3 E = gi_irradiance(p, n, v);
+    vec2 ab = env_brdf(bi.roughness, saturate(dot(n, v)));
+    vec3 specular = probe_at(p, bi, transmission) >= 0 ? vec3(0.0) : E * INV_PI;
+    return occlusion * brdf_ambient(bi, ab, E, specular, transmission, vec3(0.0));
 }
 
 // The debug view `visibility` (debug.view): the fraction of light frame.debug.y that reaches p

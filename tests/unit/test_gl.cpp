@@ -197,9 +197,12 @@ std::vector<std::string> pass_names(const StillResult& r) {
 TEST_P(GlTest, ExecutedPassesPerSampleScene) {
     using V = std::vector<std::string>;
     const std::vector<std::tuple<std::string, std::string, V>> expected = {
-        // cornell_box: area light only (RSM through its pieces' cube views), no ambient.
-        {"cornell_box", "all", V{"shadow_maps", "rsm", "depth_normal_prepass", "rsm_indirect", "forward_opaque"}},
-        {"cornell_point", "all", V{"shadow_maps", "rsm", "depth_normal_prepass", "rsm_indirect", "forward_opaque"}},
+        // cornell_box: area light only, no ambient. Both boxes are closed rooms: the GI probes carry
+        // their indirect light, and RSM (switched on by "all") stays off so as not to add the first
+        // bounce twice.
+        {"cornell_box", "all", V{"shadow_maps", "gi_probes", "forward_opaque"}},
+        {"cornell_box", "shadows,rsm", V{"shadow_maps", "rsm", "depth_normal_prepass", "rsm_indirect", "forward_opaque"}},
+        {"cornell_point", "all", V{"shadow_maps", "gi_probes", "forward_opaque"}},
         {"cornell_point", "shadows", V{"shadow_maps", "forward_opaque"}},
         {"cornell_point", "none", V{"forward_opaque"}},
         {"spheres", "all", V{"shadow_maps", "env_probe", "rsm", "depth_normal_prepass", "ssao", "ssao_blur_x", "ssao_blur_y", "rsm_indirect", "forward_opaque", "sky"}},
@@ -255,17 +258,17 @@ TEST_P(GlTest, GpuTonemapMatchesTheCppTransform) {
 }
 
 TEST_P(GlTest, SwitchingAnUnneededEffectChangesNothing) {
-    // cornell_point needs shadows and (when on) RSM: no transparency, reflections or SSAO (no
-    // ambient light).
+    // cornell_point needs shadows and GI (which leaves RSM out): no transparency, reflections or
+    // SSAO (no ambient light).
     const StillResult all = render_sample("cornell_point", "all");
-    for (const char* effects : {"shadows,rsm", "shadows,rsm,transparency,reflections", "shadows,rsm,ssao"}) {
+    for (const char* effects : {"shadows,gi", "shadows,gi,rsm,transparency,reflections", "shadows,gi,ssao"}) {
         SCOPED_TRACE(effects);
         const StillResult other = render_sample("cornell_point", effects);
         EXPECT_EQ(pass_names(other), pass_names(all));
         EXPECT_EQ(other.radiance.pixels, all.radiance.pixels);  // bit-identical
     }
-    // Shadows and RSM are needed: switching either off changes the image.
-    EXPECT_NE(render_sample("cornell_point", "rsm").radiance.pixels, all.radiance.pixels);
+    // Shadows and GI are needed: switching either off changes the image.
+    EXPECT_NE(render_sample("cornell_point", "gi").radiance.pixels, all.radiance.pixels);
     EXPECT_NE(render_sample("cornell_point", "shadows").radiance.pixels, all.radiance.pixels);
     // transparency.gltf does need transparency: switching it off must change the image.
     EXPECT_NE(render_sample("transparency", "none").radiance.pixels, render_sample("transparency", "all").radiance.pixels);

@@ -333,9 +333,13 @@ public:
     EffectDecision decide(const Features& f, const RenderSettings& s) const override {
         const bool shadows = f.decision("shadows").planned;
         const int area = f.scene.emissive_primitives;
-        const bool needed = shadows && (f.punctual_lights > 0 || area > 0) && s.get<ShadowsOptions>().max_lights > 0;
+        // The GI probes (effects/gi, decided before RSM) carry every bounce, the first included.
+        const bool gi = f.decision("gi").planned;
+        const bool needed = !gi && shadows && (f.punctual_lights > 0 || area > 0) && s.get<ShadowsOptions>().max_lights > 0;
         std::string what;
-        if (needed) {
+        if (gi) {
+            what = "the GI probes carry every bounce of indirect light (RSM would add the first one twice)";
+        } else if (needed) {
             const int rsm_lights = std::min(f.punctual_lights + area, s.get<RsmOptions>().max_lights);
             what = std::to_string(rsm_lights) + " shadowed light(s) to bounce:";
             if (f.punctual_lights > 0) what += " " + std::to_string(f.punctual_lights) + " punctual" + (area > 0 ? "," : "");
@@ -347,7 +351,7 @@ public:
             what = f.punctual_lights + area == 0 ? "no punctual or area light" : "no shadow pass for the RSM to reuse the light views of";
         }
         return decide_effect(name(), s.on(name()) || s.debug.view == DebugView::indirect, needed, what,
-                             s.gating || !shadows);  // without shadow views there is nothing to run it on
+                             s.gating || !shadows || gi);  // without shadow views there is nothing to run it on
     }
     void plan(Stage stage, const Features& f, const RenderSettings& s, std::vector<PlannedPass>& out) const override {
         if (stage == Stage::light_views) out.push_back({"rsm", f.decision(name()).reason.substr(4), this, {"rsm"}});

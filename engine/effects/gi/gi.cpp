@@ -1,0 +1,345 @@
+// GI probes (gi.hpp). The pass "gi_probes" (light_views stage) runs the update iterations a frame
+// owes: per batch of probes, probe_trace.comp (the rays, with the tracer's BVH and light sampling)
+// then probe_update.comp (irradiance and distance atlases). A still converges before its
+// frame (gi.budget = 0); the viewer spends gi.budget rays per frame until the probes have done
+// gi.iterations updates. The shading reads the atlases through gi_shading.glsl.
+#include "effects/gi/gi.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <memory>
+
+#include <glm/gtc/quaternion.hpp>
+
+#include "effects/gi/estimate.hpp"
+#include "effects/gi/gi_data.h"
+#include "effects/gi/gi_sweep.hpp"
+#include "render/features.hpp"
+#include "render/passes/pass_env.hpp"
+#include "rt/ray_tracer.hpp"
+
+namespace candela {
+namespace {
+
+constexpr int kIrradianceTexels = 8;  // interior texels per side of a probe's irradiance map
+constexpr int kDepthTexels = 12;      // of its distance map
+
+int rounded_rays(int rays) { return std::max(64, (rays + 63) / 64 * 64); }
+
+// A uniformly random rotation (Shoemake 1992, "Uniform random rotations", Graphics Gems III) from
+// a deterministic hash of the iteration, so that renders are reproducible.
+glm::mat4 random_rotation(std::uint32_t iteration, std::uint32_t seed) {
+    auto hash = [](std::uint32_t v) {
+        v = v * 747796405u + 2891336453u;
+        std::uint32_t w = ((v >> ((v >> 28u) + 4u)) ^ v) * 277803737u;
+        return (w >> 22u) ^ w;
+    };
+    const std::uint32_t h1 = hash(iteration * 3u + seed * 7919u), h2 = hash(h1 ^ 0x9e3779b9u), h3 = hash(h2 ^ 0x85ebca6bu);
+    const double u1 = h1 / 4294967296.0, u2 = h2 / 4294967296.0, u3 = h3 / 4294967296.0;
+    const double a = std::sqrt(1.0 - u1), b = std::sqrt(u1);
+    const double t1 = 2.0 * 3.14159265358979 * u2, t2 = 2.0 * 3.14159265358979 * u3;
+    const glm::quat q(static_cast<float>(b * std::cos(t2)), static_cast<float>(a * std::sin(t1)),
+                      static_cast<float>(a * std::cos(t1)), static_cast<float>(b * std::sin(t2)));
+    return glm::mat4_cast(glm::normalize(q));
+}
+
+class GiRuntime final : public EffectRuntime, public GiStatusView {
+public:
+    void configure(const EffectSetup& s) override {
+        on_ = s.decision.planned;
+        if (!on_) return;
+        options_ = s.settings.get<GiOptions>();
+        const IndirectEstimate* estimate = s.features.indirect ? &*s.features.indirect : nullptr;
+        const int bounces = gi_planned_bounces(options_, estimate);
+        if (scene_ != &s.scene || !rt_scene_) {
+            scene_ = &s.scene;
+            rt_scene_ = std::make_unique<rt::RtScene>(s.scene, static_cast<int>(s.scene.materials.size()));
+            reset_ = true;
+        }
+        frame_block_ = rt::scene_frame_block(s.scene, *rt_scene_, s.gpu);
+        // The grid: cell-centred in the scene's bounds, gi.probes along the longest axis.
+        const Bounds b = s.scene.world_bounds();
+        const glm::vec3 extent = b.empty() ? glm::vec3(1.0f) : glm::max(b.extent(), glm::vec3(0.0f));
+        const float longest = std::max({extent.x, extent.y, extent.z, 1e-30f});
+        glm::ivec3 counts;
+        glm::vec3 spacing, origin;
+        for (int a = 0; a < 3; ++a) {
+            counts[a] = std::clamp(static_cast<int>(std::lround(options_.probes * extent[a] / longest)), 1, options_.probes);
+            // The outer probes sit gi.inset of a cell from the bounds (0.5: cell centres).
+            const float cell = extent[a] > 0.0f ? extent[a] / static_cast<float>(counts[a]) : longest / static_cast<float>(options_.probes);
+            const float inset = counts[a] > 1 ? options_.inset * cell : 0.5f * extent[a];
+            spacing[a] = counts[a] > 1 ? (extent[a] - 2.0f * inset) / static_cast<float>(counts[a] - 1) : cell;
+            origin[a] = (b.empty() ? 0.0f : b.min[a]) + inset;
+        }
+        const int rays = rounded_rays(options_.rays);
+        const int iterations = bounces + options_.iterations;
+        if (counts != counts_ || spacing != spacing_ || origin != origin_ || rays != rays_ || bounces != bounces_ ||
+            iterations != iterations_ || options_.bias != bias_ || options_.inset != inset_)
+            reset_ = true;
+        counts_ = counts, spacing_ = spacing, origin_ = origin, rays_ = rays, bounces_ = bounces;
+        iterations_ = iterations, bias_ = options_.bias, inset_ = options_.inset;
+        const float min_spacing = std::min({spacing.x, spacing.y, spacing.z});
+        max_distance_ = 1.5f * glm::length(spacing * glm::vec3(counts));
+        shading_bias_ = options_.bias * 0.75f * min_spacing;
+        if (reset_) allocate();
+    }
+
+    void invalidate() override { reset_ = true; }
+
+    void prepare(const FramePrep& p) override {
+        on_ = p.decision.planned;
+        if (!block_) {
+            block_ = gl::Buffer(sizeof(gpu::GiData), nullptr, GL_DYNAMIC_STORAGE_BIT);
+            sampler_ = gl::Sampler::create(GL_LINEAR, GL_LINEAR, GL_CLAMP_TO_EDGE, GL_CLAMP_TO_EDGE);
+        }
+        if (on_ && reset_) allocate();
+        upload(shading_block());
+    }
+
+    void begin_graph(FrameGraph& graph) override {
+        irr_id_ = depth_id_ = -1;
+        if (!on_) return;
+        irr_id_ = graph.import_texture("gi_irradiance", irradiance_, {GL_RGBA32F, irradiance_.width(), irradiance_.height()});
+        depth_id_ = graph.import_texture("gi_depth", depth_, {GL_RG32F, depth_.width(), depth_.height()});
+    }
+
+    void add_pass(const std::string& /*name*/, FrameGraph& graph, const PassEnv& env, FrameTargets& /*targets*/) override {
+        graph.add_pass(
+            "gi_probes",
+            [&](FrameGraph::Builder& b) {
+                b.write(irr_id_);
+                b.write(depth_id_);
+            },
+            [this, &env](FrameGraph::Context& ctx) { update(env, ctx); });
+    }
+
+    void read_shading_inputs(FrameGraph::Builder& b) const override {
+        if (irr_id_ >= 0) b.read(irr_id_);
+        if (depth_id_ >= 0) b.read(depth_id_);
+    }
+
+    void bind_shading_inputs(const PassEnv& /*env*/, FrameGraph::Context* /*ctx*/) const override {
+        glBindBufferBase(GL_UNIFORM_BUFFER, GI_BINDING, block_.id());
+        if (on_ && irradiance_) {
+            glBindTextureUnit(GI_IRRADIANCE_UNIT, irradiance_.id());
+            glBindSampler(GI_IRRADIANCE_UNIT, sampler_.id());
+            glBindTextureUnit(GI_DEPTH_UNIT, depth_.id());
+            glBindSampler(GI_DEPTH_UNIT, sampler_.id());
+        }
+    }
+
+    void inspectables(std::vector<std::pair<std::string, const gl::Texture*>>& out) const override {
+        if (irradiance_) out.emplace_back("gi_irradiance", &irradiance_);
+        if (depth_) out.emplace_back("gi_depth", &depth_);
+    }
+
+    GiStatus gi_status() const override {
+        GiStatus st;
+        st.planned = on_;
+        st.counts = counts_;
+        st.rays = rays_;
+        st.bounces = bounces_;
+        st.updates_done = iteration_;
+        st.updates_planned = iterations_;
+        st.rays_last_frame = rays_last_frame_;
+        st.nonfinite = nonfinite_;
+        return st;
+    }
+
+    int probe_count() const { return counts_.x * counts_.y * counts_.z; }
+
+private:
+    void allocate() {
+        reset_ = false;
+        iteration_ = 0;
+        cursor_ = 0;
+        const int tiles_x = counts_.x * counts_.z, tiles_y = counts_.y;
+        irradiance_ = gl::Texture::create_2d(GL_RGBA32F, tiles_x * (kIrradianceTexels + 2), tiles_y * (kIrradianceTexels + 2), 1);
+        depth_ = gl::Texture::create_2d(GL_RG32F, tiles_x * (kDepthTexels + 2), tiles_y * (kDepthTexels + 2), 1);
+        const float zero[4] = {0, 0, 0, 0};
+        glClearTexImage(irradiance_.id(), 0, GL_RGBA, GL_FLOAT, zero);
+        glClearTexImage(depth_.id(), 0, GL_RG, GL_FLOAT, zero);
+        rays_buffer_ = gl::Buffer(static_cast<GLsizeiptr>(probe_count()) * rays_ * 32, nullptr, GL_DYNAMIC_STORAGE_BIT);
+        GLuint view = 0;
+        glCreateTextures(GL_TEXTURE_BUFFER, 1, &view);
+        glTextureBuffer(view, GL_RGBA32F, rays_buffer_.id());
+        rays_view_ = gl::Texture::adopt(view, probe_count() * rays_ * 2, 1, GL_RGBA32F);
+        const unsigned zeros[4] = {0, 0, 0, 0};
+        diagnostics_ = gl::Buffer(sizeof zeros, zeros, GL_DYNAMIC_STORAGE_BIT);
+        nonfinite_ = 0;
+    }
+
+    gpu::GiData shading_block() const {
+        gpu::GiData d{};
+        d.origin = glm::vec4(origin_, on_ && iteration_ > 0 ? 1.0f : 0.0f);
+        d.spacing = glm::vec4(spacing_, shading_bias_);
+        d.counts = glm::ivec4(counts_, kIrradianceTexels);
+        d.params = glm::ivec4(kDepthTexels, rays_, iteration_, 0);
+        d.fparams = glm::vec4(1.0f, max_distance_, 0.0f, 50.0f);
+        d.rotation = glm::mat4(1.0f);
+        return d;
+    }
+
+    void upload(const gpu::GiData& d) { block_.update(0, sizeof d, &d); }
+
+    // The weight of iteration k's estimate: the first `bounces_` replace (each adds a bounce),
+    // the rest average (a running mean from the last replacing iteration on).
+    float weight(int k) const { return k < bounces_ ? 1.0f : 1.0f / static_cast<float>(k - bounces_ + 2); }
+
+    void update(const PassEnv& env, FrameGraph::Context& ctx) {
+        rays_last_frame_ = 0;
+        if (iteration_ >= iterations_) {
+            upload(shading_block());
+            return;
+        }
+        const int total = probe_count();
+        const long long budget = options_.budget;
+        // Probes this frame: all remaining iterations (a still), or what gi.budget rays buy.
+        long long probes_left = budget <= 0 ? static_cast<long long>(iterations_ - iteration_) * total - cursor_
+                                            : std::max<long long>(1, budget / rays_);
+        const GLuint trace = env.programs.get("gi_trace").id();
+        const GLuint update = env.programs.get("gi_update").id();
+        frame_block_.image = glm::ivec4(0);
+        if (!frame_ubo_) frame_ubo_ = gl::Buffer(sizeof(rt::FrameGpu), nullptr, GL_DYNAMIC_STORAGE_BIT);
+        frame_ubo_.update(0, sizeof(rt::FrameGpu), &frame_block_);
+        rt::bind_scene(*rt_scene_, env.scene);
+        glBindBufferBase(GL_UNIFORM_BUFFER, 8, frame_ubo_.id());
+        glBindBufferBase(GL_UNIFORM_BUFFER, GI_BINDING, block_.id());
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 10, diagnostics_.id());
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, GI_RAYS_BINDING, rays_buffer_.id());
+        glBindTextureUnit(GI_IRRADIANCE_UNIT, irradiance_.id());
+        glBindSampler(GI_IRRADIANCE_UNIT, sampler_.id());
+        glBindTextureUnit(GI_DEPTH_UNIT, depth_.id());
+        glBindSampler(GI_DEPTH_UNIT, sampler_.id());
+        glBindTextureUnit(GI_RAYS_UNIT, rays_view_.id());
+        glBindImageTexture(0, irradiance_.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
+        glBindImageTexture(1, depth_.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RG32F);
+        // Batches of at most 64 probes: short dispatches (no GPU watchdog trips on big grids).
+        const int batch_max = 64;
+        while (probes_left > 0 && iteration_ < iterations_) {
+            const int batch = static_cast<int>(std::min<long long>({probes_left, batch_max, total - cursor_}));
+            gpu::GiData d = shading_block();
+            // The trace reads the previous iteration (a bounce more), except with exactly one bounce.
+            d.origin.w = iteration_ > 0 && bounces_ > 1 ? 1.0f : 0.0f;
+            d.params = glm::ivec4(kDepthTexels, rays_, iteration_, cursor_);
+            d.fparams = glm::vec4(weight(iteration_), max_distance_, glm::uintBitsToFloat(0x2545F491u), 50.0f);
+            d.rotation = random_rotation(static_cast<std::uint32_t>(iteration_), 1u);
+            upload(d);
+            ctx.state.use_program(trace);
+            glDispatchCompute(static_cast<GLuint>(rays_ / 64), static_cast<GLuint>(batch), 1);
+            glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
+            ctx.state.use_program(update);
+            const int texels = (kIrradianceTexels + 2) * (kIrradianceTexels + 2) + (kDepthTexels + 2) * (kDepthTexels + 2);
+            glDispatchCompute(static_cast<GLuint>(batch), static_cast<GLuint>((texels + 63) / 64), 1);
+            glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
+            ctx.counters.draw_calls += 2;
+            probes_left -= batch;
+            rays_last_frame_ += static_cast<long long>(batch) * rays_;
+            cursor_ += batch;
+            if (cursor_ >= total) {
+                cursor_ = 0;
+                ++iteration_;
+            }
+        }
+        glBindImageTexture(0, 0, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+        glBindImageTexture(1, 0, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+        unsigned diag = 0;
+        glGetNamedBufferSubData(diagnostics_.id(), 0, sizeof diag, &diag);
+        nonfinite_ = diag;
+        upload(shading_block());
+    }
+
+    bool on_ = false, reset_ = true;
+    GiOptions options_;
+    const Scene* scene_ = nullptr;
+    std::unique_ptr<rt::RtScene> rt_scene_;
+    rt::FrameGpu frame_block_{};
+    glm::ivec3 counts_{0};
+    glm::vec3 spacing_{1.0f}, origin_{0.0f};
+    int rays_ = 0, bounces_ = 0, iterations_ = 0;
+    float bias_ = -1.0f, inset_ = -1.0f, max_distance_ = 1.0f, shading_bias_ = 0.0f;
+    int iteration_ = 0, cursor_ = 0;
+    unsigned nonfinite_ = 0;
+    long long rays_last_frame_ = 0;
+    gl::Texture irradiance_, depth_, rays_view_;
+    gl::Buffer rays_buffer_, diagnostics_, block_, frame_ubo_;
+    gl::Sampler sampler_;
+    FrameGraph::ResourceId irr_id_ = -1, depth_id_ = -1;
+};
+
+class Gi final : public Effect {
+public:
+    const char* name() const override { return "gi"; }
+    std::any default_options() const override { return GiOptions{}; }
+    std::vector<Knob> knobs() const override {
+        using O = GiOptions;
+        return KnobRows<O>("gi", [](RenderSettings& s) -> O& { return s.get<O>(); })
+            .integer("probes", &O::probes, 2, 32, "GI probes along the scene's longest axis (the other axes in proportion)")
+            .integer("rays", &O::rays, 64, 2048, "rays per probe and update (a multiple of 64)")
+            .integer("bounces", &O::bounces, 0, 64, "updates that each add a bounce of light; 0: planned from the indirect estimate")
+            .integer("iterations", &O::iterations, 1, 512, "probe updates after the bounces, which average noise (a still does them all before its frame)")
+            .real("threshold", &O::threshold, 0.0f, 1.0f, "estimated indirect fraction of the image from which the probes run (0: always)")
+            .integer("budget", &O::budget, 0, 1 << 26, "probe rays per frame (the viewer); 0: converge before the frame")
+            .real("inset", &O::inset, 0.01f, 0.5f, "distance of the outer probes from the scene's bounds, in cells (0.5: cell centres)")
+            .real("bias", &O::bias, 0.0f, 1.0f, "shading offset off the surface, in units of 0.75 x the smallest probe spacing")
+            .rows;
+    }
+    // Planned by what it contributes: the estimate of the indirect fraction (the renderer traces
+    // it at set-up, estimate.hpp) against gi.threshold. Always gated: a scene whose indirect
+    // light is below the threshold does get a little, so forcing it on would change the image.
+    EffectDecision decide(const Features& f, const RenderSettings& s) const override {
+        const GiOptions& o = s.get<GiOptions>();
+        const IndirectEstimate* e = f.indirect ? &*f.indirect : nullptr;
+        bool needed = false;
+        std::string why;
+        char pct[32];
+        std::snprintf(pct, sizeof pct, "%.0f %%", o.threshold * 100.0);
+        if (f.source && f.source->triangle_count() == 0) why = "no geometry to bounce light";
+        else if (o.threshold <= 0.0f) needed = true, why = "gi.threshold=0 (always)";
+        else if (!e) why = "no estimate of the indirect light (it needs the tracer: a GL context)";
+        else {
+            needed = e->fraction >= o.threshold;
+            why = "indirect light is " + e->text() + (needed ? ", at least" : ", below") + " gi.threshold " + pct;
+        }
+        if (needed) why += "; " + std::to_string(gi_planned_bounces(o, e)) + " bounce(s)";
+        return decide_effect(name(), s.on(name()), needed, why, true);
+    }
+    void plan(Stage stage, const Features& f, const RenderSettings& s, std::vector<PlannedPass>& out) const override {
+        if (stage != Stage::light_views) return;
+        const GiOptions& o = s.get<GiOptions>();
+        const IndirectEstimate* e = f.indirect ? &*f.indirect : nullptr;
+        std::string why = "probe updates with the tracer (" + std::to_string(rounded_rays(o.rays)) + " rays per probe, " +
+                          std::to_string(gi_planned_bounces(o, e)) + " bounces, " +
+                          (o.budget > 0 ? std::to_string(o.budget) + " rays per frame)" : "converged before the frame)");
+        out.push_back({"gi_probes", why, this, {"gi_trace", "gi_update"}});
+    }
+    std::vector<ProgramDesc> programs() const override {
+        using S = ShaderStage;
+        return {{"gi_trace", {{S::compute, "effects/gi/probe_trace.comp"}}, {"HAS_EMITTERS", "HAS_MASK"}},
+                {"gi_update", {{S::compute, "effects/gi/probe_update.comp"}}, {}}};
+    }
+    std::vector<GpuBlockInfo> gpu_blocks() const override { return {{"GiData", GI_BINDING, sizeof(gpu::GiData), "forward"}}; }
+    std::unique_ptr<EffectRuntime> create_runtime() const override { return std::make_unique<GiRuntime>(); }
+    std::vector<AccuracySweep> accuracy_sweeps(bool quick) const override { return gi_accuracy_sweeps(quick); }
+};
+
+}  // namespace
+
+int gi_planned_bounces(const GiOptions& o, const IndirectEstimate* estimate) {
+    if (o.bounces > 0) return o.bounces;
+    const double rho = estimate ? std::clamp(estimate->fraction, 0.0, 0.95) : 0.5;
+    if (rho <= 0.0) return 1;
+    const int k = static_cast<int>(std::ceil(std::log(0.005) / std::log(rho))) - 1;
+    return std::clamp(k, 1, 32);
+}
+
+bool gi_needs_estimate(const RenderSettings& s) { return s.on("gi") && s.get<GiOptions>().threshold > 0.0f; }
+
+const Effect& gi_effect() {
+    static const Gi effect;
+    return effect;
+}
+
+}  // namespace candela

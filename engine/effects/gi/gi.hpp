@@ -1,0 +1,55 @@
+#pragma once
+// Diffuse global illumination from irradiance probes updated by Candela's own compute tracer
+// (engine/effects/gi/; Majercik et al. 2019, "Dynamic Diffuse Global Illumination with Ray-Traced
+// Irradiance Fields"): a grid of probes over the scene traces rays with the tracer's BVH; each hit
+// reflects its direct light plus the previous iteration's probes, so every iteration adds a
+// bounce. The planner runs it only where the scene's indirect light is a sizeable part of the
+// image (estimate.hpp), with as many bounces as that fraction calls for.
+#include <glm/glm.hpp>
+
+#include "effects/effect.hpp"
+
+namespace candela {
+
+struct IndirectEstimate;
+
+struct GiOptions {
+    int probes = 8;           // [2, 32] probes along the scene's longest axis (the others in proportion)
+    int rays = 128;           // [64, 2048] rays per probe and update, rounded up to a multiple of 64
+    int bounces = 0;          // [0, 64] iterations that each add a bounce; 0: planned from the estimate
+    int iterations = 6;       // [1, 512] updates after the bounces, which average (a still does all before its frame)
+    float threshold = 0.15f;  // [0, 1] indirect fraction of the image from which the probes run (0: always)
+    int budget = 0;           // [0, 2^26] rays per frame (the viewer); 0: converge before the frame
+    float inset = 0.15f;      // [0.01, 0.5] outer probes' distance from the scene's bounds, in cells
+    float bias = 0.3f;        // [0, 1] shading offset off the surface, in units of 0.75 x the smallest spacing
+};
+
+// The bounces the planner gives the probes: gi.bounces if set, else from the estimated indirect
+// fraction f. In a closed room the indirect share of the image is about the effective albedo rho
+// (indirect/total = rho/(1-rho) * (1-rho)), and bounce k carries rho^k of the light, so k bounces
+// leave rho^(k+1) of the image out: enough bounces to bring that below 0.5 %.
+int gi_planned_bounces(const GiOptions& o, const IndirectEstimate* estimate);
+// Whether analyze() needs an IndirectEstimate for these settings (gi switched on, threshold > 0).
+bool gi_needs_estimate(const RenderSettings& s);
+
+// What the GI runtime has done (the viewer's panel, tests): renderer.effect_runtime<GiStatusView>().
+struct GiStatus {
+    bool planned = false;
+    glm::ivec3 counts{0};       // probes per axis
+    int rays = 0;               // per probe and update
+    int bounces = 0;            // updates that each add a bounce
+    int updates_done = 0;       // complete updates of every probe so far
+    int updates_planned = 0;    // bounces + gi.iterations
+    long long rays_last_frame = 0;
+    unsigned nonfinite = 0;     // NaN/Inf ray results replaced by 0 (should stay 0)
+    bool converged() const { return updates_done >= updates_planned; }
+};
+class GiStatusView {
+public:
+    virtual ~GiStatusView() = default;
+    virtual GiStatus gi_status() const = 0;
+};
+
+const Effect& gi_effect();
+
+}  // namespace candela

@@ -1,0 +1,60 @@
+#version 450 core
+// GI probes, step 1 of an update (engine/effects/gi/gi.cpp): every probe of the batch traces
+// gi.params.y rays with the tracer's BVH, in spherical Fibonacci directions under this
+// iteration's random rotation. A ray records the light leaving what it hits towards the probe
+// (the Lambert part: direct light with shadow rays, the tracer's own light sampling, plus the
+// previous iteration's probes for the bounces before) and its distance. Emission is left out:
+// the raster shades emitters as direct light. One ray per invocation; work group y: the probe.
+#define RT_NO_CAMERA
+#include "rt/trace_common.glsl"
+#include "rt/materials.glsl"
+#include "rt/brdf_sampling.glsl"
+#include "rt/direct_light.glsl"
+#include "effects/gi/gi_sample.glsl"
+
+layout(std430, binding = GI_RAYS_BINDING) writeonly buffer GiRays { vec4 gi_rays[]; };  // per ray two entries: rgb radiance, a distance (< 0: a back face); the direction
+
+vec3 shadow_visibility(Ray ray, float tmax) { return opaque_visibility(ray, tmax); }
+
+// Ray i of n: a spherical Fibonacci point set (Keinert et al. 2015), nearly uniform on the sphere.
+vec3 gi_ray_direction(int i, int n) {
+    const float golden_angle = 2.39996322972865332;  // pi (3 - sqrt 5)
+    float z = 1.0 - (2.0 * float(i) + 1.0) / float(n);
+    float r = sqrt(max(1.0 - z * z, 0.0));
+    float phi = float(i) * golden_angle;
+    return normalize(mat3(gi.rotation) * vec3(cos(phi) * r, sin(phi) * r, z));
+}
+
+void main() {
+    int rays = gi.params.y;
+    int probe = gi.params.w + int(gl_WorkGroupID.y);
+    int total = gi.counts.x * gi.counts.y * gi.counts.z;
+    int ray_index = int(gl_WorkGroupID.x) * 64 + int(gl_LocalInvocationIndex);
+    if (probe >= total || ray_index >= rays) return;
+    vec3 dir = gi_ray_direction(ray_index, rays);
+    Ray ray = make_ray(gi_probe_position(gi_probe_coord(probe)), dir);
+    Rng rng = rng_init(floatBitsToUint(gi.fparams.z), uint(probe * rays + ray_index), uint(gi.params.z));
+    Hit hit = trace_closest(ray, 3.0e38);
+    vec4 result = vec4(0.0, 0.0, 0.0, gi.fparams.y);
+    if (hit.prim >= 0) {
+        SurfaceHit y = surface_at(ray, hit);
+        if (!y.front && !material_double_sided(y.material)) {
+            // Inside geometry (or behind a one-sided wall): no light, and a short negative distance
+            // so that the update counts it and the Chebyshev test keeps the probe from leaking.
+            result = vec4(0.0, 0.0, 0.0, -0.2 * hit.t);
+        } else {
+            vec3 L = lambert_direct_light(y, -dir, rng);
+            if (gi.origin.w > 0.5) {  // the bounces before: the previous iteration's probes
+                BrdfInput m = brdf_input(y);
+                L += m.base_color * (1.0 - m.metallic) * INV_PI * gi_irradiance(y.p, y.ns, -dir);
+            }
+            result = vec4(L, min(hit.t, gi.fparams.y));
+        }
+    }
+    if (any(isnan(result)) || any(isinf(result.rgb))) {
+        atomicAdd(nonfinite_samples, 1u);
+        result = vec4(0.0, 0.0, 0.0, gi.fparams.y);
+    }
+    gi_rays[2 * (probe * rays + ray_index)] = result;
+    gi_rays[2 * (probe * rays + ray_index) + 1] = vec4(dir, 0.0);
+}
