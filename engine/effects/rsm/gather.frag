@@ -93,14 +93,16 @@ void main() {
             float w = weight;
             int layer = first;
             if (cube) {
-                // Each layer walks its own R2 sequence (index i / count), shifted per pixel and per
-                // layer: the faces of two pieces that look the same way do not sample the same texels.
+                // Each layer walks an R2 sequence (index i / count), shifted per pixel and per piece
+                // (six faces each): the faces of two pieces that look the same way do not sample the
+                // same texels. Not per face: an offset per face lined the samples up with the pixel
+                // shift and gave fireflies (bench accuracy: 64 samples worse than 16 on cornell_point).
                 int k = (i + rotate) % count;
                 layer = first + k;
                 if (per_layer > 0) w = res * res / float(per_layer + (k < extra ? 1 : 0));
                 float j = float(i / count);
                 uv = fract(vec2(0.5 + j * 0.7548776662, 0.5 + j * 0.5698402910) + vec2(phi0 * 0.15915494, gather_noise(gl_FragCoord.yx)) +
-                           float(k) * vec2(0.4142135624, 0.7320508076));
+                           float(k / 6) * vec2(0.4142135624, 0.7320508076));
                 // The guard band belongs to the neighbouring face: counting it here too would
                 // add its light twice. (Same weight: the estimate sums the faces' 90-degree parts.)
                 if (any(greaterThan(abs(uv * 2.0 - 1.0), vec2(1.0 / v0.params.w)))) continue;
