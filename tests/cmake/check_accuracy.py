@@ -10,7 +10,7 @@ import sys
 rows = list(csv.DictReader(open(sys.argv[1])))
 problems = []
 effects = {r["effect"] for r in rows}
-for e in ["shadows", "shadows_colour", "area_lights", "ssao", "rsm", "transparency", "reflections", "forward_deferred", "ray_tracer", "ray_tracer_depth"]:
+for e in ["shadows", "shadows_colour", "area_lights", "ssao", "rsm", "gi", "transparency", "reflections", "forward_deferred", "ray_tracer", "ray_tracer_depth"]:
     if e not in effects:
         problems.append(f"no rows for {e}")
 
@@ -49,6 +49,19 @@ def samples_key(v):
 monotone("ssao", samples_key)
 monotone("rsm", samples_key)
 monotone("ray_tracer", samples_key)
+
+# Indirect light in a closed room (issue 24): the probes (every bounce) beat one-bounce RSM, which
+# beats no indirect light; one bounce of the probes is worse than all of them.
+gi = {r["variant"]: f(r, "rmse") for r in rows if r["effect"] == "gi"}
+order = ["probes 8 rays 128", "rsm one bounce", "no indirect"]
+if all(v in gi for v in order):
+    for a, b in zip(order, order[1:]):
+        if not gi[a] < gi[b]:
+            problems.append(f"gi: '{a}' has error {gi[a]:.5g}, not below '{b}' {gi[b]:.5g}")
+    if "probes 8 rays 128 bounces 1" in gi and not gi["probes 8 rays 128"] < gi["probes 8 rays 128 bounces 1"]:
+        problems.append("gi: every bounce is not better than one bounce")
+else:
+    problems.append(f"gi: missing variants (have {sorted(gi)})")
 
 # The depth cap: the same paths up to the cap, so the error is the truncation alone. It falls as the
 # cap rises, and the default (no cap) is the reference itself.

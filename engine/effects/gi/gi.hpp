@@ -20,6 +20,7 @@ struct GiOptions {
     int iterations = 6;       // [1, 512] updates after the bounces, which average (a still does all before its frame)
     float threshold = 0.15f;  // [0, 1] indirect fraction of the image from which the probes run (0: always)
     int budget = 0;           // [0, 2^26] rays per frame (the viewer); 0: converge before the frame
+    bool restart = false;     // start over every frame (a scene that changes every frame; bench accuracy)
     float inset = 0.15f;      // [0.01, 0.5] outer probes' distance from the scene's bounds, in cells
     float bias = 0.3f;        // [0, 1] shading offset off the surface, in units of 0.75 x the smallest spacing
 };
