@@ -23,6 +23,7 @@ int cmd_view(const Args& args) {
     o.width = s.options.width;
     o.height = s.options.height;
     o.settings = s.options.settings;
+    o.set_knobs = p.all("--set");  // the viewer's defaults (gi.budget) leave the user's knobs alone
     o.camera = s.options.camera;
     o.lighting = s.lighting.reason;
     o.shader_dir = s.shader_dir;

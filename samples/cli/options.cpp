@@ -76,6 +76,7 @@ void print_usage() {
         "         --shader-dir reload when saved. --script FILE replays camera moves and setting\n"
         "         changes (samples/viewer/script.hpp), --frames N quits after N frames,\n"
         "         --screenshot writes the last frame's image, --window-shot the window with its panel.\n"
+        "         GI probes update over frames: gi.budget 16384 rays per frame unless --set gives it (0: all before each frame).\n"
         "merge    the sample-weighted mean of --spp-shard outputs: equal to one run with all samples.\n"
         "info     counts, bounds, cameras, lights, the effects the scene calls for and the planned passes.\n"
         "compare  RMSE, relative MSE, PSNR, max difference and the pixels beyond --tolerance\n"

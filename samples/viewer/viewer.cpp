@@ -163,6 +163,14 @@ private:
         gl::Program program;
     } inspect_;
     void draw_reference(int w, int h);
+    // The GI probes' progress (effects/gi/gi.hpp); the log gets its line when the probes start
+    // over, and when they converge, so a scripted run shows it too.
+    GiStatus gi_status() const {
+        const GiStatusView* v = renderer_.effect_runtime<GiStatusView>();
+        return v ? v->gi_status() : GiStatus{};
+    }
+    void log_gi_progress(int frame);
+    int gi_logged_phase_ = 0, gi_logged_updates_ = 0;  // 0 not planned, 1 converging, 2 converged
     Reference ref_;
     gl::VertexArray empty_vao_;
 
@@ -512,6 +520,16 @@ void Viewer::draw_ui(double frame_ms) {
             ImGui::TextColored(colour, "%s", status.label.c_str());
             ImGui::Indent(ImGui::GetFrameHeightWithSpacing());
             wrapped_disabled(status.detail);
+            if (name == "gi") {
+                const GiStatus gi = gi_status();
+                const std::string line = gi_status_line(gi, settings_.get<GiOptions>().budget);
+                if (!line.empty()) {
+                    const ImVec4 c = gi.converged() ? ImVec4(0.45f, 0.85f, 0.45f, 1.0f) : ImVec4(0.95f, 0.75f, 0.35f, 1.0f);
+                    ImGui::PushStyleColor(ImGuiCol_Text, c);
+                    ImGui::TextWrapped("%s", line.c_str());
+                    ImGui::PopStyleColor();
+                }
+            }
             ImGui::Unindent(ImGui::GetFrameHeightWithSpacing());
         }
         if (changed) apply_settings(s);
@@ -584,12 +602,27 @@ void Viewer::draw_ui(double frame_ms) {
     ImGui::End();
 }
 
+void Viewer::log_gi_progress(int frame) {
+    const GiStatus st = gi_status();
+    const int phase = !st.planned ? 0 : st.converged() ? 2 : 1;
+    // A restart (scene, shaders or GI settings changed) sets updates_done back.
+    if (phase == gi_logged_phase_ && !(phase == 1 && st.updates_done < gi_logged_updates_)) {
+        gi_logged_updates_ = st.updates_done;
+        return;
+    }
+    gi_logged_phase_ = phase;
+    gi_logged_updates_ = st.updates_done;
+    if (phase == 0) return;
+    log::info("viewer: frame " + std::to_string(frame) + ": " + gi_status_line(st, settings_.get<GiOptions>().budget));
+}
+
 int Viewer::run() {
     GLFWwindow* window = ctx_.window();
     auto last = Clock::now();
     int frame = 0;
     int w = 0, h = 0;  // the scene's viewport (left of the panel)
     std::vector<double> whole_frames;
+    std::vector<bool> gi_frames;  // whether the frame traced GI probe rays
     while (!glfwWindowShouldClose(window) && !quit_) {
         glfwPollEvents();
         int window_w = 0, window_h = 0;  // framebuffer pixels
@@ -611,6 +644,8 @@ int Viewer::run() {
         const Camera camera = controller_.camera();
         renderer_.render(camera, w, h, FrameOutput::display, o_.exposure_ev);
         renderer_.resolve_gpu_times();
+        gi_frames.push_back(gi_status().rays_last_frame > 0);
+        log_gi_progress(frame);
         update_reference(camera, w, h);
         // The panel is opaque, but the strip under it must not show stale frames either.
         const GLfloat backdrop[4] = {0.08f, 0.08f, 0.09f, 1.0f};
@@ -645,6 +680,17 @@ int Viewer::run() {
         log::info("viewer: " + std::to_string(frame) + " frames; median frame (render, UI, swap; after the first) " +
                   std::to_string(steady[steady.size() / 2]).substr(0, 6) + " ms; scene " + std::to_string(w) + "x" + std::to_string(h) +
                   (show_ui_ ? " left of the panel" : ", panel hidden"));
+        // The frames that updated GI probes against the others (the cost of gi.budget).
+        std::vector<double> with, without;
+        for (size_t i = 1; i < whole_frames.size(); ++i) (gi_frames[i] ? with : without).push_back(whole_frames[i]);
+        const auto median = [](std::vector<double>& v) {
+            std::sort(v.begin(), v.end());
+            return std::to_string(v[v.size() / 2]).substr(0, 6) + " ms";
+        };
+        if (!with.empty())
+            log::info("viewer: median frame while GI probes update " + median(with) + " (" + std::to_string(with.size()) + " frames), " +
+                      (without.empty() ? std::string("no frame without") : "without " + median(without) + " (" + std::to_string(without.size()) + " frames)") +
+                      "; gi.budget " + std::to_string(settings_.get<GiOptions>().budget) + " rays/frame");
     }
     return 0;
 }
@@ -667,7 +713,9 @@ int run_viewer(const Scene& scene, const ViewerOptions& options) {
         return static_cast<int>(ExitCode::no_gl);
     }
     log::info("viewer: " + ctx.context->device_string());
-    Viewer viewer(scene, options, *ctx.context, std::move(script));
+    ViewerOptions o = options;
+    apply_viewer_defaults(o.settings, o.set_knobs);
+    Viewer viewer(scene, o, *ctx.context, std::move(script));
     return viewer.run();
 }
 

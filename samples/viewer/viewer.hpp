@@ -2,9 +2,11 @@
 // `candela view SCENE`: the interactive viewer. A GLFW window shows the raster frame; a Dear
 // ImGui panel docked to its right edge (the scene is drawn only left of it; H hides it) holds the render path, every effect and knob of RenderSettings (the names of
 // --set), the planned and culled passes with their reasons, per-pass GPU times and counters,
-// and shader errors. Shaders under --shader-dir reload when saved.
+// and shader errors. Shaders under --shader-dir reload when saved. GI probes update over frames
+// (gi.budget rays per frame, kViewerGiBudget unless --set gives it) and the panel says how far.
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "render/settings.hpp"
 #include "scene/scene.hpp"
@@ -14,6 +16,7 @@ namespace candela::viewer {
 struct ViewerOptions {
     int width = 1280, height = 720;    // the scene's size; the window is wider by the panel
     RenderSettings settings;
+    std::vector<std::string> set_knobs; // the --set assignments as given: the viewer's defaults (gi.budget) leave these alone
     std::string camera;                // scene camera to start with ("" = the first)
     std::filesystem::path shader_dir;  // watched and reloaded
     std::filesystem::path script;      // --script FILE (viewer/script.hpp)

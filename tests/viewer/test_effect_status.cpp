@@ -66,5 +66,47 @@ TEST(ViewerEffectStatus, PlannerReasonsOnTheCornellBox) {
     EXPECT_EQ(switched.detail.find("--effects"), std::string::npos) << switched.detail;
 }
 
+// Issue 24: the viewer spreads the GI probe updates over frames unless the user's --set says
+// otherwise (0 there: converge before each frame, as a still does).
+TEST(ViewerGi, BudgetDefaultsToTheViewersUnlessSetOnTheCommandLine) {
+    RenderSettings s;
+    ASSERT_EQ(s.get<GiOptions>().budget, 0) << "a still converges before its frame";
+    apply_viewer_defaults(s, {"gi.bias=0.2", "ssao.samples=8"});
+    EXPECT_EQ(s.get<GiOptions>().budget, kViewerGiBudget) << "other knobs leave the viewer's default";
+    for (const char* given : {"gi.budget=0", "gi.budget=4096"}) {
+        RenderSettings user;
+        apply_knob(user, given);
+        const int value = user.get<GiOptions>().budget;
+        apply_viewer_defaults(user, {"ssao.samples=8", given});
+        EXPECT_EQ(user.get<GiOptions>().budget, value) << given;
+    }
+    EXPECT_FALSE(sets_knob({"gi.budgets=1", "gi.budge=1", "xgi.budget=1"}, "gi.budget"));
+    // 16384 rays are whole 64-probe batches of 128-ray probes: the same batches as a still.
+    EXPECT_EQ(kViewerGiBudget % (64 * GiOptions{}.rays), 0);
+}
+
+TEST(ViewerGi, PanelLineSaysConvergingThenConverged) {
+    GiStatus st;
+    EXPECT_EQ(gi_status_line(st, kViewerGiBudget), "") << "not planned: the effect row says why";
+    st.planned = true;
+    st.counts = {8, 4, 2};
+    st.rays = 128;
+    st.bounces = 5;
+    st.updates_planned = 11;
+    st.updates_done = 3;
+    st.rays_last_frame = 16384;
+    // 8 updates of 64 probes x 128 rays left, 16384 rays per frame: at most 4 frames.
+    EXPECT_EQ(gi_status_line(st, 16384),
+              "GI probes 8x4x2, 128 rays, 5 bounce(s): 3/11 updates done (converging, 16384 rays/frame, <= 4 frames to go)");
+    // A budget below one probe still traces one probe per frame.
+    EXPECT_NE(gi_status_line(st, 1).find("<= 512 frames to go"), std::string::npos) << gi_status_line(st, 1);
+    st.updates_done = 11;
+    st.rays_last_frame = 0;
+    EXPECT_EQ(gi_status_line(st, 16384), "GI probes 8x4x2, 128 rays, 5 bounce(s): converged (11 updates)");
+    EXPECT_EQ(gi_status_line(st, 0), "GI probes 8x4x2, 128 rays, 5 bounce(s): converged (11 updates, before the frame: gi.budget=0)");
+    st.nonfinite = 2;
+    EXPECT_NE(gi_status_line(st, 0).find("2 non-finite"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace candela::viewer
