@@ -12,13 +12,14 @@ namespace candela {
 
 const std::vector<const Effect*>& effect_registry() {
     // One line per effect. Order: decisions are made in this order (rsm reads the shadows
-    // and gi decisions), and within a stage passes run in this order.
+    // and gi decisions), and within a stage passes run in this order (gi_probes before env_probe:
+    // the reflection probes capture the room with its indirect light).
     static const std::vector<const Effect*> all = {
         &shadows_effect(),
         &area_lights_effect(),
+        &gi_effect(),
         &reflections_effect(),
         &ssao_effect(),
-        &gi_effect(),
         &rsm_effect(),
         &transparency_effect(),
     };

@@ -62,9 +62,9 @@ inline EffectStatus effect_status(bool switch_on, const EffectDecision& d) {
 
 // GI probes in the viewer (issue 24): a still converges them before its frame (gi.budget 0);
 // the viewer spreads their updates over frames so that the first frame and every frame after a
-// change stay interactive. 16384 rays per frame is 128 probes of 128 rays: two of the GI pass's
-// 64-probe batches, so the updates happen in the same batches as in a still and the converged
-// image equals `candela render`'s. Measured on llvmpipe, 2 shared cores, cornell_point (README,
+// change stay interactive. 16384 rays per frame is 256 probes of 64 rays (the default; 128 of 128):
+// whole 64-probe batches of the GI pass, so the updates happen in the same batches as in a still
+// and the converged image equals `candela render`'s. Measured on llvmpipe, 2 shared cores, cornell_point (README,
 // viewer section).
 constexpr int kViewerGiBudget = 16384;
 

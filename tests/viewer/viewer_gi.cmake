@@ -12,7 +12,7 @@ if(NOT XVFB_RUN)
 endif()
 set(size 160x120)
 file(REMOVE ${OUT}/viewer_gi_early.png ${OUT}/viewer_gi.png)
-# 18 updates of 8x8x8 probes x 128 rays at 16384 rays per frame: 72 frames (the log says how many).
+# 18 updates of 8x8x8 probes x 64 rays at 16384 rays per frame: 36 frames (the log says how many).
 execute_process(COMMAND ${XVFB_RUN} -a -s "-screen 0 1024x768x24" ${CANDELA} view ${SCENE} --size ${size} --script ${SCRIPT}
                         --frames 90 --screenshot ${OUT}/viewer_gi.png --window-shot ${OUT}/viewer_gi_window.png --no-vsync
                 WORKING_DIRECTORY ${OUT}

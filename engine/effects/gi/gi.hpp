@@ -15,7 +15,7 @@ struct IndirectEstimate;
 
 struct GiOptions {
     int probes = 8;           // [2, 32] probes along the scene's longest axis (the others in proportion)
-    int rays = 128;           // [64, 2048] rays per probe and update, rounded up to a multiple of 64
+    int rays = 64;            // [64, 2048] rays per probe and update, rounded up to a multiple of 64
     int bounces = 0;          // [0, 64] iterations that each add a bounce; 0: planned from the estimate
     int iterations = 6;       // [1, 512] updates after the bounces, which average (a still does all before its frame)
     float threshold = 0.15f;  // [0, 1] indirect fraction of the image from which the probes run (0: always)

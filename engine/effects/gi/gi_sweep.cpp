@@ -35,9 +35,9 @@ std::vector<AccuracySweep> gi_accuracy_sweeps(bool quick) {
                 s.variants.push_back({"probes " + std::to_string(p) + " rays " + std::to_string(r), base + ",gi",
                                       {"gi.threshold=0", "gi.restart=1", "gi.probes=" + std::to_string(p), "gi.rays=" + std::to_string(r)}});
         for (int b : quick ? std::vector<int>{1} : std::vector<int>{1, 2, 4})
-            s.variants.push_back({"probes 8 rays 128 bounces " + std::to_string(b), base + ",gi",
+            s.variants.push_back({"probes 8 rays 64 bounces " + std::to_string(b), base + ",gi",
                                   {"gi.threshold=0", "gi.restart=1", "gi.bounces=" + std::to_string(b)}});
-        s.shipped = "probes 8 rays 128";
+        s.shipped = "probes 8 rays 64";
         s.needed = [](const Features&) { return true; };
         out.push_back(std::move(s));
     }
