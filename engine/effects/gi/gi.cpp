@@ -334,7 +334,9 @@ int gi_planned_bounces(const GiOptions& o, const IndirectEstimate* estimate) {
     const double rho = estimate ? std::clamp(estimate->fraction, 0.0, 0.95) : 0.5;
     if (rho <= 0.0) return 1;
     const int k = static_cast<int>(std::ceil(std::log(0.005) / std::log(rho))) - 1;
-    return std::clamp(k, 1, 32);
+    // The averaging updates after the bounces keep adding one each (their mean is about
+    // iterations/2 bounces more), so the replacing updates need that many fewer.
+    return std::clamp(k - o.iterations / 2, 1, 32);
 }
 
 bool gi_needs_estimate(const RenderSettings& s) { return s.on("gi") && s.get<GiOptions>().threshold > 0.0f; }

@@ -28,7 +28,8 @@ struct GiOptions {
 // The bounces the planner gives the probes: gi.bounces if set, else from the estimated indirect
 // fraction f. In a closed room the indirect share of the image is about the effective albedo rho
 // (indirect/total = rho/(1-rho) * (1-rho)), and bounce k carries rho^k of the light, so k bounces
-// leave rho^(k+1) of the image out: enough bounces to bring that below 0.5 %.
+// leave rho^(k+1) of the image out: enough bounces to bring that below 0.5 %, less the
+// iterations/2 more that the averaging updates after them add on average.
 int gi_planned_bounces(const GiOptions& o, const IndirectEstimate* estimate);
 // Whether analyze() needs an IndirectEstimate for these settings (gi switched on, threshold > 0).
 bool gi_needs_estimate(const RenderSettings& s);
