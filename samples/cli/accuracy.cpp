@@ -367,6 +367,13 @@ int run_accuracy(const AccuracyOptions& o) {
     Progress progress;
     Run c{o, shaders, o.quick ? 128 : 320, o.quick ? 96 : 240, o.quick ? 1 : 3, o.quick ? 3 : 10, progress};
     std::vector<AccuracySweep> sweeps = make_sweeps(o.quick);
+    if (!o.effects.empty()) {
+        std::vector<AccuracySweep> kept;
+        for (AccuracySweep& s : sweeps)
+            if (std::find(o.effects.begin(), o.effects.end(), s.effect) != o.effects.end()) kept.push_back(std::move(s));
+        if (kept.empty()) throw bad_input("bench accuracy: no section named by --effect");
+        sweeps = std::move(kept);
+    }
 
     // Which scenes each sweep runs on: its own, or those given that call for the effect.
     struct Job {

@@ -20,6 +20,7 @@ struct AccuracyOptions {
     std::filesystem::path scene_dir;  // where the sample scenes are
     Backend backend = Backend::auto_select;
     bool quick = false;               // reduced sweeps on small images (CI)
+    std::vector<std::string> effects; // --effect NAME (repeatable): only these sections; empty: all
     std::string command_line;         // recorded in the report
 };
 

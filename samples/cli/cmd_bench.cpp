@@ -117,7 +117,7 @@ int bench_reload(const Args& args) {
 
 // `candela bench accuracy [SCENE...] -o DIR`: the options of run_accuracy().
 int bench_accuracy(const Args& args) {
-    const Parsed p = parse(args, {"-o", "--report", "--shader-dir", "--backend"}, {"--quick", "--quiet"});
+    const Parsed p = parse(args, {"-o", "--report", "--shader-dir", "--backend", "--effect"}, {"--quick", "--quiet"});
     if (!p.has("-o")) throw bad_input("bench accuracy needs -o DIR");
     if (p.flags.count("--quiet")) log::set_level(log::Level::warn);
     AccuracyOptions o;
@@ -127,6 +127,7 @@ int bench_accuracy(const Args& args) {
     o.out = p.get("-o");
     if (p.has("--report")) o.report = p.get("--report");
     o.quick = p.flags.count("--quick") > 0;
+    o.effects = p.all("--effect");
     o.shader_dir = shader_dir_option(p);
     // The sample scenes sit beside the built-in shaders in the source tree.
     o.scene_dir = fs::path(ShaderLibrary::default_root()).parent_path() / "samples" / "scenes";

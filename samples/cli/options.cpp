@@ -40,7 +40,7 @@ void print_usage() {
         "  candela bench frame SCENE [--effects LIST ...] [--path P ...] [--size WxH] [--frames N] [--warmup N] [--json FILE]\n"
         "  candela bench rays SCENE|generated:N ... [--size WxH] [--spp N] [--repeat N]\n"
         "  candela bench reload SCENE [--size WxH] [--count N] [--shader-dir DIR]\n"
-        "  candela bench accuracy [SCENE...] -o DIR [--report FILE.md] [--quick]\n"
+        "  candela bench accuracy [SCENE...] -o DIR [--report FILE.md] [--quick] [--effect NAME...]\n"
         "  candela shaders check [--shader-dir DIR] [--backend auto|egl|osmesa]\n"
         "  candela view SCENE [--size WxH] [--effects ...] [--set ...] [--path P] [--camera C] [--shader-dir DIR]\n"
         "               [--script FILE] [--frames N] [--screenshot OUT.png] [--window-shot OUT.png] [--no-vsync]\n"
