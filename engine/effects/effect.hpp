@@ -33,12 +33,16 @@ class EffectRuntime;
 
 // Where in the frame an effect's passes go. The base passes (render/) sit between them:
 //   light_views | geometry (G-buffer or depth/normal prepass) | screen | lighting |
-//   after_lighting | sky | blended | tonemap
+//   after_lighting | sky | blended | post | tonemap
 enum class Stage {
     light_views,     // views from the lights or probes, before the camera's geometry
     screen,          // screen-space buffers from the camera's depth and normals, before lighting
     after_lighting,  // drawn over the lit opaque image, before the sky
     blended,         // after the sky: blended surfaces
+    // After everything is drawn: anti-aliasing's resolve (the multisampled targets become single
+    // samples: FrameTargets::samples is 1 afterwards), then filters of the final radiance
+    // (depth of field), before the tonemap.
+    post,
 };
 
 // A uniform block declared in an effect's *_data.h (effects/gpu_block.h): its GLSL block name,

@@ -40,9 +40,18 @@ const EffectDecision& Features::decision(std::string_view name) const {
     throw Error(ExitCode::internal, "no effect named '" + std::string(name) + "'");
 }
 
-Features analyze(const Scene& scene, const RenderSettings& s, const IndirectEstimate* indirect) {
+Features analyze(const Scene& scene, const RenderSettings& s, const IndirectEstimate* indirect, const Camera* camera) {
     Features f;
     f.source = &scene;
+    // The lens of the camera the frames use (without one: the settings' lens, else a pinhole).
+    if (camera) {
+        const Camera lens = with_lens(*camera, s);
+        f.lens_aperture = lens.aperture;
+        f.lens_focus_distance = lens.focus_distance;
+    } else {
+        f.lens_aperture = std::max(0.0f, s.camera.aperture);
+        f.lens_focus_distance = std::max(0.0f, s.camera.focus_distance);
+    }
     if (indirect) f.indirect = *indirect;
     f.scene = analyze_features(scene);
     f.environment = scene.environment.present();
@@ -98,6 +107,7 @@ std::vector<PlannedPass> plan_passes(const Features& f, const RenderSettings& s)
     }
     if (f.environment) plan.push_back({"sky", "the scene has environment light", nullptr, {"sky"}});
     add_stage(Stage::blended);
+    add_stage(Stage::post);
     return plan;
 }
 

@@ -47,6 +47,10 @@ struct Features {
     // The planner's estimate of the indirect fraction of the image (effects/gi/estimate.hpp),
     // when the caller could trace it (the renderer, `info`); the GI effect plans from it.
     std::optional<IndirectEstimate> indirect;
+    // The thin lens of the camera the frames are rendered from (with_lens: the settings override
+    // the camera's own); aperture 0 is a pinhole. The renderer re-plans when it changes.
+    float lens_aperture = 0.0f;
+    float lens_focus_distance = 0.0f;
     std::vector<const EffectDecision*> effects() const {
         std::vector<const EffectDecision*> v;
         for (const EffectDecision& d : modules) v.push_back(&d);
@@ -57,7 +61,9 @@ struct Features {
     const EffectDecision& decision(std::string_view name) const;
 };
 
-Features analyze(const Scene& scene, const RenderSettings& settings, const IndirectEstimate* indirect = nullptr);
+// `camera`: the camera the frames use (its lens plans depth of field); nullptr: the settings' lens.
+Features analyze(const Scene& scene, const RenderSettings& settings, const IndirectEstimate* indirect = nullptr,
+                 const Camera* camera = nullptr);
 
 // The raster passes a frame runs, in order, with the reason for each; the renderer builds its
 // frame graph from exactly this list (so `candela info` shows what will run).

@@ -48,7 +48,11 @@ void Renderer::set_settings(const RenderSettings& settings) {
             indirect_estimate_ = IndirectEstimate{};  // nothing to trace (e.g. no triangles): none planned
         }
     }
-    features_ = analyze(scene_, settings_, indirect_estimate_ ? &*indirect_estimate_ : nullptr);
+    plan();
+}
+
+void Renderer::plan() {
+    features_ = analyze(scene_, settings_, indirect_estimate_ ? &*indirect_estimate_ : nullptr, camera_ ? &*camera_ : nullptr);
     const LightSetup& ls = features_.lights;
     gpu_.update_lights(ls.area_samples, ls.shadows, ls.cascades, ls.max_shadowed);
     features_.area_light_pieces = gpu_.light_count() - gpu_.punctual_light_count();
@@ -70,7 +74,13 @@ ShaderReload Renderer::reload_shaders(const std::vector<std::filesystem::path>& 
     return report;
 }
 
-void Renderer::render(const Camera& camera, int width, int height, FrameOutput output, float exposure_ev) {
+void Renderer::render(const Camera& view_camera, int width, int height, FrameOutput output, float exposure_ev) {
+    // The settings' lens over the camera's own; a lens that turns depth of field on or off re-plans
+    // (a changed aperture or focus alone does not: the passes read them every frame).
+    const Camera camera = with_lens(view_camera, settings_);
+    const bool replan = (camera.aperture > 0.0f) != (features_.lens_aperture > 0.0f);
+    camera_ = view_camera;
+    if (replan) plan();
     if (width != width_ || height != height_) {
         width_ = width;
         height_ = height;

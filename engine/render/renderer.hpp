@@ -102,8 +102,11 @@ public:
     void set_verify_state(bool on) { verify_state_ = on; }
 
 private:
+    // Analyzes and configures for settings_ and the last camera (features_, effects, programs).
+    void plan();
 
     const ShaderLibrary& shaders_;
+    std::optional<Camera> camera_;  // the last frame's camera (its lens plans depth of field)
     const Scene& scene_;
     GpuScene& gpu_;
     Bounds scene_bounds_;

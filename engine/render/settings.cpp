@@ -8,6 +8,7 @@
 
 #include "core/error.hpp"
 #include "effects/registry.hpp"
+#include "scene/scene.hpp"
 
 namespace candela {
 namespace {
@@ -49,6 +50,12 @@ std::vector<Knob> base_knobs() {
     add(KnobRows<S::EnvironmentMap>("environment", [](S& s) -> S::EnvironmentMap& { return s.environment; })
             .integer("resolution", &S::EnvironmentMap::resolution, 16, 1024,
                      "face size of the static environment map's prefiltered cube (built at start-up)")
+            .rows);
+    add(KnobRows<S::Lens>("camera", [](S& s) -> S::Lens& { return s.camera; })
+            .real("aperture", &S::Lens::aperture, -1.0f, 1e9f,
+                  "thin-lens radius in scene units (depth of field); 0: pinhole; -1: the camera's own (glTF extras.aperture)")
+            .real("focus_distance", &S::Lens::focus_distance, -1.0f, 1e9f,
+                  "distance in focus along the view axis, scene units; 0: auto; -1: the camera's own (extras.focus_distance)")
             .rows);
     return rows;
 }
@@ -143,6 +150,12 @@ const std::vector<KnobInfo>& knob_infos() {
         return v;
     }();
     return infos;
+}
+
+Camera with_lens(Camera camera, const RenderSettings& s) {
+    if (s.camera.aperture >= 0.0f) camera.aperture = s.camera.aperture;
+    if (s.camera.focus_distance >= 0.0f) camera.focus_distance = s.camera.focus_distance;
+    return camera;
 }
 
 nlohmann::json to_json(const RenderSettings& s) {

@@ -84,7 +84,18 @@ struct RenderSettings {
     struct EnvironmentMap {
         int resolution = 128;  // [16, 1024] face size of the static environment's prefiltered cube
     } environment;
+    // The camera's thin lens (depth of field). -1: the camera's own (glTF camera extras), which
+    // default to a pinhole; otherwise these override every camera.
+    struct Lens {
+        float aperture = -1.0f;        // [-1, 1e9] lens radius in scene units; 0: pinhole
+        float focus_distance = -1.0f;  // [-1, 1e9] distance in focus along the view axis; 0: auto
+    } camera;
 };
+
+struct Camera;
+// `camera` with the settings' lens applied (camera.aperture / camera.focus_distance >= 0 override
+// the camera's own).
+Camera with_lens(Camera camera, const RenderSettings& settings);
 
 // The effect names of `--effects` (shared/DESIGN.md section 4).
 const std::vector<std::string>& effect_names();

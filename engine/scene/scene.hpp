@@ -130,6 +130,12 @@ struct Camera {
     float xmag = 1.0f, ymag = 1.0f;
     int node = -1;  // the node that places it; -1 for the computed framing camera
     glm::mat4 world{1.0f};  // camera-to-world
+    // Thin lens (depth of field, issue 22): `aperture` is the lens RADIUS in scene units (0: a
+    // pinhole, everything sharp); `focus_distance` the distance along the view axis that is in
+    // focus, in scene units (0: not given; see with_lens in render/settings.hpp). From the glTF
+    // camera's extras ("aperture", "focus_distance") or `--set camera.aperture=... `.
+    float aperture = 0.0f;
+    float focus_distance = 0.0f;
 };
 
 // A reflection probe declared on a node (`extras.reflection_probe`): captured at `position`; with
