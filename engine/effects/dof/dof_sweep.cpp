@@ -1,0 +1,35 @@
+#include "effects/dof/dof_sweep.hpp"
+
+#include <string>
+
+#include "render/features.hpp"
+
+namespace candela {
+
+std::vector<AccuracySweep> dof_accuracy_sweeps(bool quick) {
+    AccuracySweep s;
+    s.effect = "dof";
+    s.scene = "generated:dof";
+    s.buffer = AccuracySweep::Buffer::radiance;
+    s.own_passes = {"dof_coc", "dof_tiles", "dof_dilate", "dof_gather"};
+    // The box-filtered pixel with the lens sampled: jitter on, every sample a new lens point.
+    AccuracySweep::Reference ref{rt::Mode::direct, quick ? 64 : 256};
+    ref.jitter = 1;
+    s.reference = ref;
+    s.compared = "radiance vs `--raytrace direct` with the camera's thin lens sampled per ray and the pixel box-filtered "
+                 "(jitter on); the last row is the raster pinhole image (`--set camera.aperture=0`) against the same reference";
+    s.reading = "The gather sees one layer: what the near object hides is unknown, so the background behind its blurred "
+                "edge is guessed from the far pixels around it, and a blurred far surface cannot be seen past a sharper one. "
+                "Fewer samples add noise (the spiral turns per pixel); the rest is the raster image's own error (edges "
+                "without anti-aliasing, shadow maps), the same in the pinhole row.";
+    // The reference uses the first variant's lens (the scene camera's): the pinhole row goes last.
+    const std::vector<int> samples = quick ? std::vector<int>{8, 32} : std::vector<int>{8, 16, 32, 64};
+    for (int n : samples) s.variants.push_back({std::to_string(n) + " samples", "shadows,dof", {"dof.samples=" + std::to_string(n)}});
+    if (!quick) s.variants.push_back({"32 samples max CoC 16", "shadows,dof", {"dof.samples=32", "dof.max_coc=16"}});
+    s.variants.push_back({"pinhole (no DOF)", "shadows,dof", {"camera.aperture=0"}});
+    s.shipped = "32 samples";
+    s.needed = [](const Features& f) { return f.lens_aperture > 0.0f; };
+    return {s};
+}
+
+}  // namespace candela

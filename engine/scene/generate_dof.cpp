@@ -1,0 +1,157 @@
+// generated:dof, the depth-of-field scene (issue 22): an in-focus subject, a near and a far
+// out-of-focus object, a checkered floor and back wall, one directional light and a thin-lens
+// camera focused on the subject. Every object is made of two materials in a checker or in bands,
+// so that blurred edges are high-contrast everywhere on screen.
+#include <cmath>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "scene/generate.hpp"
+#include "scene/mesh_utils.hpp"
+
+namespace candela {
+namespace {
+
+// An axis-aligned box's six faces, wound counter-clockwise seen from outside, into `p`.
+void add_box(Primitive& p, glm::vec3 lo, glm::vec3 hi) {
+    for (int axis = 0; axis < 3; ++axis)
+        for (int sign = 0; sign < 2; ++sign) {
+            glm::vec3 n(0.0f);
+            n[axis] = sign ? 1.0f : -1.0f;
+            const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+            const auto base = static_cast<std::uint32_t>(p.vertices.size());
+            for (int k = 0; k < 4; ++k) {
+                glm::vec3 q;
+                q[axis] = sign ? hi[axis] : lo[axis];
+                q[u] = (k == 1 || k == 2) ? hi[u] : lo[u];
+                q[v] = k >= 2 ? hi[v] : lo[v];
+                Vertex vert;
+                vert.position = q;
+                vert.normal = n;
+                p.vertices.push_back(vert);
+            }
+            if (sign) p.indices.insert(p.indices.end(), {base, base + 1, base + 2, base, base + 2, base + 3});
+            else p.indices.insert(p.indices.end(), {base, base + 2, base + 1, base, base + 3, base + 2});
+        }
+}
+
+// A quad with corner `o` and edges `eu`, `ev`, facing cross(eu, ev).
+void add_quad(Primitive& p, glm::vec3 o, glm::vec3 eu, glm::vec3 ev) {
+    const glm::vec3 n = glm::normalize(glm::cross(eu, ev));
+    const auto base = static_cast<std::uint32_t>(p.vertices.size());
+    for (const glm::vec3& q : {o, o + eu, o + eu + ev, o + ev}) {
+        Vertex vert;
+        vert.position = q;
+        vert.normal = n;
+        p.vertices.push_back(vert);
+    }
+    p.indices.insert(p.indices.end(), {base, base + 1, base + 2, base, base + 2, base + 3});
+}
+
+Material lambert(const char* name, glm::vec3 colour) {
+    Material m;
+    m.name = name;
+    m.base_color = glm::vec4(colour, 1.0f);
+    m.metallic = 0.0f;
+    m.roughness = 0.9f;
+    return m;
+}
+
+}  // namespace
+
+Scene make_dof_scene() {
+    Scene scene;
+    scene.source = "generated:dof";
+    enum { white, dark, red, cream, yellow, blue, green, pale };
+    scene.materials = {lambert("white", glm::vec3(0.8f)),         lambert("dark", glm::vec3(0.05f)),
+                       lambert("red", {0.8f, 0.08f, 0.05f}),      lambert("cream", {0.85f, 0.8f, 0.65f}),
+                       lambert("yellow", {0.9f, 0.75f, 0.1f}),    lambert("blue", {0.05f, 0.15f, 0.7f}),
+                       lambert("green", {0.1f, 0.6f, 0.15f}),     lambert("pale", {0.75f, 0.85f, 0.75f})};
+    auto add_mesh = [&](const char* name, Primitive a, int ma, Primitive b, int mb) {
+        a.material = ma;
+        b.material = mb;
+        compute_bounds(a);
+        compute_bounds(b);
+        scene.meshes.push_back({name, {std::move(a), std::move(b)}});
+        Node node;
+        node.name = name;
+        node.mesh = static_cast<int>(scene.meshes.size()) - 1;
+        scene.roots.push_back(static_cast<int>(scene.nodes.size()));
+        scene.nodes.push_back(node);
+    };
+
+    // Back wall (z = -6, 12 from the camera) and floor (y = 0): 1 x 1 checkers, white and dark.
+    {
+        Primitive a, b;
+        for (int i = -8; i < 8; ++i)
+            for (int j = -3; j < 7; ++j)
+                add_quad((i + j) % 2 == 0 ? a : b, {static_cast<float>(i), static_cast<float>(j), -6.0f}, {1, 0, 0}, {0, 1, 0});
+        add_mesh("wall", std::move(a), white, std::move(b), dark);
+    }
+    {
+        Primitive a, b;
+        for (int i = -8; i < 8; ++i)
+            for (int k = -6; k < 7; ++k)
+                add_quad((i + k) % 2 == 0 ? a : b, {static_cast<float>(i), 0.0f, static_cast<float>(k) + 1.0f}, {1, 0, 0}, {0, 0, -1});
+        add_mesh("floor", std::move(a), pale, std::move(b), dark);
+    }
+    // The subject, in focus at z = 0: a column of red and cream bands of 0.2.
+    {
+        Primitive a, b;
+        for (int k = 0; k < 7; ++k)
+            add_box(k % 2 == 0 ? a : b, {-0.35f, 0.2f * static_cast<float>(k), -0.35f}, {0.35f, 0.2f * static_cast<float>(k + 1), 0.35f});
+        add_mesh("subject", std::move(a), red, std::move(b), cream);
+    }
+    // The near object, 3 from the camera, left of the subject and overlapping it on screen: a
+    // column of yellow and blue 0.25 cubes checkered in x and y.
+    {
+        Primitive a, b;
+        for (int i = 0; i < 2; ++i)
+            for (int k = 0; k < 7; ++k) {
+                const float x = -0.65f + 0.25f * static_cast<float>(i), y = 0.25f * static_cast<float>(k);
+                add_box((i + k) % 2 == 0 ? a : b, {x, y, 2.75f}, {x + 0.25f, y + 0.25f, 3.0f});
+            }
+        add_mesh("near", std::move(a), yellow, std::move(b), blue);
+    }
+    // The far object, 9 from the camera, right of the subject: green and white 0.4 cubes.
+    {
+        Primitive a, b;
+        for (int i = 0; i < 2; ++i)
+            for (int k = 0; k < 6; ++k) {
+                const float x = 1.0f + 0.4f * static_cast<float>(i), y = 0.4f * static_cast<float>(k);
+                add_box((i + k) % 2 == 0 ? a : b, {x, y, -3.4f}, {x + 0.4f, y + 0.4f, -3.0f});
+            }
+        add_mesh("far", std::move(a), green, std::move(b), white);
+    }
+
+    Light sun;
+    sun.name = "sun";
+    sun.type = LightType::directional;
+    sun.intensity = 3.0f;
+    scene.lights.push_back(sun);
+    Node l;
+    l.name = "sun";
+    l.light = 0;
+    // Shining from above, behind the camera and from the left (a light points along its -Z).
+    const glm::vec3 to_light = glm::normalize(glm::vec3(-0.4f, 0.8f, 0.6f));
+    const glm::vec3 side = glm::normalize(glm::cross(glm::vec3(0, 1, 0), to_light));
+    l.local = glm::mat4(glm::mat3(side, glm::cross(to_light, side), to_light));
+    scene.roots.push_back(static_cast<int>(scene.nodes.size()));
+    scene.nodes.push_back(l);
+
+    // A thin lens focused on the subject's front: aperture (radius) 0.1 gives, at 240 pixels of
+    // image height, blur circles of about 14 pixels on the near object and 7 on the back wall.
+    Camera camera;
+    camera.name = "dof";
+    camera.yfov = 0.7f;
+    camera.znear = 0.05f;
+    const glm::vec3 eye(0.0f, 1.1f, 6.0f), target(0.0f, 0.7f, 0.0f);
+    camera.world = glm::inverse(glm::lookAt(eye, target, glm::vec3(0, 1, 0)));
+    camera.aperture = 0.1f;
+    camera.focus_distance = glm::dot(glm::vec3(0.0f, 0.7f, 0.35f) - eye, glm::normalize(target - eye));
+    scene.cameras.push_back(camera);
+    scene.update_world_transforms();
+    return scene;
+}
+
+}  // namespace candela
