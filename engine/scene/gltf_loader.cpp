@@ -747,6 +747,22 @@ Scene Loader::build() {
         const std::string cpath = idx("cameras", static_cast<size_t>(node.camera));
         if (cam.orthographic && !(cam.znear >= 0.0f)) fail(cpath + ".orthographic.znear", "must not be negative");
         if (cam.zfar != 0.0f && !(cam.zfar > cam.znear)) fail(cpath + (cam.orthographic ? ".orthographic" : ".perspective") + ".zfar", "must be greater than znear");
+        // The thin lens (issue 22): extras.aperture is the lens radius, extras.focus_distance the
+        // distance in focus along the view axis, both in scene units (0 or absent: a pinhole;
+        // auto focus, focus_distance_or_auto).
+        auto lens_number = [&](const char* key) {
+            if (!src.extras.IsObject() || !src.extras.Has(key)) return 0.0f;
+            const Value& v = src.extras.Get(key);
+            const std::string where = cpath + ".extras." + key;
+            if (!v.IsNumber()) fail(where, "must be a number >= 0 (scene units)");
+            const double d = v.GetNumberAsDouble();
+            if (!(d >= 0.0)) fail(where, num(d) + " is negative; must be >= 0 (scene units)");
+            return f32(where, d);
+        };
+        cam.aperture = lens_number("aperture");
+        cam.focus_distance = lens_number("focus_distance");
+        if (cam.orthographic && cam.aperture > 0.0f)
+            warn(cpath + ".extras.aperture", "ignored: an orthographic camera has no depth of field");
         scene.cameras.push_back(cam);
     }
     build_environment(scene);

@@ -183,4 +183,15 @@ glm::mat4 projection_matrix(const Camera& camera, float image_aspect) {
     return p;
 }
 
+bool has_thin_lens(const Camera& camera) { return camera.aperture > 0.0f && !camera.orthographic; }
+
+float focus_distance_or_auto(const Camera& camera, const Bounds& scene_bounds) {
+    if (camera.focus_distance > 0.0f) return camera.focus_distance;
+    const float znear = std::max(camera.znear, 0.0f);
+    if (scene_bounds.empty()) return std::max(znear, 1.0f);
+    const glm::vec3 axis = glm::normalize(-glm::vec3(camera.world[2]));
+    const float along = glm::dot(scene_bounds.center() - glm::vec3(camera.world[3]), axis);
+    return std::isfinite(along) ? std::max(along, znear) : std::max(znear, 1.0f);
+}
+
 }  // namespace candela

@@ -242,4 +242,16 @@ struct Scene {
 Camera framing_camera(const Bounds& bounds);
 glm::mat4 projection_matrix(const Camera& camera, float image_aspect);  // reversed-Z, [0,1] depth
 
+// Depth of field (issue 22), shared by the tracer and the raster approximation so both focus at
+// the same distance:
+// - has_thin_lens: aperture > 0 on a perspective camera. Orthographic cameras have no depth of
+//   field: their aperture is ignored (the loader and the tracer warn), they stay pinhole-sharp.
+// - focus_distance_or_auto: the camera's focus_distance when > 0, else AUTO: the distance along
+//   the view axis (the camera's -Z) from the camera to the centre of `scene_bounds`, clamped to
+//   >= znear (a centre behind the camera focuses at znear); an empty scene focuses at
+//   max(znear, 1). The focal plane is the plane perpendicular to the view axis at that distance
+//   (not a sphere around the camera).
+bool has_thin_lens(const Camera& camera);
+float focus_distance_or_auto(const Camera& camera, const Bounds& scene_bounds);
+
 }  // namespace candela
