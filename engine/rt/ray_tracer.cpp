@@ -7,6 +7,7 @@
 #include <cstdio>
 
 #include "core/error.hpp"
+#include "core/log.hpp"
 #include "rt/intersect.hpp"
 
 namespace candela::rt {
@@ -194,6 +195,24 @@ FrameGpu RayTracer::make_frame(const Camera& camera, int width, int height) cons
     f.fparams = glm::vec4(options_.ao_radius, options_.whitted_max_roughness, f.fparams.z,
                           static_cast<float>(options_.visibility_light));
     f.fparams2 = glm::vec4(ray_offset_for_extent(scene_diagonal_), 0.0f, 0.0f, 0.0f);
+    // The thin lens (docs/raytracing.md, "Depth of field"): an orthonormal frame of the camera
+    // (its -Z the view axis), the disk's axes scaled by the radius. Orthographic cameras stay
+    // pinholes (has_thin_lens).
+    if (camera.orthographic && camera.aperture > 0.0f && !warned_orthographic_lens_) {
+        char aperture[32];
+        std::snprintf(aperture, sizeof(aperture), "%g", static_cast<double>(camera.aperture));
+        log::warn("camera '" + camera.name + "': aperture " + aperture + " ignored, an orthographic camera has no depth of field");
+        warned_orthographic_lens_ = true;
+    }
+    if (has_thin_lens(camera)) {
+        const glm::vec3 axis = glm::normalize(-glm::vec3(camera.world[2]));
+        const glm::vec3 y = glm::normalize(glm::vec3(camera.world[1]) - axis * glm::dot(glm::vec3(camera.world[1]), axis));
+        const glm::vec3 x = glm::cross(axis, y);  // the camera's +X: right-handed with y and -axis
+        const float radius = camera.aperture;
+        f.lens_x = glm::vec4(x * radius, radius);
+        f.lens_y = glm::vec4(y * radius, focus_distance_or_auto(camera, scene_.world_bounds()));
+        f.lens_axis = glm::vec4(axis, 0.0f);
+    }
     return f;
 }
 

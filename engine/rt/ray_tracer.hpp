@@ -75,6 +75,12 @@ struct FrameGpu {
     glm::ivec4 params;
     glm::vec4 fparams;
     glm::vec4 fparams2;
+    // The thin lens (depth of field): lens_x / lens_y.xyz the lens disk's axes (the camera's x and
+    // y) scaled by its radius, lens_x.w the radius (0: a pinhole), lens_y.w the focus distance
+    // along lens_axis.xyz (the view axis, unit length). Zero unless has_thin_lens(camera).
+    glm::vec4 lens_x;
+    glm::vec4 lens_y;
+    glm::vec4 lens_axis;
 };
 
 // For other compute programs over shaders/rt/scene.glsl (the GI probes, engine/effects/gi/): the
@@ -140,6 +146,7 @@ private:
         int sample = 0, row = 0;  // the next tile
     } progressive_;
     FrameGpu make_frame(const Camera& camera, int width, int height) const;
+    mutable bool warned_orthographic_lens_ = false;
     void bind(const gl::Buffer& accum, const gl::Buffer& diagnostics) const;
 };
 

@@ -134,7 +134,10 @@ rt::Result trace(const Run& c, const Scene& scene, GpuScene& gpu, const Accuracy
     o.whitted_max_roughness = settings.rt.whitted_max_roughness;
     o.visibility_light = 0;
     rt::RayTracer tracer(c.shaders, scene, gpu, o);
-    return tracer.render(scene.select_camera("", static_cast<float>(c.width) / static_cast<float>(c.height)), c.width, c.height);
+    // The variant's lens (camera.aperture / camera.focus_distance) over the camera's own, as the
+    // raster renderer applies it.
+    const Camera camera = with_lens(scene.select_camera("", static_cast<float>(c.width) / static_cast<float>(c.height)), settings);
+    return tracer.render(camera, c.width, c.height);
 }
 
 // The mean of two seeds, and its noise: RMSE(a, b) / 2 (each seed has sigma = RMSE / sqrt 2; the

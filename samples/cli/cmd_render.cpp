@@ -54,7 +54,9 @@ int raytrace(const Parsed& p, const SceneSetup& s, const fs::path& out_path, flo
     GpuScene gpu(s.scene);
     rt::RayTracer tracer(shaders, s.scene, gpu, o);
     const float aspect = static_cast<float>(s.options.width) / static_cast<float>(s.options.height);
-    const rt::Result r = tracer.render(s.scene.select_camera(s.options.camera, aspect), s.options.width, s.options.height);
+    // The camera with --set camera.aperture / camera.focus_distance over its own lens.
+    const rt::Result r = tracer.render(with_lens(s.scene.select_camera(s.options.camera, aspect), s.options.settings), s.options.width,
+                                       s.options.height);
     const rt::BvhStats& b = tracer.scene().geometry().bvh.stats;
     log::info(std::string("ray traced '") + rt::to_string(o.mode) + "' [" + r.defines + "]: " + std::to_string(r.samples) +
               " spp in " + format_number("%.1f", r.trace_ms) + " ms; BVH " + std::to_string(b.node_count) + " nodes, depth " +

@@ -84,6 +84,7 @@ struct Reference {
     float budget_ms = 40.0f;
     std::unique_ptr<rt::RayTracer> tracer;
     glm::mat4 camera{0.0f};
+    glm::vec2 lens{-1.0f};  // the traced camera's aperture and focus distance (with_lens)
     int width = 0, height = 0;
     int shown_samples = -1;
     double rmse = -1.0, rmse_display = -1.0;  // linear radiance; display values
@@ -216,9 +217,11 @@ void Viewer::update_reference(const Camera& camera, int w, int h) {
         r.built_mode = r.mode;
         r.width = 0;  // restart below
     }
-    if (camera.world != r.camera || w != r.width || h != r.height) {
-        r.tracer->progressive_restart(camera, w, h);
+    const Camera lensed = with_lens(camera, settings_);  // camera.aperture / camera.focus_distance
+    if (camera.world != r.camera || glm::vec2(lensed.aperture, lensed.focus_distance) != r.lens || w != r.width || h != r.height) {
+        r.tracer->progressive_restart(lensed, w, h);
         r.camera = camera.world;
+        r.lens = glm::vec2(lensed.aperture, lensed.focus_distance);
         r.width = w;
         r.height = h;
         r.shown_samples = -1;

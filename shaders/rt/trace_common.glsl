@@ -37,7 +37,26 @@ Ray make_ray(vec3 origin, vec3 dir) {
 #ifndef RT_NO_CAMERA  // programs that trace from elsewhere (the GI probes) have their own main()
 // ---- camera ------------------------------------------------------------------------------------
 
-Ray camera_ray(ivec2 pixel, inout Rng rng) {
+// A point uniform over the unit disk by area: Shirley & Chiu's concentric map (1997), which
+// preserves area, so uniform squares map to uniform disk points.
+vec2 sample_uniform_disk(vec2 u) {
+    vec2 o = 2.0 * u - 1.0;
+    if (o.x == 0.0 && o.y == 0.0) return vec2(0.0);
+    float r, theta;
+    if (abs(o.x) > abs(o.y)) {
+        r = o.x;
+        theta = 0.78539816 * (o.y / o.x);
+    } else {
+        r = o.y;
+        theta = 1.57079633 - 0.78539816 * (o.x / o.y);
+    }
+    return r * vec2(cos(theta), sin(theta));
+}
+
+// The camera ray through a random point of the pixel (or its centre without jitter); with a thin
+// lens (rt.lens_x.w > 0: perspective cameras only), from a random point of the lens. `index`
+// is the pixel's, for the lens's random stream.
+Ray camera_ray(ivec2 pixel, uint index, inout Rng rng) {
     vec2 jitter = rt.params.y != 0 ? vec2(rng_next(rng), rng_next(rng)) : vec2(0.5);
     vec2 ndc = vec2((float(pixel.x) + jitter.x) / float(rt.image.x) * 2.0 - 1.0,
                     1.0 - (float(pixel.y) + jitter.y) / float(rt.image.y) * 2.0);
@@ -50,6 +69,21 @@ Ray camera_ray(ivec2 pixel, inout Rng rng) {
     Ray r;
     r.origin = rt.camera_pos.xyz + a;
     r.dir = normalize(b - a);
+    if (rt.lens_x.w > 0.0) {
+        // Thin lens (Cook, Porter & Carpenter 1984; PBRT 3rd ed. 6.2.3): a point uniform over
+        // the lens disk, aimed at this ray's point on the focal plane (the plane at the focus
+        // distance along the view axis), so that points on that plane stay sharp and others
+        // blur into a circle of diameter 2 A |d - F| / d there. Its own random stream: the
+        // pixel jitter and the mode's samples are those of the pinhole image.
+        Rng lens_rng = rng_init(pcg_hash(uint(rt.image.w) ^ 0x6c656e73u), index, uint(rt.image.z));
+        vec2 u = sample_uniform_disk(vec2(rng_next(lens_rng), rng_next(lens_rng)));
+        vec3 axis = rt.lens_axis.xyz;
+        vec3 focus = r.dir * (rt.lens_y.w / dot(r.dir, axis));  // camera-relative
+        vec3 lens = u.x * rt.lens_x.xyz + u.y * rt.lens_y.xyz;
+        r.dir = normalize(focus - lens);
+        // From the near plane, as the pinhole ray: nothing nearer than znear is seen.
+        r.origin = rt.camera_pos.xyz + lens + r.dir * (dot(a, axis) / dot(r.dir, axis));
+    }
     return r;
 }
 
@@ -61,7 +95,7 @@ void main() {
     if (pixel.x >= rt.image.x || pixel.y >= rt.image.y) return;
     uint index = uint(pixel.y * rt.image.x + pixel.x);
     Rng rng = rng_init(uint(rt.image.w), index, uint(rt.image.z));
-    Ray ray = camera_ray(pixel, rng);
+    Ray ray = camera_ray(pixel, index, rng);
     vec3 L = radiance(ray, rng);
     if (any(isnan(L)) || any(isinf(L))) {
         atomicAdd(nonfinite_samples, 1u);
