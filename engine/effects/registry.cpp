@@ -1,5 +1,6 @@
 #include "effects/registry.hpp"
 
+#include "effects/aa/aa.hpp"
 #include "effects/area_lights/area_lights.hpp"
 #include "effects/gi/gi.hpp"
 #include "effects/reflections/reflections.hpp"
@@ -22,6 +23,7 @@ const std::vector<const Effect*>& effect_registry() {
         &ssao_effect(),
         &rsm_effect(),
         &transparency_effect(),
+        &aa_effect(),
     };
     return all;
 }

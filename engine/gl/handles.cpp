@@ -30,6 +30,18 @@ Texture Texture::create_2d(GLenum internal_format, int width, int height, int le
     return texture;
 }
 
+Texture Texture::create_2d_multisample(GLenum internal_format, int width, int height, int samples) {
+    GLuint id = 0;
+    glCreateTextures(GL_TEXTURE_2D_MULTISAMPLE, 1, &id);
+    glTextureStorage2DMultisample(id, samples, internal_format, width, height, GL_TRUE);
+    Texture texture(id);
+    texture.width_ = width;
+    texture.height_ = height;
+    texture.format_ = internal_format;
+    texture.samples_ = samples;
+    return texture;
+}
+
 Sampler Sampler::create(GLenum min_filter, GLenum mag_filter, GLenum wrap_s, GLenum wrap_t) {
     GLuint id = 0;
     glCreateSamplers(1, &id);

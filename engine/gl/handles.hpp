@@ -72,6 +72,8 @@ public:
     Texture() = default;
     // A 2D texture with `levels` mip levels (0: a full chain).
     static Texture create_2d(GLenum internal_format, int width, int height, int levels = 1);
+    // A multisampled 2D texture (GL_TEXTURE_2D_MULTISAMPLE, fixed sample locations), `samples` > 1.
+    static Texture create_2d_multisample(GLenum internal_format, int width, int height, int samples);
     // Takes ownership of a texture made elsewhere (e.g. an array texture).
     static Texture adopt(GLuint id, int width, int height, GLenum internal_format) {
         Texture t(id);
@@ -83,11 +85,13 @@ public:
     int width() const { return width_; }
     int height() const { return height_; }
     GLenum format() const { return format_; }
+    int samples() const { return samples_; }  // 1: not multisampled
 
 private:
     using Handle::Handle;
     int width_ = 0, height_ = 0;
     GLenum format_ = 0;
+    int samples_ = 1;
 };
 
 class Sampler : public Handle<detail::delete_sampler> {

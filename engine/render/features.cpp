@@ -107,7 +107,9 @@ std::vector<PlannedPass> plan_passes(const Features& f, const RenderSettings& s)
     }
     if (f.environment) plan.push_back({"sky", "the scene has environment light", nullptr, {"sky"}});
     add_stage(Stage::blended);
+    const size_t before_post = plan.size();
     add_stage(Stage::post);
+    for (size_t i = before_post; i < plan.size(); ++i) plan[i].post = true;
     return plan;
 }
 

@@ -72,6 +72,7 @@ struct PlannedPass {
     std::string why;
     const Effect* owner = nullptr;       // the effect that adds it; nullptr: a base pass (render/)
     std::vector<std::string> programs;   // catalog names the pass draws with (built at set-up)
+    bool post = false;                   // added at Stage::post (reads the resolved image)
 };
 std::vector<PlannedPass> plan_passes(const Features& features, const RenderSettings& settings);
 nlohmann::json to_json(const Features& features);

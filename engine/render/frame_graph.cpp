@@ -8,7 +8,10 @@
 namespace candela {
 
 TexturePool::TexturePool()
-    : TexturePool([](const TextureDesc& d) { return gl::Texture::create_2d(d.format, d.width, d.height, 1); }) {}
+    : TexturePool([](const TextureDesc& d) {
+          return d.samples > 1 ? gl::Texture::create_2d_multisample(d.format, d.width, d.height, d.samples)
+                               : gl::Texture::create_2d(d.format, d.width, d.height, 1);
+      }) {}
 
 TexturePool::TexturePool(Factory factory) : factory_(std::move(factory)) {}
 

@@ -20,6 +20,7 @@ struct TextureDesc {
     GLenum format = GL_RGBA16F;
     int width = 0;
     int height = 0;
+    int samples = 1;  // > 1: a multisampled texture (anti-aliasing's targets)
     bool operator==(const TextureDesc&) const = default;
 };
 

@@ -6,6 +6,7 @@
 
 #include "core/error.hpp"
 #include "core/log.hpp"
+#include "effects/aa/aa.hpp"
 #include "effects/gi/gi.hpp"
 #include "effects/registry.hpp"
 #include "shader/program_catalog.hpp"
@@ -89,11 +90,29 @@ void Renderer::render(const Camera& view_camera, int width, int height, FrameOut
         fbos_.clear();
         pool_.clear();
     }
+    // Anti-aliasing: sub-frames with shifted projections when the device cannot multisample the
+    // asked count (effects/aa/aa.hpp); one otherwise.
+    const AaPlan aa = aa_plan(features_, settings_);
+    report_ = {};
+    timer_.begin_frame();
+    for (int sub = 0; sub < aa.subframes; ++sub) render_subframe(camera, output, exposure_ev, aa, sub);
+}
+
+void Renderer::render_subframe(const Camera& camera, FrameOutput output, float exposure_ev, const AaPlan& aa, int sub) {
+    const int width = width_, height = height_;
+    const bool last = sub + 1 == aa.subframes;
     const auto t0 = std::chrono::steady_clock::now();
     const float aspect = static_cast<float>(width) / static_cast<float>(height);
     FrameData frame{};
     frame.view = glm::inverse(camera.world);
     frame.proj = projection_matrix(camera, aspect);
+    if (aa.subframes > 1) {
+        // Shift the image by the sub-frame's offset in pixels (NDC: 2 / size per pixel).
+        const glm::vec2 o = aa.offsets[static_cast<size_t>(sub)];
+        frame.proj = glm::translate(glm::mat4(1.0f), glm::vec3(2.0f * o.x / static_cast<float>(width),
+                                                               2.0f * o.y / static_cast<float>(height), 0.0f)) *
+                     frame.proj;
+    }
     frame.view_proj = frame.proj * frame.view;
     frame.inv_view_proj = glm::inverse(frame.view_proj);
     {
@@ -118,16 +137,31 @@ void Renderer::render(const Camera& view_camera, int width, int height, FrameOut
     frame_ubo_.update(0, sizeof(FrameData), &frame);
 
     const PassEnv env{gpu_,       settings_,     frame, width,     height,      frame_ubo_, fbos_, programs_,
-                      empty_vao_, linear_clamp_, ibl_,  env_cube_, effect_ptrs_};
+                      empty_vao_, linear_clamp_, ibl_,  env_cube_, effect_ptrs_, sub, aa.subframes};
     FrameGraph graph;
-    FrameTargets targets;
-    targets.hdr = graph.import_texture("hdr", output_, {GL_RGBA32F, width, height});
+    // `targets`: what the scene is drawn into (multisampled with anti-aliasing); `post`: the
+    // single-sample image the post filters and the tonemap read (effects/effect.hpp, Stage::post).
+    FrameTargets targets, post;
+    const FrameGraph::ResourceId hdr_output = graph.import_texture("hdr", output_, {GL_RGBA32F, width, height});
+    targets.hdr = aa.on ? -1 : hdr_output;
+    targets.samples = aa.on ? aa.device_samples : 1;
+    bool post_started = false;
     for (const auto& e : effects_) e->begin_graph(graph);
     for (const PlannedPass& pass : plan_passes(features_, settings_)) {
+        if (pass.post && !post_started) {
+            post = targets;
+            post.hdr = hdr_output;
+            post.samples = 1;
+            post.drawn = &targets;
+            post_started = true;
+        }
+        // Sub-frames before the last only draw and accumulate: the post filters see the mean.
+        if (pass.post && !last && pass.owner != &aa_effect()) continue;
+        FrameTargets& t = pass.post ? post : targets;
         if (pass.owner) {
             const auto& reg = effect_registry();
             const size_t i = static_cast<size_t>(std::find(reg.begin(), reg.end(), pass.owner) - reg.begin());
-            effects_.at(i)->add_pass(pass.name, graph, env, targets);
+            effects_.at(i)->add_pass(pass.name, graph, env, t);
         } else if (pass.name == "gbuffer") add_gbuffer_pass(graph, env, targets, !features_.blended_drawn);
         else if (pass.name == "deferred_lighting") add_deferred_lighting_pass(graph, env, targets);
         else if (pass.name == "depth_prepass") add_depth_prepass(graph, env, targets);
@@ -138,8 +172,12 @@ void Renderer::render(const Camera& view_camera, int width, int height, FrameOut
     }
     // The tonemap pass is always declared; for an HDR-only frame nobody consumes its output and
     // the graph culls it.
-    add_tonemap_pass(graph, env, targets, display_, exposure_ev);
-    graph.mark_output(output == FrameOutput::display ? targets.display : targets.hdr);
+    if (!post_started) {
+        post = targets;
+        post_started = true;
+    }
+    add_tonemap_pass(graph, env, post, display_, exposure_ev);
+    graph.mark_output(output == FrameOutput::display && last ? post.display : hdr_output);
     // An inspected resource is an output too: it lives to the end, unshared.
     int inspected_id = -1;
     for (size_t i = 0; i < graph.resources().size(); ++i)
@@ -164,7 +202,6 @@ void Renderer::render(const Camera& view_camera, int width, int height, FrameOut
         glGetQueryObjectui64v(q.id(), GL_QUERY_RESULT, &ns);
         timer_warmed_ = true;
     }
-    timer_.begin_frame();
     std::string state_problem;
     std::map<std::string, double> sync_ms;
     std::chrono::steady_clock::time_point pass_start;
@@ -192,6 +229,7 @@ void Renderer::render(const Camera& view_camera, int width, int height, FrameOut
     inspectable_.clear();
     for (size_t i = 0; i < graph.resources().size(); ++i) {
         const auto& r = graph.resources()[i];
+        if (r.desc.samples > 1) continue;  // the inspector shows 2D textures
         if (r.imported || r.slot >= 0) inspectable_.push_back(r.name);
         if (static_cast<int>(i) == inspected_id) inspected_ = r.imported ? r.imported : &pool_.texture(r.slot);
     }
@@ -206,16 +244,19 @@ void Renderer::render(const Camera& view_camera, int width, int height, FrameOut
     state_.apply(gl::PipelineState{.depth_test = false, .depth_func = GL_LESS, .reversed_z = false});
     state_.bind_framebuffer(0);
 
-    report_ = {};
-    report_.graph_ms = graph_ms;
+    // Sub-frames after the first add their passes as "name#k" (the GPU timer's order).
+    const std::string suffix = sub > 0 ? "#" + std::to_string(sub + 1) : "";
+    report_.graph_ms += graph_ms;
     for (const auto& p : graph.passes()) {
-        if (p.culled) report_.culled.emplace_back(p.name, p.cull_reason);
-        else report_.passes.push_back({p.name, -1.0, p.cpu_ms, p.counters, sync_timing_ ? sync_ms[p.name] : -1.0});
+        if (p.culled) {
+            if (sub == 0) report_.culled.emplace_back(p.name, p.cull_reason);
+        } else
+            report_.passes.push_back({p.name + suffix, -1.0, p.cpu_ms, p.counters, sync_timing_ ? sync_ms[p.name] : -1.0});
     }
     report_.pool_allocations = pool_.allocations();
     report_.pool_slots = pool_.size();
-    report_.state_calls = state_.real_calls() - calls_before;
-    report_.state_calls_skipped = state_.skipped_calls() - skipped_before;
+    report_.state_calls += state_.real_calls() - calls_before;
+    report_.state_calls_skipped += state_.skipped_calls() - skipped_before;
     if (!state_problem.empty()) throw Error(ExitCode::internal, state_problem);
 }
 

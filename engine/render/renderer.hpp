@@ -43,6 +43,8 @@ struct FrameReport {
 };
 
 
+struct AaPlan;
+
 // What a frame produces: linear radiance only (.exr, comparisons), or also display values
 // (.png, a window) through the tonemap pass.
 enum class FrameOutput { hdr, display };
@@ -104,6 +106,7 @@ public:
 private:
     // Analyzes and configures for settings_ and the last camera (features_, effects, programs).
     void plan();
+    void render_subframe(const Camera& camera, FrameOutput output, float exposure_ev, const AaPlan& aa, int sub);
 
     const ShaderLibrary& shaders_;
     std::optional<Camera> camera_;  // the last frame's camera (its lens plans depth of field)

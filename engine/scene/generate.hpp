@@ -15,4 +15,13 @@ Scene make_bumpy_sphere_scene(std::size_t triangles);
 // light and a camera looking over it.
 Scene make_many_lights_scene(int lights);
 
+// generated:dof (generate_dof.cpp): the depth-of-field scene, a thin-lens camera focused on a
+// subject between a near and a far out-of-focus object, over a checkered floor and back wall.
+Scene make_dof_scene();
+
+// generated:edges (generate_edges.cpp): the anti-aliasing scene, thin and high-contrast edges (a
+// slanted checkerboard, sub-pixel wires, a MASK fence, a tilted box) on a white wall under a
+// point light at the camera.
+Scene make_edges_scene();
+
 }  // namespace candela

@@ -6,6 +6,7 @@
 
 #include "core/error.hpp"
 #include "options.hpp"
+#include "effects/aa/aa.hpp"
 #include "effects/gi/estimate.hpp"
 #include "effects/gi/gi.hpp"
 #include "platform/context.hpp"
@@ -79,8 +80,10 @@ int cmd_info(const Args& args) {
     // The GI effect plans from an estimate of the indirect light, which the tracer computes: a
     // headless context when one can be had (without one, `info` says the estimate is missing).
     std::optional<IndirectEstimate> estimate;
+    // Anti-aliasing plans with the device's sample counts: it needs the context too.
+    ContextResult ctx;
+    if (gi_needs_estimate(settings) || settings.get<AaOptions>().mode != AaMode::off) ctx = create_context(Backend::auto_select);
     if (gi_needs_estimate(settings)) {
-        ContextResult ctx = create_context(Backend::auto_select);
         if (ctx.context) {
             const ShaderLibrary shaders(shader_dir_option(p));
             GpuScene gpu(scene);

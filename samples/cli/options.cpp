@@ -98,7 +98,8 @@ void print_usage() {
         "         frame: median frame time and per-pass GPU time of each --effects variant (default\n"
         "         all and none) or, with several --path values, of each render path, measured\n"
         "         interleaved in one run (default 1280x720, 20 frames, 3 warm-up). SCENE may be\n"
-        "         generated:lights:N (N point lights over a floor with boxes).\n"
+        "         generated:lights:N (N point lights over a floor with boxes),\n"
+        "         generated:edges (thin, high-contrast edges: the anti-aliasing scene).\n"
         "         accuracy: every effect's knob sweep, timed and compared with the ray tracer's\n"
         "         reference: DIR/results.csv, report.md, plots and image strips (--quick: small, CI).\n"
         "         reload: median time from saving a shader file to the first frame drawn with the\n"
@@ -193,6 +194,7 @@ std::string format_number(const char* format, double v) {
 }
 
 Scene load_scene(const std::string& path, bool strict) {
+    if (path == "generated:edges") return make_edges_scene();
     if (path.rfind("generated:lights:", 0) == 0) {
         const std::string n = path.substr(17);
         if (n.empty() || n.size() > 6 || n.find_first_not_of("0123456789") != std::string::npos || std::stoul(n) < 1)

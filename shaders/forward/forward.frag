@@ -12,6 +12,8 @@ layout(location = 0) out vec4 out_radiance;
 layout(location = 8) uniform int u_peel;
 layout(binding = 11) uniform sampler2D t_opaque_depth;
 layout(binding = 12) uniform sampler2D t_previous_layer;
+// 1: MASK materials output their coverage alpha (surface.glsl) with GL_SAMPLE_ALPHA_TO_COVERAGE on.
+layout(location = 9) uniform int u_alpha_to_coverage;
 
 void main() {
     if (u_peel != 0) {
@@ -20,6 +22,7 @@ void main() {
         if (gl_FragCoord.z <= texelFetch(t_opaque_depth, px, 0).r) discard;
         if (u_peel == 2 && gl_FragCoord.z >= texelFetch(t_previous_layer, px, 0).r) discard;
     }
+    g_alpha_to_coverage = u_alpha_to_coverage != 0;
     Surface s = fragment_surface();
     vec3 v = normalize(frame.camera_pos.xyz - v_world_pos);
     vec2 pixel = gl_FragCoord.xy;
@@ -41,6 +44,6 @@ void main() {
     color += shade_ambient(s.brdf, v_world_pos, s.n, v, s.occlusion * ssao_at(pixel), transmission, s.thin);
     color += rsm_indirect(s.brdf, pixel, v_world_pos);
     color += shade_gi(s.brdf, v_world_pos, s.n, v, s.occlusion, transmission);
-    float alpha = s.alpha_mode == 2 ? s.alpha : 1.0;
+    float alpha = s.alpha_mode == 2 || (s.alpha_mode == 1 && g_alpha_to_coverage) ? s.alpha : 1.0;
     out_radiance = u_peel != 0 ? vec4(color * alpha, alpha) : vec4(color, alpha);
 }

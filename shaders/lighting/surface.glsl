@@ -51,6 +51,12 @@ void alpha_test() {
     if (m.base_color.a * v_color.a * a < m.params.y) discard;
 }
 
+// Alpha to coverage (forward with multisampling, aa.alpha_to_coverage): a MASK fragment is not
+// discarded at the cutoff but gets the coverage alpha (a - cutoff) / fwidth(a) + 0.5, clamped,
+// which the rasterizer turns into the share of samples it covers: the cutoff's contour is then
+// anti-aliased like a triangle edge, within a pixel of it (Golus 2017, "Anti-aliased alpha test").
+bool g_alpha_to_coverage = false;
+
 // Evaluates the material; discards masked-out fragments.
 Surface fragment_surface() {
     vec4 tex_base = slot_textured(0) ? texture(t_base_color, v_slot_uv01.xy) : vec4(1.0);
@@ -62,6 +68,7 @@ Surface fragment_surface() {
     MaterialData m = materials[u_material];
     Surface s;
     vec4 base = m.base_color * v_color * tex_base;
+    float alpha_width = fwidth(base.a);  // here: derivatives need uniform control flow
     s.alpha_mode = int(m.params.z);
     s.alpha = base.a;
 
@@ -105,6 +112,12 @@ Surface fragment_surface() {
     float nv = dot(n, v);
     if (nv < 1e-4) n = normalize(n + v * (1e-4 - nv));
     s.n = n;
-    if (s.alpha_mode == 1 && base.a < m.params.y) discard;
+    if (s.alpha_mode == 1) {
+        if (g_alpha_to_coverage) {
+            s.alpha = clamp((base.a - m.params.y) / max(alpha_width, 1e-4) + 0.5, 0.0, 1.0);
+            if (s.alpha <= 0.0) discard;
+        } else if (base.a < m.params.y)
+            discard;
+    }
     return s;
 }

@@ -8,13 +8,17 @@ namespace candela {
 
 void add_depth_normal_prepass(FrameGraph& graph, const PassEnv& env, FrameTargets& targets, bool blend_as_opaque) {
     targets.prepass_has_blend = blend_as_opaque;
-    graph.add_pass(
+    // Its own ids (a multisampled shading pass replaces targets.depth after it).
+    struct Data {
+        FrameGraph::ResourceId depth = -1, normals = -1;
+    };
+    graph.add_pass<Data>(
         "depth_normal_prepass",
-        [&](FrameGraph::Builder& b) {
-            targets.depth = b.create("depth", {GL_DEPTH_COMPONENT32F, env.width, env.height});
-            targets.normals = b.create("normals", {GL_RG16F, env.width, env.height});
+        [&](FrameGraph::Builder& b, Data& d) {
+            d.depth = targets.depth = b.create("depth", {GL_DEPTH_COMPONENT32F, env.width, env.height});
+            d.normals = targets.normals = b.create("normals", {GL_RG16F, env.width, env.height});
         },
-        [&env, &targets, blend_as_opaque](FrameGraph::Context& ctx) {
+        [&env, blend_as_opaque](const Data& targets, FrameGraph::Context& ctx) {
             gl::PipelineState ps;
             ps.depth_test = true;
             ctx.state.apply(ps);

@@ -7,7 +7,10 @@ namespace candela {
 void add_depth_prepass(FrameGraph& graph, const PassEnv& env, FrameTargets& targets) {
     graph.add_pass(
         "depth_prepass",
-        [&](FrameGraph::Builder& b) { targets.depth = b.create("depth", {GL_DEPTH_COMPONENT32F, env.width, env.height}); },
+        [&](FrameGraph::Builder& b) {
+            targets.depth = b.create(targets.samples > 1 ? "depth_aa" : "depth",
+                                     {GL_DEPTH_COMPONENT32F, env.width, env.height, targets.samples});
+        },
         [&env, &targets](FrameGraph::Context& ctx) {
             gl::PipelineState ps;
             ps.depth_test = true;

@@ -1,19 +1,25 @@
 // Forward shading of opaque and alpha-masked geometry into the linear HDR target.
+#include "effects/aa/aa.hpp"
 #include "render/passes/pass_env.hpp"
 
 namespace candela {
 
 void add_forward_opaque_pass(FrameGraph& graph, const PassEnv& env, FrameTargets& targets, bool blend_as_opaque) {
-    const bool prepass = targets.depth >= 0;
+    // A prepass's depth serves (EQUAL) when it has the samples of the colour target: a
+    // depth/normal prepass for screen-space effects stays single-sample under anti-aliasing.
+    const bool prepass = targets.depth >= 0 && graph.resources()[static_cast<size_t>(targets.depth)].desc.samples == targets.samples;
+    const bool a2c = targets.samples > 1 && env.settings.get<AaOptions>().alpha_to_coverage;
     graph.add_pass(
         "forward_opaque",
         [&](FrameGraph::Builder& b) {
-            b.write(targets.hdr);
+            if (targets.hdr < 0) targets.hdr = b.create("hdr_aa", {GL_RGBA32F, env.width, env.height, targets.samples});
+            else b.write(targets.hdr);
             read_lighting_inputs(b, env);
             if (prepass) b.read(targets.depth);
-            else targets.depth = b.create("depth", {GL_DEPTH_COMPONENT32F, env.width, env.height});
+            else targets.depth = b.create(targets.samples > 1 ? "depth_aa" : "depth",
+                                          {GL_DEPTH_COMPONENT32F, env.width, env.height, targets.samples});
         },
-        [&env, &targets, prepass, blend_as_opaque](FrameGraph::Context& ctx) {
+        [&env, &targets, prepass, blend_as_opaque, a2c](FrameGraph::Context& ctx) {
             gl::PipelineState ps;
             ps.depth_test = true;
             // After a prepass the depth is final: shade only the visible surface.
@@ -30,13 +36,25 @@ void add_forward_opaque_pass(FrameGraph& graph, const PassEnv& env, FrameTargets
             }
             bind_scene_buffers(env);
             bind_effect_inputs(env, ctx);
-            ctx.state.use_program(env.programs.get("forward").id());
+            const GLuint forward = env.programs.get("forward").id();
+            ctx.state.use_program(forward);
             ctx.state.bind_vertex_array(env.scene.vertex_array().id());
+            // MASK materials with multisampling: alpha to coverage (forward.frag, u_alpha_to_coverage).
+            if (a2c) {
+                glEnable(GL_SAMPLE_ALPHA_TO_COVERAGE);
+                glEnable(GL_SAMPLE_ALPHA_TO_ONE);  // the stored alpha stays 1 (opaque)
+                glProgramUniform1i(forward, 9, 1);
+            }
             for (const auto& d : env.scene.draws()) {
                 // Without the transparency effect, blended materials are drawn as opaque ones
                 // (after a prepass that skipped them they would fail the EQUAL test, so skip).
                 if (d.alpha_mode == AlphaMode::blend && (!blend_as_opaque || (prepass && !targets.prepass_has_blend))) continue;
                 draw_item(env, ctx, d, !d.double_sided, GL_BACK);
+            }
+            if (a2c) {
+                glDisable(GL_SAMPLE_ALPHA_TO_COVERAGE);
+                glDisable(GL_SAMPLE_ALPHA_TO_ONE);
+                glProgramUniform1i(forward, 9, 0);
             }
         });
 }

@@ -42,6 +42,10 @@ struct PassEnv {
     // The effect modules' runtimes (engine/effects/), registry order: the shading passes let each
     // declare and bind what it made.
     const std::vector<EffectRuntime*>& effects;
+    // Anti-aliasing (effects/aa): this frame is sub-frame `subframe` of `subframes`, each with the
+    // projection shifted by a fraction of a pixel; the resolve accumulates them.
+    int subframe = 0;
+    int subframes = 1;
 };
 
 // The resources the forward chain passes along.
@@ -52,6 +56,13 @@ struct FrameTargets {
     FrameGraph::ResourceId gbuffer[3] = {-1, -1, -1};  // layout: shaders/lighting/gbuffer.glsl
     FrameGraph::ResourceId normals = -1;  // xy octahedral normal: gbuffer[1] or the prepass's
     bool prepass_has_blend = false;       // the depth prepass drew BLEND materials as opaque
+    // Samples per pixel of the drawing targets (anti-aliasing, effects/aa): with more than one,
+    // the first pass that draws colour creates `hdr` and `depth` multisampled; the screen-space
+    // buffers (a depth/normal prepass, SSAO, RSM) stay single-sample.
+    int samples = 1;
+    // At Stage::post: the targets the scene was drawn into (the resolve reads them); `hdr` and
+    // `depth` of the post targets are single-sample.
+    const FrameTargets* drawn = nullptr;
 };
 
 // Binds the frame UBO, material and light SSBOs, the environment textures and what every effect
