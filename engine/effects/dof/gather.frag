@@ -77,20 +77,24 @@ void main() {
         if (weight > 0.0) far = sum / weight;
     }
 
-    // Near field: every near blur circle that can reach p, in two layers: the circles of points
-    // in front of p (CoC more than a pixel larger: closer) composited OVER those of p's own layer
-    // (a sharp subject just in front of the focus plane is covered by a nearer object's blur,
-    // not averaged with it).
+    // Near field: every near blur circle that can reach p, in layers by CoC (a continuous surface
+    // changes it gradually, an occlusion edge in a jump): the circles of points clearly in front of
+    // p (CoC larger by more than `band`) composited OVER those of p's own layer, OVER what lies
+    // behind p. A sharp subject just in front of the focus plane is covered by a nearer object's
+    // blur rather than averaged with it, and a near object's blur thins out over what is behind
+    // it on both sides of its silhouette.
     vec3 front = vec3(0.0), own = vec3(0.0), behind = vec3(0.0);
     float front_weight = 0.0, own_weight = 0.0, behind_count = 0.0;
+    float band = max(1.0, 0.25 * r0);
     if (reach >= kMinRadius) {
         for (int i = 0; i < n; ++i) {
             vec2 off = spiral(i, reach, n, turn);
             vec4 q = texelFetch(t_color, clamp(ivec2(floor(gl_FragCoord.xy + off)), ivec2(0), last), 0);
-            if (q.a < 0.0) {
+            bool near_sample = q.a < 0.0;
+            if (near_sample && (s0 >= 0.0 || q.a <= s0 + band)) {
                 float r = max(-q.a, kMinRadius);
                 float w = cover(length(off), r) / count_within(r, reach, n);
-                if (s0 >= 0.0 || q.a < s0 - 1.0) {
+                if (s0 >= 0.0 || q.a < s0 - band) {
                     front += w * q.rgb;
                     front_weight += w;
                 } else {
@@ -108,7 +112,8 @@ void main() {
                 (own_weight > 0.0 ? own / own_weight : vec3(0.0)) * own_alpha * (1.0 - front_alpha);
     float alpha = front_alpha + own_alpha * (1.0 - front_alpha);
     // What the near field leaves uncovered: the far field; for a pixel in the near field, the
-    // far pixels around it (what the lens sees past a near edge), else its own layer.
+    // mean of the pixels behind it around it (what the lens sees past a near edge), else its own
+    // layer.
     vec3 background = s0 >= 0.0           ? far
                       : behind_count > 0.0 ? behind / behind_count
                       : own_weight > 0.0   ? own / own_weight
