@@ -2,6 +2,7 @@
 
 #include "effects/aa/aa.hpp"
 #include "effects/area_lights/area_lights.hpp"
+#include "effects/dof/dof.hpp"
 #include "effects/gi/gi.hpp"
 #include "effects/reflections/reflections.hpp"
 #include "effects/rsm/rsm.hpp"
@@ -24,6 +25,7 @@ const std::vector<const Effect*>& effect_registry() {
         &rsm_effect(),
         &transparency_effect(),
         &aa_effect(),
+        &dof_effect(),
     };
     return all;
 }

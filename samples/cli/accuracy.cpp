@@ -117,6 +117,7 @@ struct Run {
 
 Scene load(const Run& c, const std::string& name) {
     if (name.rfind("generated:lights:", 0) == 0) return make_many_lights_scene(std::stoi(name.substr(17)));
+    if (name == "generated:dof") return make_dof_scene();
     if (name == "generated:edges") return make_edges_scene();
     const fs::path p = fs::path(name).has_parent_path() ? fs::path(name) : c.o.scene_dir / name;
     return load_gltf(p);

@@ -98,7 +98,8 @@ int cmd_info(const Args& args) {
             std::printf("indirect estimate: none (no usable OpenGL: %s)\n", ctx.error.c_str());
         }
     }
-    const Features features = analyze(scene, settings, estimate ? &*estimate : nullptr);
+    const Camera view_camera = scene.select_camera(camera_choice, 1.0f);  // its lens plans depth of field
+    const Features features = analyze(scene, settings, estimate ? &*estimate : nullptr, &view_camera);
     std::printf("scene features:\n");
     for (const Feature* feat : features.scene.all())
         std::printf("  %-22s %-4s %s\n", (feat->name + ":").c_str(), feat->needed ? "yes" : "no", feat->reason.c_str());
