@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/error.hpp"
+#include "effects/aa/aa.hpp"
 #include "effects/registry.hpp"
 
 namespace candela {
@@ -94,8 +95,17 @@ std::vector<PlannedPass> plan_passes(const Features& f, const RenderSettings& s)
         if (f.modules[i].planned) screen_reader = effect_registry()[i]->needs_depth_normals();
     if (f.deferred) {
         plan.push_back({"gbuffer", what + "; deferred path, " + f.path_reason, nullptr, {"gbuffer"}});
+        // Anti-aliasing multisamples the G-buffer (effects/aa): the screen-space effects read
+        // sample 0's depth and normal; the lighting shades the edge pixels per sample.
+        const bool ms = aa_plan(f, s).device_samples > 1;
+        if (ms)
+            plan.push_back({"gbuffer_resolve", "multisampled G-buffer (aa): single-sample depth and normals for the screen passes",
+                            nullptr, {"gbuffer_resolve"}});
         add_stage(Stage::screen);
-        plan.push_back({"deferred_lighting", "tiled light culling and shading of the G-buffer", nullptr, {"deferred_light"}});
+        plan.push_back({"deferred_lighting",
+                        ms ? "tiled light culling and shading of the G-buffer, per sample at edge pixels"
+                           : "tiled light culling and shading of the G-buffer",
+                        nullptr, {ms ? "deferred_light_ms" : "deferred_light"}});
         add_stage(Stage::after_lighting);
     } else {
         if (screen_reader)

@@ -163,6 +163,7 @@ void Renderer::render_subframe(const Camera& camera, FrameOutput output, float e
             const size_t i = static_cast<size_t>(std::find(reg.begin(), reg.end(), pass.owner) - reg.begin());
             effects_.at(i)->add_pass(pass.name, graph, env, t);
         } else if (pass.name == "gbuffer") add_gbuffer_pass(graph, env, targets, !features_.blended_drawn);
+        else if (pass.name == "gbuffer_resolve") add_gbuffer_resolve_pass(graph, env, targets);
         else if (pass.name == "deferred_lighting") add_deferred_lighting_pass(graph, env, targets);
         else if (pass.name == "depth_prepass") add_depth_prepass(graph, env, targets);
         else if (pass.name == "depth_normal_prepass") add_depth_normal_prepass(graph, env, targets, !features_.blended_drawn);

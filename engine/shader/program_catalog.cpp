@@ -16,6 +16,8 @@ const std::vector<ProgramDesc>& raster_programs() {
         {"copy", {{S::vertex, "post/fullscreen.vert"}, {S::fragment, "post/copy.frag"}}, {}},
         {"gbuffer", {{S::vertex, "forward/forward.vert"}, {S::fragment, "deferred/gbuffer.frag"}}, {}},
         {"deferred_light", {{S::compute, "deferred/light.comp"}}, {}},
+        {"deferred_light_ms", {{S::compute, "deferred/light.comp"}}, {"MULTISAMPLED"}},
+        {"gbuffer_resolve", {{S::vertex, "post/fullscreen.vert"}, {S::fragment, "deferred/gbuffer_resolve.frag"}}, {}},
         {"depth_normals", {{S::vertex, "forward/forward.vert"}, {S::fragment, "forward/normals.frag"}}, {}},
         {"debug_view", {{S::vertex, "post/fullscreen.vert"}, {S::fragment, "post/debug_view.frag"}}, {}},
         {"brdf_lut", {{S::compute, "env/brdf_lut.comp"}}, {}},

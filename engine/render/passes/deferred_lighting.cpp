@@ -2,35 +2,121 @@
 // (shaders/deferred/light.comp). Why tiles rather than light volumes: the G-buffer is read once
 // per pixel instead of once per light volume covering it, and there is no per-light draw call or
 // stencil state; on llvmpipe, where every byte read is a CPU memory access, that decides it.
+// With a multisampled G-buffer (anti-aliasing) the "deferred_light_ms" variant shades a pixel
+// once where its samples see one surface and per sample at the edge pixels.
+#include "render/passes/deferred_lighting.hpp"
+
+#include <cstdlib>
+#include <mutex>
+
+#include "core/log.hpp"
 #include "render/passes/pass_env.hpp"
 
 namespace candela {
+namespace {
+
+std::mutex g_stats_mutex;
+DeferredAaStats g_stats;
+
+bool count_edges() {
+    const char* v = std::getenv("CANDELA_AA_STATS");
+    return v && *v && *v != '0';
+}
+
+// The device's sample positions for `n` samples, [0,1] in the pixel, y up (as gl_SamplePosition).
+std::vector<float> sample_positions(int n) {
+    std::vector<float> out;
+    GLuint fbo = 0, tex = 0;
+    glCreateFramebuffers(1, &fbo);
+    glCreateTextures(GL_TEXTURE_2D_MULTISAMPLE, 1, &tex);
+    glTextureStorage2DMultisample(tex, n, GL_RGBA8, 4, 4, GL_TRUE);
+    glNamedFramebufferTexture(fbo, GL_COLOR_ATTACHMENT0, tex, 0);
+    GLint previous = 0;
+    glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &previous);
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, fbo);
+    for (int i = 0; i < n; ++i) {
+        GLfloat p[2] = {0.5f, 0.5f};
+        glGetMultisamplefv(GL_SAMPLE_POSITION, static_cast<GLuint>(i), p);
+        out.push_back(p[0]);
+        out.push_back(p[1]);
+    }
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, static_cast<GLuint>(previous));
+    glDeleteFramebuffers(1, &fbo);
+    glDeleteTextures(1, &tex);
+    return out;
+}
+
+}  // namespace
+
+DeferredAaStats last_deferred_aa_stats() {
+    std::lock_guard<std::mutex> lock(g_stats_mutex);
+    return g_stats;
+}
 
 void add_deferred_lighting_pass(FrameGraph& graph, const PassEnv& env, FrameTargets& targets) {
-    graph.add_pass(
+    struct Data {
+        FrameGraph::ResourceId gbuffer[3] = {-1, -1, -1}, depth = -1, hdr = -1;
+    };
+    const int n = targets.samples;
+    graph.add_pass<Data>(
         "deferred_lighting",
-        [&](FrameGraph::Builder& b) {
-            for (auto id : targets.gbuffer) b.read(id);
-            b.read(targets.depth);
+        [&](FrameGraph::Builder& b, Data& d) {
+            for (int i = 0; i < 3; ++i) d.gbuffer[i] = b.read(targets.gbuffer[i]);
+            d.depth = b.read(targets.gbuffer_depth);
             read_lighting_inputs(b, env);
-            b.write(targets.hdr);
+            d.hdr = b.write(targets.hdr);
+            // The passes after this one draw into the light buffer over the G-buffer's depth
+            // (multisampled: not the single-sample copy the screen-space passes read).
+            targets.depth = targets.gbuffer_depth;
         },
-        [&env, &targets](FrameGraph::Context& ctx) {
+        [&env, n](const Data& d, FrameGraph::Context& ctx) {
             bind_scene_buffers(env);
             bind_effect_inputs(env, ctx);
             for (int i = 0; i < 3; ++i) {
-                glBindTextureUnit(static_cast<GLuint>(i), ctx.texture(targets.gbuffer[i]).id());
+                glBindTextureUnit(static_cast<GLuint>(i), ctx.texture(d.gbuffer[i]).id());
                 glBindSampler(static_cast<GLuint>(i), 0);
             }
-            glBindTextureUnit(3, ctx.texture(targets.depth).id());
+            glBindTextureUnit(3, ctx.texture(d.depth).id());
             glBindSampler(3, 0);
-            glBindImageTexture(0, ctx.texture(targets.hdr).id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
-            ctx.state.use_program(env.programs.get("deferred_light").id());
+            glBindImageTexture(0, ctx.texture(d.hdr).id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
+            const bool ms = n > 1;
+            const GLuint program = env.programs.get(ms ? "deferred_light_ms" : "deferred_light").id();
+            ctx.state.use_program(program);
+            GLuint stats = 0;
+            if (ms) {
+                static std::vector<float> positions[9];
+                if (positions[n].empty()) positions[n] = sample_positions(n);
+                glProgramUniform2fv(program, 1, n, positions[n].data());
+                const bool count = count_edges();
+                glProgramUniform1i(program, 0, count ? 1 : 0);
+                if (count) {
+                    const GLuint zero[2] = {0, 0};
+                    glCreateBuffers(1, &stats);
+                    glNamedBufferStorage(stats, sizeof(zero), zero, 0);
+                    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 14, stats);
+                }
+            }
             glDispatchCompute(static_cast<GLuint>((env.width + 15) / 16), static_cast<GLuint>((env.height + 15) / 16), 1);
             ++ctx.counters.dispatches;
             // Later passes draw into and read the light buffer.
             glMemoryBarrier(GL_FRAMEBUFFER_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT |
                             GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+            if (stats) {
+                // A debug readback (CANDELA_AA_STATS=1): waits for the dispatch.
+                glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+                GLuint counts[2] = {0, 0};
+                glGetNamedBufferSubData(stats, 0, sizeof(counts), counts);
+                glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 14, 0);
+                glDeleteBuffers(1, &stats);
+                {
+                    std::lock_guard<std::mutex> lock(g_stats_mutex);
+                    g_stats = {static_cast<long long>(counts[0]), static_cast<long long>(counts[1]), n};
+                }
+                log::info("deferred_lighting: " + std::to_string(counts[0]) + " of " + std::to_string(counts[1]) +
+                          " pixels with geometry shaded per sample (" +
+                          std::to_string(counts[1] ? 100.0 * counts[0] / counts[1] : 0.0) + " %), " + std::to_string(n) +
+                          " samples");
+            }
         });
 }
 

@@ -56,6 +56,9 @@ struct FrameTargets {
     FrameGraph::ResourceId gbuffer[3] = {-1, -1, -1};  // layout: shaders/lighting/gbuffer.glsl
     FrameGraph::ResourceId normals = -1;  // xy octahedral normal: gbuffer[1] or the prepass's
     bool prepass_has_blend = false;       // the depth prepass drew BLEND materials as opaque
+    // Deferred: the G-buffer's depth. Multisampled, targets.depth is its single-sample copy
+    // (gbuffer_resolve) during Stage::screen; deferred_lighting makes it targets.depth again.
+    FrameGraph::ResourceId gbuffer_depth = -1;
     // Samples per pixel of the drawing targets (anti-aliasing, effects/aa): with more than one,
     // the first pass that draws colour creates `hdr` and `depth` multisampled; the screen-space
     // buffers (a depth/normal prepass, SSAO, RSM) stay single-sample.
@@ -85,6 +88,7 @@ void draw_item(const PassEnv& env, FrameGraph::Context& ctx, const GpuScene::Dra
 
 // The passes, in the order the renderer adds them.
 void add_gbuffer_pass(FrameGraph& graph, const PassEnv& env, FrameTargets& targets, bool blend_as_opaque);
+void add_gbuffer_resolve_pass(FrameGraph& graph, const PassEnv& env, FrameTargets& targets);
 void add_deferred_lighting_pass(FrameGraph& graph, const PassEnv& env, FrameTargets& targets);
 void add_depth_prepass(FrameGraph& graph, const PassEnv& env, FrameTargets& targets);
 void add_depth_normal_prepass(FrameGraph& graph, const PassEnv& env, FrameTargets& targets, bool blend_as_opaque);
