@@ -10,7 +10,7 @@ import sys
 rows = list(csv.DictReader(open(sys.argv[1])))
 problems = []
 effects = {r["effect"] for r in rows}
-for e in ["shadows", "shadows_colour", "area_lights", "ssao", "rsm", "gi", "transparency", "reflections", "forward_deferred", "ray_tracer", "ray_tracer_depth"]:
+for e in ["shadows", "shadows_colour", "area_lights", "ssao", "rsm", "gi", "transparency", "reflections", "dof", "forward_deferred", "ray_tracer", "ray_tracer_depth"]:
     if e not in effects:
         problems.append(f"no rows for {e}")
 
@@ -62,6 +62,14 @@ if all(v in gi for v in order):
         problems.append("gi: every bounce is not better than one bounce")
 else:
     problems.append(f"gi: missing variants (have {sorted(gi)})")
+
+# Depth of field (issue 22): the shipped gather is closer to the traced thin lens than the pinhole image.
+dof = {r["variant"]: f(r, "rmse") for r in rows if r["effect"] == "dof"}
+if "32 samples" in dof and "pinhole (no DOF)" in dof:
+    if not dof["32 samples"] < dof["pinhole (no DOF)"]:
+        problems.append(f"dof: '32 samples' has error {dof['32 samples']:.5g}, not below the pinhole's {dof['pinhole (no DOF)']:.5g}")
+else:
+    problems.append(f"dof: missing variants (have {sorted(dof)})")
 
 # The depth cap: the same paths up to the cap, so the error is the truncation alone. It falls as the
 # cap rises, and the default (no cap) is the reference itself.
