@@ -15,8 +15,8 @@
 // - NEAR field (in front of the focus plane), gathered over the largest near CoC within reach
 //   (the dilated tiles): a sample spreads with its own radius over anything behind it. The sum
 //   of the weights is the near field's coverage alpha; it is blended OVER the far colour (for a
-//   pixel that is itself in the near field, the background is the mean of the far-field samples
-//   around it: what the lens sees past the near object's edge).
+//   pixel that is itself in the near field, over the pixels behind it within its own blur circle:
+//   what the lens sees past the near object's edge).
 #include "effects/dof/dof_data.h"
 
 layout(binding = 0) uniform sampler2D t_color;  // rgb radiance, a signed CoC radius (pixels)
@@ -102,8 +102,10 @@ void main() {
                     own_weight += w;
                 }
             } else {
-                behind += q.rgb;
-                behind_count += 1.0;
+                // What p's own blur circle can see past its edge.
+                float w = cover(length(off), max(r0, kMinRadius)) + 1e-3;
+                behind += w * q.rgb;
+                behind_count += w;
             }
         }
     }
@@ -112,7 +114,7 @@ void main() {
                 (own_weight > 0.0 ? own / own_weight : vec3(0.0)) * own_alpha * (1.0 - front_alpha);
     float alpha = front_alpha + own_alpha * (1.0 - front_alpha);
     // What the near field leaves uncovered: the far field; for a pixel in the near field, the
-    // mean of the pixels behind it around it (what the lens sees past a near edge), else its own
+    // pixels behind it within its own blur circle (what the lens sees past a near edge), else its own
     // layer.
     vec3 background = s0 >= 0.0           ? far
                       : behind_count > 0.0 ? behind / behind_count
