@@ -35,7 +35,13 @@ struct AccuracySweep {
         bool indirect_occlusion = true;
     };
 
+    // Which pixels the error is measured on: all, or the edge pixels (anti-aliasing): those whose
+    // 3x3 neighbourhood in the reference spans more than a tenth of the reference's largest
+    // luminance (silhouettes, texture and shading edges; flat parts excluded).
+    enum class Region { all, edges };
+
     std::string effect;                      // the report's section ("shadows", "shadows_colour", ...)
+    Region region = Region::all;
     std::string scene;                       // sample scene file name (or generated:...)
     Buffer buffer = Buffer::radiance;
     std::vector<std::string> own_passes;     // the passes whose time is the effect's; empty: the frame

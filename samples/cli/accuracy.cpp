@@ -146,6 +146,7 @@ rt::Result trace(const Run& c, const Scene& scene, GpuScene& gpu, const Accuracy
 // mean of two has sigma / sqrt 2).
 struct Reference {
     ImageF image;
+    ImageF half_diff;  // (seed 1 - seed 2) / 2: the mean's noise, per pixel
     double noise = 0.0;
     double ms = 0.0;  // the tracer's time for this reference (both seeds)
     int spp = 0;
@@ -160,9 +161,65 @@ Reference make_reference(const Run& c, const Scene& scene, GpuScene& gpu, const 
     ref.image = a.image;
     for (size_t i = 0; i < ref.image.pixels.size(); ++i) ref.image.pixels[i] = 0.5f * (a.image.pixels[i] + b.image.pixels[i]);
     ref.noise = compare(a.image, b.image, 2.0 / 255.0).rmse / 2.0;
+    ref.half_diff = a.image;
+    for (size_t i = 0; i < ref.half_diff.pixels.size(); ++i) ref.half_diff.pixels[i] = 0.5f * (a.image.pixels[i] - b.image.pixels[i]);
     ref.ms = a.trace_ms + b.trace_ms;
     ref.spp = 2 * r.spp;
     return ref;
+}
+
+// AccuracySweep::Region::edges: the pixels whose 3x3 neighbourhood in the reference spans more than
+// a tenth of its largest luminance.
+std::vector<bool> edge_mask(const ImageF& ref) {
+    const int w = ref.width, h = ref.height;
+    auto lum = [&](int x, int y) {
+        const float* p = ref.at(std::clamp(x, 0, w - 1), std::clamp(y, 0, h - 1));
+        return 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2];
+    };
+    double top = 0.0;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) top = std::max(top, lum(x, y));
+    std::vector<bool> mask(static_cast<size_t>(w) * static_cast<size_t>(h), false);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            double lo = 1e30, hi = -1e30;
+            for (int j = -1; j <= 1; ++j)
+                for (int i = -1; i <= 1; ++i) lo = std::min(lo, lum(x + i, y + j)), hi = std::max(hi, lum(x + i, y + j));
+            mask[static_cast<size_t>(y) * static_cast<size_t>(w) + static_cast<size_t>(x)] = hi - lo > 0.1 * top;
+        }
+    return mask;
+}
+
+// The errors over the edge pixels only (RMSE over RGB, relative MSE, max, share over 2/255 after
+// tone mapping) and the reference's noise there.
+void measure_edge_errors(Row& row, const ImageF& img, const Reference& ref) {
+    const std::vector<bool> mask = edge_mask(ref.image);
+    const ImageF a = to_display(img, 0.0f), b = to_display(ref.image, 0.0f);
+    double se = 0, rel = 0, noise = 0, mx = 0;
+    size_t n = 0, over = 0;
+    for (int y = 0; y < img.height; ++y)
+        for (int x = 0; x < img.width; ++x) {
+            if (!mask[static_cast<size_t>(y) * static_cast<size_t>(img.width) + static_cast<size_t>(x)]) continue;
+            ++n;
+            bool failing = false;
+            for (int c = 0; c < 3; ++c) {
+                const double d = img.at(x, y)[c] - ref.image.at(x, y)[c];
+                se += d * d;
+                rel += d * d / (ref.image.at(x, y)[c] * ref.image.at(x, y)[c] + 1e-2);
+                noise += static_cast<double>(ref.half_diff.at(x, y)[c]) * ref.half_diff.at(x, y)[c];
+                mx = std::max(mx, std::abs(d));
+                failing = failing || std::abs(a.at(x, y)[c] - b.at(x, y)[c]) > 2.0 / 255.0;
+            }
+            over += failing ? 1 : 0;
+        }
+    const double k = std::max<double>(1.0, 3.0 * static_cast<double>(n));
+    row.rmse = std::sqrt(se / k);
+    row.relmse = rel / k;
+    row.max_abs = mx;
+    row.pct_over = 100.0 * static_cast<double>(over) / std::max<double>(1.0, static_cast<double>(n));
+    row.ref_spp = ref.spp;
+    row.ref_noise = std::sqrt(noise / k);
+    row.at_noise_floor = row.ref_noise > 0.0 && row.rmse <= 1.5 * row.ref_noise;
 }
 
 void measure_errors(Row& row, const ImageF& img, const Reference& ref, Buffer buffer) {
@@ -488,7 +545,7 @@ int run_accuracy(const AccuracyOptions& o) {
             Row unbounded = row_for(-1);
             progress.step("ray_tracer_depth: no cap");
             // The same paths up to the cap: no noise between the rows, only the dropped light.
-            const Reference ref{unbounded.image, 0.0, unbounded.ms, spp};
+            const Reference ref{unbounded.image, {}, 0.0, unbounded.ms, spp};
             sec.noise = 0.0;
             sec.ref_spp = spp;
             sec.reference = ref.image;
@@ -516,10 +573,12 @@ int run_accuracy(const AccuracyOptions& o) {
             t.scene = j.scene;
             raster_rows(c, t, scene, gpu, rows);
             for (size_t i = sec.first; i < rows.size(); ++i) {
-                measure_errors(rows[i], rows[i].image, ref, s.buffer);
+                if (s.region == AccuracySweep::Region::edges) measure_edge_errors(rows[i], rows[i].image, ref);
+                else measure_errors(rows[i], rows[i].image, ref, s.buffer);
                 if (split) rows[i].rmse_no_occlusion = compare(rows[i].image, split->image, 2.0 / 255.0).rmse;
             }
-            sec.noise = ref.noise;
+            // On the edge pixels the noise is the reference's there (measure_edge_errors).
+            sec.noise = s.region == AccuracySweep::Region::edges && rows.size() > sec.first ? rows[sec.first].ref_noise : ref.noise;
             sec.rt_ms = ref.ms;
             sec.ref_spp = ref.spp;
             sec.reference = ref.image;
@@ -557,7 +616,9 @@ int run_accuracy(const AccuracyOptions& o) {
           "here is its wall time between a glFinish before and one after it (Renderer::set_synchronous_timing).\n"
        << "- Error = RMSE in linear radiance (or in the AO/visibility buffer) against the ray tracer's reference, the mean "
           "of two seeds; `% > 2/255` counts pixels off by more than 2/255 after tone mapping. Each reference's own noise "
-          "(RMSE of the two seeds / 2) is printed; an error within 1.5x of it is reported as *at noise floor*.\n"
+          "(RMSE of the two seeds / 2) is printed; an error within 1.5x of it is reported as *at noise floor*. "
+          "Anti-aliasing (aa) is measured on the edge pixels only: those whose 3x3 neighbourhood in the reference "
+          "spans more than a tenth of its largest luminance.\n"
        << "- Pareto rows (no other row is both faster and more accurate) are marked **P**; the plot's red line is the "
           "front, the dashed lines the reference noise and the ray tracer's time for the reference.\n\n";
     for (Section& sec : sections) {

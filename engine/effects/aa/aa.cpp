@@ -5,6 +5,7 @@
 
 #include <glad/gl.h>
 
+#include "effects/aa/aa_sweep.hpp"
 #include "effects/transparency/transparency.hpp"
 #include "render/features.hpp"
 #include "render/passes/pass_env.hpp"
@@ -139,6 +140,7 @@ public:
                 {"aa_resolve_single", {{S::vertex, "post/fullscreen.vert"}, {S::fragment, "effects/aa/resolve.frag"}}, {}}};
     }
     std::unique_ptr<EffectRuntime> create_runtime() const override { return std::make_unique<AaRuntime>(); }
+    std::vector<AccuracySweep> accuracy_sweeps(bool quick) const override { return aa_accuracy_sweeps(quick); }
 };
 
 }  // namespace
