@@ -6,11 +6,13 @@
 // which already holds the emission.
 //
 // MULTISAMPLED (anti-aliasing, engine/effects/aa): the G-buffer, depth and light buffer have N
-// samples per pixel. A pixel whose samples all see the same surface (edge_pixel() below) is
-// shaded once, at the pixel centre with the mean of its sample depths (for one plane that is the
-// depth at the centre: NDC depth is affine in screen space and the sample pattern is centred),
-// and the result is added to every sample; an edge pixel is shaded once per sample, at the
-// sample's own position and with its own G-buffer values.
+// samples per pixel. The samples of a pixel are grouped by the surface they see (differs()
+// below); each group is shaded once, at the mean of its samples' positions with the mean of
+// their depths (for one plane that is the depth there: NDC depth is affine in screen space), and
+// the result is added to each of its samples. A pixel whose samples all see one surface (all but
+// a few percent) is one group shaded at the pixel centre, as forward multisampling shades a
+// fragment; an edge pixel gets one shading per surface it shows (what shading every sample
+// would give, up to the position inside the pixel, and usually 2 shadings instead of N).
 #include "../common/scene_data.glsl"
 #include "../lighting/gbuffer.glsl"
 #include "../lighting/shading.glsl"
@@ -26,10 +28,14 @@ layout(rgba32f, binding = 0) uniform image2DMS light_buffer;
 layout(location = 0) uniform int u_count_edges;    // 1: count into AaEdgeStats (a debug readback)
 layout(location = 1) uniform vec2 u_sample_pos[8];  // sample positions in the pixel, [0,1], y up
 layout(std430, binding = 14) buffer AaEdgeStats {
-    uint edge_pixels;      // pixels shaded per sample
+    uint edge_pixels;      // pixels shaded more than once (samples on two or more surfaces)
     uint geometry_pixels;  // pixels with geometry in at least one sample
+    uint shadings;         // surface groups shaded, over all pixels
 };
 const int kMaxSamples = 8;
+// The tile's sample groups (local pixel index | sample mask << 8): see main().
+shared uint s_edge_count;
+shared uint s_edge_list[256 * kMaxSamples];
 #else
 layout(binding = 0) uniform sampler2D g_base_occlusion;
 layout(binding = 1) uniform sampler2D g_normal_rm;
@@ -92,26 +98,82 @@ vec3 world_point(vec2 ndc, float depth) {
 }
 
 #ifdef MULTISAMPLED
-// Whether sample s sees another surface than sample 0 (same test both ways). Attributes: what
-// the shading reads, with tolerances below which shading once is indistinguishable (one sRGB
-// 8-bit step of base colour is ~0.4-1 %; 5.7 degrees of normal). Depth: the samples' distances
-// from the camera differ by more than 1 % plus what the surface's slope allows across the pixel
-// (a plane seen at angle theta changes its distance by dist * pixel angle * tan(theta) per
-// pixel): it separates an object from what is behind it even where both have the same
-// material and normal. Samples of one fragment hold bit-equal attributes, so the interior of
-// every triangle passes; pixels where two triangles of one smooth mesh meet pass too unless
-// their values differ by more than the tolerances.
-bool differs(int s, vec4 base0, vec4 nrm0, vec4 f00, float dist0, float slope_tol, vec3 n0, vec2 centre_ndc, vec2 px_ndc) {
-    vec4 base = texelFetch(g_base_occlusion, ivec2(gl_GlobalInvocationID.xy), s);
-    vec4 nrm = texelFetch(g_normal_rm, ivec2(gl_GlobalInvocationID.xy), s);
-    vec4 f0 = texelFetch(g_f0_f90, ivec2(gl_GlobalInvocationID.xy), s);
-    if (any(greaterThan(abs(base.rgb - base0.rgb), vec3(3.5 / 255.0))) || abs(base.a - base0.a) > 0.02) return true;
-    if (any(greaterThan(abs(nrm.zw - nrm0.zw), vec2(0.02)))) return true;
-    if (any(greaterThan(abs(f0 - f00), vec4(0.004)))) return true;
-    if (nrm.xy != nrm0.xy && dot(oct_decode(nrm.xy), n0) < 0.995) return true;
-    float depth = texelFetch(g_depth, ivec2(gl_GlobalInvocationID.xy), s).r;
-    float dist = distance(world_point(centre_ndc + (u_sample_pos[s] - 0.5) * px_ndc, depth), frame.camera_pos.xyz);
-    return abs(dist - dist0) > dist0 * (0.01 + slope_tol);
+// What the grouping compares of one sample.
+struct GSample {
+    vec4 base, nrm, f0;  // G-buffer attachments 0-2
+    vec3 n;              // decoded normal
+    float dist;          // view depth (distance from the camera plane)
+    float tol;           // how far the depth may differ on one surface
+};
+
+// The view depth of a stored depth: reversed-Z, perspective (finite or infinite far plane) or
+// orthographic; frame.proj's z row (the sub-frames shift x and y only).
+float view_depth(float d) {
+    float p22 = frame.proj[2][2], p32 = frame.proj[3][2];
+    return frame.proj[3][3] == 0.0 ? p32 / (d + p22) : (p32 - d) / p22;
+}
+
+// `v`: towards the camera from the pixel's surface; `pixel_angle`: a pixel's width at view depth
+// 1 (perspective) or in scene units (orthographic).
+GSample g_sample(ivec2 q, int s, vec3 v, float pixel_angle) {
+    GSample g;
+    g.base = texelFetch(g_base_occlusion, q, s);
+    g.nrm = texelFetch(g_normal_rm, q, s);
+    g.f0 = texelFetch(g_f0_f90, q, s);
+    g.n = oct_decode(g.nrm.xy);
+    g.dist = view_depth(texelFetch(g_depth, q, s).r);
+    // 1 %, plus what a plane seen at angle theta changes across the samples (within 0.75 pixel
+    // of each other): footprint x tan(theta), tan capped at 85 degrees.
+    float c = clamp(abs(dot(g.n, v)), 0.087, 1.0);
+    float footprint = frame.proj[3][3] == 0.0 ? g.dist * pixel_angle : pixel_angle;
+    g.tol = 0.01 * g.dist + 1.5 * footprint * sqrt(1.0 - c * c) / c;
+    return g;
+}
+
+// Whether two samples see different surfaces. Attributes: what the shading reads, with
+// tolerances below which one shading serves both (one sRGB 8-bit step of base colour is
+// ~0.4-1 %; 5.7 degrees of normal). Depth: their distances from the camera differ by more than
+// 1 % plus what a's slope allows across the pixel (view depths: for samples this close, the
+// same ratio as distances along their rays); this separates an object from what is behind
+// it even where both have the same material and normal. Samples of one fragment hold bit-equal
+// attributes, so the interior of every triangle is one group; so are pixels where two triangles
+// of one smooth mesh meet, unless their values differ by more than the tolerances.
+bool differs(GSample a, GSample b) {
+    if (any(greaterThan(abs(b.base.rgb - a.base.rgb), vec3(3.5 / 255.0))) || abs(b.base.a - a.base.a) > 0.02) return true;
+    if (any(greaterThan(abs(b.nrm.zw - a.nrm.zw), vec2(0.02)))) return true;
+    if (any(greaterThan(abs(b.f0 - a.f0), vec4(0.004)))) return true;
+    if (b.nrm.xy != a.nrm.xy && dot(b.n, a.n) < 0.995) return true;
+    return abs(b.dist - a.dist) > a.tol;
+}
+
+// The light buffer value of a group of samples (bit mask `m`) of pixel q seeing one surface:
+// shaded at the mean of their positions and depths, with the attributes of the first.
+void shade_group(ivec2 q, uint m, int light_count, bool tiled, vec2 px_ndc) {
+    int first = findLSB(m);
+    vec2 offset = vec2(0.0);
+    float depth = 0.0, k = 0.0;
+    for (int s = first; s < kMaxSamples; ++s)
+        if ((m & (1u << uint(s))) != 0u) {
+            offset += u_sample_pos[s] - 0.5;
+            depth += texelFetch(g_depth, q, s).r;
+            k += 1.0;
+        }
+    vec2 pixel = vec2(q) + 0.5;  // screen buffers (SSAO, RSM) and shadow noise: per pixel
+    vec3 p = world_point(pixel * px_ndc - 1.0 + offset / k * px_ndc, depth / k);
+    vec4 base_occlusion = texelFetch(g_base_occlusion, q, first);
+    vec4 normal_rm = texelFetch(g_normal_rm, q, first);
+    BrdfInput bi = gbuffer_brdf(base_occlusion, normal_rm, texelFetch(g_f0_f90, q, first));
+    vec3 n = oct_decode(normal_rm.xy);
+    vec3 v = normalize(frame.camera_pos.xyz - p);
+    vec3 lit;
+    if (frame.debug.x == 3) lit = rsm_indirect(bi, pixel, p) + shade_gi(bi, p, n, v, base_occlusion.a, 0.0);
+    else if (frame.debug.x != 0) lit = vec3(frame.debug.x == 1 ? light_visibility(p, n, pixel) : ssao_at(pixel));
+    else lit = shade_surface(vec3(0.0), bi, base_occlusion.a, p, n, v, pixel, light_count, tiled);
+    for (int s = first; s < kMaxSamples; ++s)
+        if ((m & (1u << uint(s))) != 0u) {
+            vec3 emission = imageLoad(light_buffer, q, s).rgb;
+            imageStore(light_buffer, q, s, vec4(frame.debug.x != 0 ? lit : emission + lit, 1.0));
+        }
 }
 #endif
 
@@ -121,23 +183,21 @@ void main() {
     uint local = gl_LocalInvocationIndex;
     bool inside = all(lessThan(gid, size));
 #ifdef MULTISAMPLED
-    // The pixel's samples: which have geometry, their depth range for the tile, their mean.
+    // The pixel's samples: which have geometry, their depth range for the tile.
     int samples = min(textureSamples(g_depth), kMaxSamples);
-    float sample_depth[kMaxSamples];
-    float depth_lo = 3.4e38, depth_hi = 0.0, depth_sum = 0.0;
+    uint covered_mask = 0u;
+    float depth_lo = 3.4e38, depth_hi = 0.0;
     int covered = 0;
     for (int s = 0; s < samples; ++s) {
         float d = inside ? texelFetch(g_depth, gid, s).r : 0.0;
-        sample_depth[s] = d;
         if (d > 0.0) {
             depth_lo = min(depth_lo, d);
             depth_hi = max(depth_hi, d);
-            depth_sum += d;
+            covered_mask |= 1u << uint(s);
             ++covered;
         }
     }
     bool geometry = covered > 0;
-    float depth = covered == samples ? depth_sum / float(samples) : depth_hi;
 #else
     float depth = inside ? texelFetch(g_depth, gid, 0).r : 0.0;
     bool geometry = inside && depth > 0.0;  // reversed-Z: cleared to 0 where nothing was drawn
@@ -148,6 +208,9 @@ void main() {
         s_depth_max = 0u;
     }
     if (local < uint(kMaxTiledLights / 32)) s_mask[local] = 0u;
+#ifdef MULTISAMPLED
+    if (local == 0u) s_edge_count = 0u;
+#endif
     barrier();
     // Positive floats order like their bit patterns.
 #ifdef MULTISAMPLED
@@ -193,61 +256,48 @@ void main() {
             if (light_in_tile(lights[i])) atomicOr(s_mask[i >> 5], 1u << uint(i & 31));
     }
     barrier();
-    if (!geometry) return;
-
 #ifdef MULTISAMPLED
+    // The pixel's samples grouped by surface (background samples in none: the sky pass fills
+    // them). The first group is shaded here, by every invocation at once; the others are listed
+    // and shared out over the workgroup, so that the few edge pixels do not keep every SIMD batch
+    // they fall in looping (Lauritzen 2010, "Deferred Rendering for Current and Future Rendering
+    // Pipelines": per-sample work redistributed over the tile).
     vec2 px_ndc = 2.0 / vec2(size);
     vec2 centre_ndc = (vec2(gid) + 0.5) * px_ndc - 1.0;
-    vec2 pixel = vec2(gid) + 0.5;  // screen buffers (SSAO, RSM) and shadow noise: per pixel
-    vec4 base0 = texelFetch(g_base_occlusion, gid, 0);
-    vec4 nrm0 = texelFetch(g_normal_rm, gid, 0);
-    vec4 f00 = texelFetch(g_f0_f90, gid, 0);
-    vec3 n0 = oct_decode(nrm0.xy);
-    bool edge = covered < samples;  // part background: the sky pass fills the rest per sample
-    if (!edge) {
-        vec3 p0 = world_point(centre_ndc + (u_sample_pos[0] - 0.5) * px_ndc, sample_depth[0]);
-        float dist0 = distance(p0, frame.camera_pos.xyz);
-        vec3 v0 = (frame.camera_pos.xyz - p0) / max(dist0, 1e-30);
-        // The slope allowance: tan(theta) from the stored normal (capped: 85 degrees), pixel
-        // angle from the projection (2 / (height * proj[1][1]) for a perspective camera).
-        float c = clamp(abs(dot(n0, v0)), 0.087, 1.0);
-        float slope_tol = 1.5 * (2.0 / (float(size.y) * abs(frame.proj[1][1]))) * sqrt(1.0 - c * c) / c;
-        for (int s = 1; s < samples && !edge; ++s) edge = differs(s, base0, nrm0, f00, dist0, slope_tol, n0, centre_ndc, px_ndc);
+    float pixel_angle = 2.0 / (float(size.y) * abs(frame.proj[1][1]));
+    vec3 v_pixel = normalize(frame.camera_pos.xyz - world_point(centre_ndc, depth_hi));
+    if (frame.proj[3][3] != 0.0) v_pixel = vec3(frame.view[0][2], frame.view[1][2], frame.view[2][2]);  // orthographic: the view axis
+    // Entry `local` of the list: this pixel's first group (0: no geometry); from 256 on: the
+    // other groups of the tile's edge pixels. Then one loop shades them all.
+    uint rest = covered_mask;
+    int group_count = 0;
+    while (rest != 0u) {
+        int t = findLSB(rest);
+        GSample a = g_sample(gid, t, v_pixel, pixel_angle);
+        uint m = 1u << uint(t);
+        for (int s = t + 1; s < samples; ++s)
+            if ((rest & (1u << uint(s))) != 0u && !differs(a, g_sample(gid, s, v_pixel, pixel_angle))) m |= 1u << uint(s);
+        rest &= ~m;
+        if (group_count == 0) s_edge_list[local] = local | (m << 8);
+        else s_edge_list[256u + atomicAdd(s_edge_count, 1u)] = local | (m << 8);
+        ++group_count;
     }
-    if (u_count_edges != 0) {
+    if (group_count == 0) s_edge_list[local] = 0u;
+    if (geometry && u_count_edges != 0) {
         atomicAdd(geometry_pixels, 1u);
-        if (edge) atomicAdd(edge_pixels, 1u);
+        if (group_count > 1) atomicAdd(edge_pixels, 1u);
+        atomicAdd(shadings, uint(group_count));
     }
-    if (!edge) {
-        // One surface: shade once at the centre, add to every sample's emission.
-        BrdfInput bi = gbuffer_brdf(base0, nrm0, f00);
-        vec3 p = world_point(centre_ndc, depth);
-        vec3 v = normalize(frame.camera_pos.xyz - p);
-        if (frame.debug.x != 0) {
-            vec3 value = frame.debug.x == 3 ? rsm_indirect(bi, pixel, p) + shade_gi(bi, p, n0, v, base0.a, 0.0)
-                                            : vec3(frame.debug.x == 1 ? light_visibility(p, n0, pixel) : ssao_at(pixel));
-            for (int s = 0; s < samples; ++s) imageStore(light_buffer, gid, s, vec4(value, 1.0));
-            return;
-        }
-        vec3 lit = shade_surface(vec3(0.0), bi, base0.a, p, n0, v, pixel, light_count, tiled);
-        for (int s = 0; s < samples; ++s) imageStore(light_buffer, gid, s, vec4(imageLoad(light_buffer, gid, s).rgb + lit, 1.0));
-        return;
-    }
-    for (int s = 0; s < samples; ++s) {
-        if (sample_depth[s] <= 0.0) continue;
-        vec4 base_occlusion = texelFetch(g_base_occlusion, gid, s);
-        vec4 normal_rm = texelFetch(g_normal_rm, gid, s);
-        BrdfInput bi = gbuffer_brdf(base_occlusion, normal_rm, texelFetch(g_f0_f90, gid, s));
-        vec3 n = oct_decode(normal_rm.xy);
-        vec3 p = world_point(centre_ndc + (u_sample_pos[s] - 0.5) * px_ndc, sample_depth[s]);
-        vec3 v = normalize(frame.camera_pos.xyz - p);
-        vec3 color;
-        if (frame.debug.x == 3) color = rsm_indirect(bi, pixel, p) + shade_gi(bi, p, n, v, base_occlusion.a, 0.0);
-        else if (frame.debug.x != 0) color = vec3(frame.debug.x == 1 ? light_visibility(p, n, pixel) : ssao_at(pixel));
-        else color = shade_surface(imageLoad(light_buffer, gid, s).rgb, bi, base_occlusion.a, p, n, v, pixel, light_count, tiled);
-        imageStore(light_buffer, gid, s, vec4(color, 1.0));
+    barrier();
+    uint listed = 256u + s_edge_count;
+    for (uint i = local; i < listed; i += 256u) {
+        uint e = s_edge_list[i];
+        if ((e >> 8) == 0u) continue;
+        ivec2 q = ivec2(gl_WorkGroupID.xy * gl_WorkGroupSize.xy) + ivec2(int(e & 255u) % 16, int(e & 255u) / 16);
+        shade_group(q, e >> 8, light_count, tiled, px_ndc);
     }
 #else
+    if (!geometry) return;
     vec4 base_occlusion = texelFetch(g_base_occlusion, gid, 0);
     vec4 normal_rm = texelFetch(g_normal_rm, gid, 0);
     BrdfInput bi = gbuffer_brdf(base_occlusion, normal_rm, texelFetch(g_f0_f90, gid, 0));

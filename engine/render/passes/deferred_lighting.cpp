@@ -6,6 +6,7 @@
 // once where its samples see one surface and per sample at the edge pixels.
 #include "render/passes/deferred_lighting.hpp"
 
+#include <cstdio>
 #include <cstdlib>
 #include <mutex>
 
@@ -90,7 +91,7 @@ void add_deferred_lighting_pass(FrameGraph& graph, const PassEnv& env, FrameTarg
                 const bool count = count_edges();
                 glProgramUniform1i(program, 0, count ? 1 : 0);
                 if (count) {
-                    const GLuint zero[2] = {0, 0};
+                    const GLuint zero[3] = {0, 0, 0};
                     glCreateBuffers(1, &stats);
                     glNamedBufferStorage(stats, sizeof(zero), zero, 0);
                     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 14, stats);
@@ -104,18 +105,22 @@ void add_deferred_lighting_pass(FrameGraph& graph, const PassEnv& env, FrameTarg
             if (stats) {
                 // A debug readback (CANDELA_AA_STATS=1): waits for the dispatch.
                 glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-                GLuint counts[2] = {0, 0};
+                GLuint counts[3] = {0, 0, 0};
                 glGetNamedBufferSubData(stats, 0, sizeof(counts), counts);
                 glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 14, 0);
                 glDeleteBuffers(1, &stats);
                 {
                     std::lock_guard<std::mutex> lock(g_stats_mutex);
-                    g_stats = {static_cast<long long>(counts[0]), static_cast<long long>(counts[1]), n};
+                    g_stats = {static_cast<long long>(counts[0]), static_cast<long long>(counts[1]),
+                               static_cast<long long>(counts[2]), n};
                 }
-                log::info("deferred_lighting: " + std::to_string(counts[0]) + " of " + std::to_string(counts[1]) +
-                          " pixels with geometry shaded per sample (" +
-                          std::to_string(counts[1] ? 100.0 * counts[0] / counts[1] : 0.0) + " %), " + std::to_string(n) +
-                          " samples");
+                char line[256];
+                std::snprintf(line, sizeof line,
+                              "deferred_lighting: %u of %u pixels with geometry shaded more than once (%.2f %%), "
+                              "%.4f shadings per pixel, %d samples",
+                              counts[0], counts[1], counts[1] ? 100.0 * counts[0] / counts[1] : 0.0,
+                              counts[1] ? static_cast<double>(counts[2]) / counts[1] : 0.0, n);
+                log::info(line);
             }
         });
 }
