@@ -10,7 +10,7 @@ import sys
 rows = list(csv.DictReader(open(sys.argv[1])))
 problems = []
 effects = {r["effect"] for r in rows}
-for e in ["shadows", "shadows_colour", "area_lights", "ssao", "rsm", "gi", "transparency", "reflections", "dof", "forward_deferred", "ray_tracer", "ray_tracer_depth"]:
+for e in ["shadows", "shadows_colour", "area_lights", "ssao", "rsm", "gi", "transparency", "reflections", "dof", "aa", "forward_deferred", "ray_tracer", "ray_tracer_depth"]:
     if e not in effects:
         problems.append(f"no rows for {e}")
 
@@ -46,7 +46,13 @@ def samples_key(v):
     m = re.match(r"(\d+) (samples|spp)(.*)", v)
     return int(m.group(1)), m.group(3)
 
+def aa_key(v):
+    m = re.match(r"(forward|deferred) (\d+) samples?(.*)", v)
+    return (int(m.group(2)), m.group(1) + m.group(3).replace(" (aa off)", "")) if m else (0, v)
+
 monotone("ssao", samples_key)
+# Anti-aliasing (issue 22): the edge error falls with the sample count on each path.
+monotone("aa", aa_key)
 monotone("rsm", samples_key)
 monotone("ray_tracer", samples_key)
 
