@@ -262,11 +262,11 @@ TEST_P(AaTest, EdgeErrorAgainstTheTracerFallsWithEverySampleCount) {
 }
 
 // MASK materials: with alpha to coverage the alpha-tested contour is anti-aliased like a triangle
-// edge; without it multisampling leaves it as aliased as one sample. The contour: the square is
+// edge; without it multisampling leaves it as aliased as one sample (forward: the fragment's
+// alpha to the sample mask; deferred: gl_SampleMask in the G-buffer pass). The contour: the square is
 // cut by a texture whose alpha falls linearly across it (cutoff 0.5: a slanted line).
 TEST_P(AaTest, AlphaToCoverageAntiAliasesMaskContours) {
     const AaCase c = GetParam();
-    if (c.path == RenderPath::deferred) GTEST_SKIP() << "alpha to coverage is the forward path's (the G-buffer keeps the alpha test)";
     Scene scene = slanted_square_scene(AlphaMode::mask);
     Image ramp;
     ramp.name = ramp.uri = "ramp";

@@ -20,14 +20,14 @@ std::vector<AccuracySweep> aa_accuracy_sweeps(bool quick) {
     s.compared = "radiance of generated:edges (`--effects none`: the edges alone) vs `--raytrace direct` with jittered camera "
                  "rays (the pixel's box-filtered average), on the edge pixels only; time = the whole frame";
     s.reading = "One sample per pixel is a point sample: a partly covered pixel is all or nothing, wires thinner than a "
-                "pixel break into dashes and the fence's alpha-tested bars alias. Each doubling of the samples roughly "
-                "halves the edge error. Forward multisampling shades once per pixel and alpha to coverage anti-aliases "
-                "the MASK fence; deferred shades per sample only at the edge pixels of the multisampled G-buffer "
-                "(its MASK contours stay aliased: the G-buffer keeps the alpha test). On llvmpipe 2 and 8 samples are "
-                "made of two sub-frames (the device multisamples 4 only), so they cost about twice 1 and 4. The fence is "
-                "where the counts differ least: sub-frames alpha-test every sample exactly, while alpha to coverage "
-                "estimates a fragment's coverage from the alpha at its centre (a ramp over fwidth), which under the "
-                "texture's minification covers the bars too generously.";
+                "pixel break into dashes and the fence's alpha-tested bars alias. Two samples halve the edge error; "
+                "beyond that the fence limits the gain: sub-frames alpha-test every sample exactly, while alpha to "
+                "coverage (4x, and each 4x sub-frame of 8) estimates a fragment's coverage from the alpha at its centre "
+                "(a ramp over fwidth), which under the texture's minification covers the bars too generously; without "
+                "it the fence is not anti-aliased at all (the 'no alpha to coverage' row). Forward shades once per "
+                "pixel; deferred shades once per surface a pixel's samples show, so its extra cost is at the edges. "
+                "On llvmpipe 2 and 8 samples are two sub-frames (the device multisamples 4 only) and cost about twice "
+                "1 and 4.";
     // --quick (CI): every count on forward, the device's own count on deferred.
     for (const char* path : {"forward", "deferred"}) {
         const std::string p = std::string("render.path=") + path;
