@@ -105,7 +105,8 @@ std::vector<PlannedPass> plan_passes(const Features& f, const RenderSettings& s)
         plan.push_back({"deferred_lighting",
                         ms ? "tiled light culling and shading of the G-buffer, per sample at edge pixels"
                            : "tiled light culling and shading of the G-buffer",
-                        nullptr, {ms ? "deferred_light_ms" : "deferred_light"}});
+                        nullptr, ms ? std::vector<std::string>{"deferred_light_ms", "deferred_light_ms_edges"}
+                                    : std::vector<std::string>{"deferred_light"}});
         add_stage(Stage::after_lighting);
     } else {
         if (screen_reader)

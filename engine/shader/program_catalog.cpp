@@ -17,6 +17,7 @@ const std::vector<ProgramDesc>& raster_programs() {
         {"gbuffer", {{S::vertex, "forward/forward.vert"}, {S::fragment, "deferred/gbuffer.frag"}}, {}},
         {"deferred_light", {{S::compute, "deferred/light.comp"}}, {}},
         {"deferred_light_ms", {{S::compute, "deferred/light.comp"}}, {"MULTISAMPLED"}},
+        {"deferred_light_ms_edges", {{S::compute, "deferred/light.comp"}}, {"MULTISAMPLED", "EDGE_GROUPS"}},
         {"gbuffer_resolve", {{S::vertex, "post/fullscreen.vert"}, {S::fragment, "deferred/gbuffer_resolve.frag"}}, {}},
         {"depth_normals", {{S::vertex, "forward/forward.vert"}, {S::fragment, "forward/normals.frag"}}, {}},
         {"debug_view", {{S::vertex, "post/fullscreen.vert"}, {S::fragment, "post/debug_view.frag"}}, {}},

@@ -17,7 +17,11 @@
 #include "../lighting/gbuffer.glsl"
 #include "../lighting/shading.glsl"
 
+#ifdef EDGE_GROUPS
+layout(local_size_x = 64) in;
+#else
 layout(local_size_x = 16, local_size_y = 16) in;
+#endif
 
 #ifdef MULTISAMPLED
 layout(binding = 0) uniform sampler2DMS g_base_occlusion;
@@ -33,9 +37,18 @@ layout(std430, binding = 14) buffer AaEdgeStats {
     uint shadings;         // surface groups shaded, over all pixels
 };
 const int kMaxSamples = 8;
-// The tile's sample groups (local pixel index | sample mask << 8): see main().
-shared uint s_edge_count;
-shared uint s_edge_list[256 * kMaxSamples];
+// The sample groups of the edge pixels beyond each pixel's first (x | y << 16, sample mask),
+// appended by the tiled pass and shaded by the EDGE_GROUPS pass, one invocation each: shading
+// them in the tiled pass, in a loop or at a second call site, made llvmpipe's whole pass about
+// 1.8x slower on generated:edges although they are 1.5 % of the shadings; here they cost what
+// they shade. EdgeDispatch is also the indirect dispatch's arguments.
+layout(rg32ui, binding = 1) uniform uimage2D edge_groups;
+layout(std430, binding = 15) buffer EdgeDispatch {
+    uint edge_workgroups;     // ceil(edge_entries / 64)
+    uint edge_workgroups_y;   // 1
+    uint edge_workgroups_z;   // 1
+    uint edge_entries;
+};
 #else
 layout(binding = 0) uniform sampler2D g_base_occlusion;
 layout(binding = 1) uniform sampler2D g_normal_rm;
@@ -177,6 +190,17 @@ void shade_group(ivec2 q, uint m, int light_count, bool tiled, vec2 px_ndc) {
 }
 #endif
 
+#ifdef EDGE_GROUPS
+// The edge pixels' further sample groups (the tiled pass listed them), all lights untiled.
+void main() {
+    uint k = gl_GlobalInvocationID.x;
+    ivec2 list_size = imageSize(edge_groups);
+    if (k >= min(edge_entries, uint(list_size.x * list_size.y))) return;
+    uvec2 e = imageLoad(edge_groups, ivec2(int(k) % list_size.x, int(k) / list_size.x)).xy;
+    ivec2 q = ivec2(int(e.x & 0xffffu), int(e.x >> 16));
+    shade_group(q, e.y, shaded_light_count(), false, 2.0 / vec2(imageSize(light_buffer)));
+}
+#else
 void main() {
     ivec2 size = imageSize(light_buffer);
     ivec2 gid = ivec2(gl_GlobalInvocationID.xy);
@@ -208,9 +232,6 @@ void main() {
         s_depth_max = 0u;
     }
     if (local < uint(kMaxTiledLights / 32)) s_mask[local] = 0u;
-#ifdef MULTISAMPLED
-    if (local == 0u) s_edge_count = 0u;
-#endif
     barrier();
     // Positive floats order like their bit patterns.
 #ifdef MULTISAMPLED
@@ -267,9 +288,7 @@ void main() {
     float pixel_angle = 2.0 / (float(size.y) * abs(frame.proj[1][1]));
     vec3 v_pixel = normalize(frame.camera_pos.xyz - world_point(centre_ndc, depth_hi));
     if (frame.proj[3][3] != 0.0) v_pixel = vec3(frame.view[0][2], frame.view[1][2], frame.view[2][2]);  // orthographic: the view axis
-    // Entry `local` of the list: this pixel's first group (0: no geometry); from 256 on: the
-    // other groups of the tile's edge pixels. Then one loop shades them all.
-    uint rest = covered_mask;
+    uint rest = covered_mask, first_group = 0u;
     int group_count = 0;
     while (rest != 0u) {
         int t = findLSB(rest);
@@ -278,24 +297,22 @@ void main() {
         for (int s = t + 1; s < samples; ++s)
             if ((rest & (1u << uint(s))) != 0u && !differs(a, g_sample(gid, s, v_pixel, pixel_angle))) m |= 1u << uint(s);
         rest &= ~m;
-        if (group_count == 0) s_edge_list[local] = local | (m << 8);
-        else s_edge_list[256u + atomicAdd(s_edge_count, 1u)] = local | (m << 8);
+        if (group_count == 0) first_group = m;
+        else {
+            uint k = atomicAdd(edge_entries, 1u);
+            if (k % 64u == 0u) atomicAdd(edge_workgroups, 1u);
+            ivec2 list_size = imageSize(edge_groups);
+            if (k < uint(list_size.x * list_size.y))  // sized for N - 1 per pixel: never full
+                imageStore(edge_groups, ivec2(int(k) % list_size.x, int(k) / list_size.x), uvec4(uint(gid.x) | (uint(gid.y) << 16), m, 0u, 0u));
+        }
         ++group_count;
     }
-    if (group_count == 0) s_edge_list[local] = 0u;
     if (geometry && u_count_edges != 0) {
         atomicAdd(geometry_pixels, 1u);
         if (group_count > 1) atomicAdd(edge_pixels, 1u);
         atomicAdd(shadings, uint(group_count));
     }
-    barrier();
-    uint listed = 256u + s_edge_count;
-    for (uint i = local; i < listed; i += 256u) {
-        uint e = s_edge_list[i];
-        if ((e >> 8) == 0u) continue;
-        ivec2 q = ivec2(gl_WorkGroupID.xy * gl_WorkGroupSize.xy) + ivec2(int(e & 255u) % 16, int(e & 255u) / 16);
-        shade_group(q, e >> 8, light_count, tiled, px_ndc);
-    }
+    if (first_group != 0u) shade_group(gid, first_group, light_count, tiled, px_ndc);
 #else
     if (!geometry) return;
     vec4 base_occlusion = texelFetch(g_base_occlusion, gid, 0);
@@ -319,3 +336,4 @@ void main() {
     imageStore(light_buffer, gid, vec4(color, 1.0));
 #endif
 }
+#endif  // EDGE_GROUPS

@@ -47,6 +47,12 @@ std::vector<float> sample_positions(int n) {
     return out;
 }
 
+const std::vector<float>& positions_for(int n) {
+    static std::vector<float> positions[9];
+    if (positions[n].empty()) positions[n] = sample_positions(n);
+    return positions[n];
+}
+
 }  // namespace
 
 DeferredAaStats last_deferred_aa_stats() {
@@ -57,6 +63,7 @@ DeferredAaStats last_deferred_aa_stats() {
 void add_deferred_lighting_pass(FrameGraph& graph, const PassEnv& env, FrameTargets& targets) {
     struct Data {
         FrameGraph::ResourceId gbuffer[3] = {-1, -1, -1}, depth = -1, hdr = -1;
+        FrameGraph::ResourceId edge_groups = -1;  // multisampled: the edge pixels' further sample groups
     };
     const int n = targets.samples;
     graph.add_pass<Data>(
@@ -66,6 +73,8 @@ void add_deferred_lighting_pass(FrameGraph& graph, const PassEnv& env, FrameTarg
             d.depth = b.read(targets.gbuffer_depth);
             read_lighting_inputs(b, env);
             d.hdr = b.write(targets.hdr);
+            // Room for N - 1 further groups per pixel (the most a pixel can have).
+            if (n > 1) d.edge_groups = b.create("aa_edge_groups", {GL_RG32UI, env.width, env.height * (n - 1)});
             // The passes after this one draw into the light buffer over the G-buffer's depth
             // (multisampled: not the single-sample copy the screen-space passes read).
             targets.depth = targets.gbuffer_depth;
@@ -85,9 +94,7 @@ void add_deferred_lighting_pass(FrameGraph& graph, const PassEnv& env, FrameTarg
             ctx.state.use_program(program);
             GLuint stats = 0;
             if (ms) {
-                static std::vector<float> positions[9];
-                if (positions[n].empty()) positions[n] = sample_positions(n);
-                glProgramUniform2fv(program, 1, n, positions[n].data());
+                glProgramUniform2fv(program, 1, n, positions_for(n).data());
                 const bool count = count_edges();
                 glProgramUniform1i(program, 0, count ? 1 : 0);
                 if (count) {
@@ -97,8 +104,32 @@ void add_deferred_lighting_pass(FrameGraph& graph, const PassEnv& env, FrameTarg
                     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 14, stats);
                 }
             }
+            GLuint edge_dispatch = 0;
+            if (ms) {
+                // The list's count and the indirect dispatch's arguments (x = ceil(count / 64)).
+                const GLuint args[4] = {0, 1, 1, 0};
+                glCreateBuffers(1, &edge_dispatch);
+                glNamedBufferStorage(edge_dispatch, sizeof(args), args, 0);
+                glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 15, edge_dispatch);
+                glBindImageTexture(1, ctx.texture(d.edge_groups).id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RG32UI);
+            }
             glDispatchCompute(static_cast<GLuint>((env.width + 15) / 16), static_cast<GLuint>((env.height + 15) / 16), 1);
             ++ctx.counters.dispatches;
+            if (ms) {
+                // The further sample groups of the edge pixels, one invocation each.
+                glMemoryBarrier(GL_COMMAND_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+                const GLuint edges = env.programs.get("deferred_light_ms_edges").id();
+                ctx.state.use_program(edges);
+                glProgramUniform2fv(edges, 1, n, positions_for(n).data());
+                glProgramUniform1i(edges, 0, 0);
+                glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, edge_dispatch);
+                glDispatchComputeIndirect(0);
+                glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
+                glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 15, 0);
+                glBindImageTexture(1, 0, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RG32UI);
+                glDeleteBuffers(1, &edge_dispatch);  // freed once the dispatch is done with it
+                ++ctx.counters.dispatches;
+            }
             // Later passes draw into and read the light buffer.
             glMemoryBarrier(GL_FRAMEBUFFER_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT |
                             GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
