@@ -96,14 +96,14 @@ std::vector<PlannedPass> plan_passes(const Features& f, const RenderSettings& s)
     if (f.deferred) {
         plan.push_back({"gbuffer", what + "; deferred path, " + f.path_reason, nullptr, {"gbuffer"}});
         // Anti-aliasing multisamples the G-buffer (effects/aa): the screen-space effects read
-        // sample 0's depth and normal; the lighting shades the edge pixels per sample.
+        // sample 0's depth and normal; the lighting shades edge pixels once per surface they show.
         const bool ms = aa_plan(f, s).device_samples > 1;
         if (ms)
             plan.push_back({"gbuffer_resolve", "multisampled G-buffer (aa): single-sample depth and normals for the screen passes",
                             nullptr, {"gbuffer_resolve"}});
         add_stage(Stage::screen);
         plan.push_back({"deferred_lighting",
-                        ms ? "tiled light culling and shading of the G-buffer, per sample at edge pixels"
+                        ms ? "tiled light culling and shading of the G-buffer; edge pixels once per surface their samples show"
                            : "tiled light culling and shading of the G-buffer",
                         nullptr, ms ? std::vector<std::string>{"deferred_light_ms", "deferred_light_ms_edges"}
                                     : std::vector<std::string>{"deferred_light"}});

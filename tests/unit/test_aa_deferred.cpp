@@ -151,9 +151,9 @@ TEST_P(AaDeferredTest, LitEdgesConvergeToTheTracerWithTheSampleCount) {
 }
 
 // The two paths anti-alias alike: forward shades a fragment once for the samples it covers,
-// deferred once per pixel or per sample at edges. With the alpha test on both (no alpha to
+// deferred once per pixel or once per surface at edges. With the alpha test on both (no alpha to
 // coverage) they differ by the G-buffer's precision and the edge pixels' shading positions (the
-// sample's on the deferred path, the pixel centre's on the forward path); with alpha to coverage
+// mean of a surface's samples on the deferred path, the pixel centre on the forward path); with alpha to coverage
 // also by which samples a MASK fragment keeps (GL's own pattern vs gbuffer.frag's).
 TEST_P(AaDeferredTest, ForwardAndDeferredAgreeAtFourSamples) {
     const Scene scene = make_edges_scene();

@@ -3,7 +3,8 @@
 // per pixel instead of once per light volume covering it, and there is no per-light draw call or
 // stencil state; on llvmpipe, where every byte read is a CPU memory access, that decides it.
 // With a multisampled G-buffer (anti-aliasing) the "deferred_light_ms" variant shades a pixel
-// once where its samples see one surface and per sample at the edge pixels.
+// once where its samples see one surface and, at the edge pixels, once per surface they show
+// (deferred_light_ms_edges shades the further surfaces in a second, indirect dispatch).
 #include "render/passes/deferred_lighting.hpp"
 
 #include <cstdio>

@@ -3,7 +3,7 @@
 // With anti-aliasing (targets.samples > 1) the G-buffer, its depth and the light buffer are
 // multisampled; "gbuffer_resolve" then copies sample 0's depth and normal into single-sample
 // textures for the screen-space effects (Stage::screen), and the lighting pass shades once per
-// pixel, or once per sample at the edge pixels (shaders/deferred/light.comp).
+// pixel, or at the edge pixels once per surface their samples show (shaders/deferred/light.comp).
 #include "effects/aa/aa.hpp"
 #include "render/passes/pass_env.hpp"
 
