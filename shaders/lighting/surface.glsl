@@ -13,15 +13,15 @@ layout(binding = 2) uniform sampler2D t_normal;
 layout(binding = 3) uniform sampler2D t_occlusion;
 layout(binding = 4) uniform sampler2D t_emissive;
 
-layout(location = 0) in vec3 v_world_pos;
-layout(location = 1) in vec3 v_normal;
-layout(location = 2) in vec4 v_tangent;
-layout(location = 4) in vec4 v_color;
+layout(location = 0) centroid in vec3 v_world_pos;
+layout(location = 1) centroid in vec3 v_normal;
+layout(location = 2) centroid in vec4 v_tangent;
+layout(location = 4) centroid in vec4 v_color;
 // Per texture slot: its texcoord set and KHR_texture_transform applied in the vertex stage
 // (lighting/material_uv.glsl explains why: helper lanes read 0 from the materials SSBO on llvmpipe).
-layout(location = 3) in vec4 v_slot_uv01;  // xy base colour, zw metallic-roughness
-layout(location = 5) in vec4 v_slot_uv23;  // xy normal, zw occlusion
-layout(location = 6) in vec2 v_slot_uv4;   // emissive
+layout(location = 3) centroid in vec4 v_slot_uv01;  // xy base colour, zw metallic-roughness
+layout(location = 5) centroid in vec4 v_slot_uv23;  // xy normal, zw occlusion
+layout(location = 6) centroid in vec2 v_slot_uv4;  // emissive
 layout(location = 7) flat in int v_material_bits;  // bits 0-4: slot textured, bit 5: alpha MASK
 
 struct Surface {
