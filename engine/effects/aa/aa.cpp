@@ -117,8 +117,13 @@ public:
     EffectDecision decide(const Features& f, const RenderSettings& s) const override {
         const AaOptions& o = s.get<AaOptions>();
         const int n = static_cast<int>(o.samples);
-        if (o.mode == AaMode::off || n <= 1)
-            return decide_effect(name(), true, false, o.mode == AaMode::off ? "aa.mode=off" : "aa.samples=1", true);
+        // Switched by its own knobs, not by the scene: off is "not enabled" (render.gating=off does
+        // not force it on), like an effect switched off with --effects.
+        if (o.mode == AaMode::off || n <= 1) {
+            EffectDecision d = decide_effect(name(), false, true, "", true);
+            d.reason = o.mode == AaMode::off ? "off: aa.mode=off" : "off: aa.samples=1";
+            return d;
+        }
         if (f.decision("transparency").planned && s.get<TransparencyOptions>().mode == TransparencyMode::peeling)
             return decide_effect(name(), true, false, "transparency.mode=peeling peels single-sample layers (use sorted with msaa)", true);
         if (s.debug.view != DebugView::none)
