@@ -14,6 +14,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "effects/aa/aa.hpp"
+#include "box_reference.hpp"
 #include "gl_fixture.hpp"
 #include "gltf_builder.hpp"
 #include "image/image.hpp"
@@ -114,37 +115,11 @@ std::vector<double> exact_coverage() {
     return cov;
 }
 
-struct Reference {
-    std::vector<double> mean, se;  // per pixel, luminance (channel 0)
-};
+using Reference = test::BoxReference;
 
-// `batches` independent traces (different seeds) of `spp` box-filtered samples each.
+// `batches` independent traces of `spp` box-filtered samples each (box_reference.hpp).
 Reference trace_reference(const ShaderLibrary& lib, const Scene& scene, int batches, int spp) {
-    std::vector<ImageF> runs;
-    for (int k = 0; k < batches; ++k) {
-        rt::Options o;
-        o.mode = rt::Mode::direct;
-        o.spp = spp;
-        o.seed = static_cast<std::uint32_t>(101 + k);
-        o.jitter = 1;
-        GpuScene gpu(scene);
-        rt::Result r = rt::RayTracer(lib, scene, gpu, o).render(scene.select_camera("", 1.0f), kSize, kSize);
-        EXPECT_EQ(count_nonfinite(r.image), 0u);
-        runs.push_back(std::move(r.image));
-    }
-    Reference ref;
-    for (int y = 0; y < kSize; ++y)
-        for (int x = 0; x < kSize; ++x) {
-            double s = 0, s2 = 0;
-            for (const ImageF& im : runs) {
-                s += im.at(x, y)[0];
-                s2 += static_cast<double>(im.at(x, y)[0]) * im.at(x, y)[0];
-            }
-            const double m = s / batches, var = std::max(0.0, (s2 - s * m) / (batches - 1));
-            ref.mean.push_back(m);
-            ref.se.push_back(std::sqrt(var / batches));
-        }
-    return ref;
+    return test::trace_box_reference(lib, scene, kSize, kSize, batches, spp, 101u);
 }
 
 ImageF raster(const ShaderLibrary& lib, const Scene& scene, RenderPath path, int samples, bool a2c = true) {

@@ -13,6 +13,7 @@
 #include <cstdlib>
 #include <filesystem>
 
+#include "box_reference.hpp"
 #include "gl_fixture.hpp"
 #include "image/image.hpp"
 #include "render/passes/deferred_lighting.hpp"
@@ -29,37 +30,11 @@ namespace fs = std::filesystem;
 
 constexpr int kW = 128, kH = 128;
 
-struct Reference {
-    std::vector<double> mean, se;  // per pixel, channel 0
-};
+using Reference = test::BoxReference;
 
-// `batches` independent traces (seeds) of `spp` jittered samples per pixel each.
+// `batches` independent traces of `spp` box-filtered samples each (box_reference.hpp).
 Reference trace_reference(const ShaderLibrary& lib, const Scene& scene, int batches, int spp) {
-    std::vector<ImageF> runs;
-    for (int k = 0; k < batches; ++k) {
-        rt::Options o;
-        o.mode = rt::Mode::direct;
-        o.spp = spp;
-        o.seed = static_cast<std::uint32_t>(211 + k);
-        o.jitter = 1;
-        GpuScene gpu(scene);
-        rt::Result r = rt::RayTracer(lib, scene, gpu, o).render(scene.select_camera("", 1.0f), kW, kH);
-        EXPECT_EQ(count_nonfinite(r.image), 0u);
-        runs.push_back(std::move(r.image));
-    }
-    Reference ref;
-    for (int y = 0; y < kH; ++y)
-        for (int x = 0; x < kW; ++x) {
-            double s = 0, s2 = 0;
-            for (const ImageF& im : runs) {
-                s += im.at(x, y)[0];
-                s2 += static_cast<double>(im.at(x, y)[0]) * im.at(x, y)[0];
-            }
-            const double m = s / batches, var = std::max(0.0, (s2 - s * m) / (batches - 1));
-            ref.mean.push_back(m);
-            ref.se.push_back(std::sqrt(var / batches));
-        }
-    return ref;
+    return test::trace_box_reference(lib, scene, kW, kH, batches, spp, 211u);
 }
 
 StillResult raster(const ShaderLibrary& lib, const Scene& scene, RenderPath path, int samples, const char* effects = "none",
@@ -135,6 +110,9 @@ protected:
 };
 
 TEST_P(AaDeferredTest, LitEdgesConvergeToTheTracerWithTheSampleCount) {
+    // One backend (CI time: 17 s each): both are llvmpipe and gave the same numbers to the last
+    // digit; AaTest's slanted edge covers both backends on both paths.
+    if (GetParam() == Backend::osmesa) GTEST_SKIP() << "the EGL instance covers it (identical pixels on llvmpipe)";
     const Scene scene = make_edges_scene();
     const Reference ref = trace_reference(lib_, scene, 8, 32);
     const std::vector<bool> edge = edge_mask(ref);
@@ -173,6 +151,8 @@ TEST_P(AaDeferredTest, ForwardAndDeferredAgreeAtFourSamples) {
 // (the centre, with the mean of the sample depths, which for one plane is the centre's depth);
 // only a small share of the pixels is shaded more than once.
 TEST_P(AaDeferredTest, OnlyEdgePixelsAreShadedMoreThanOnce) {
+    // One backend (CI time): the counts are the shader's, the same on both llvmpipe backends.
+    if (GetParam() == Backend::osmesa) GTEST_SKIP() << "the EGL instance covers it (identical counts on llvmpipe)";
     const Scene edges_scene = make_edges_scene();
     const Scene cornell = load_gltf(fs::path(CANDELA_SOURCE_DIR) / "samples" / "scenes" / "cornell_box.gltf");
     CountEdges count;
