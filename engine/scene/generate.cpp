@@ -88,11 +88,7 @@ Scene make_bumpy_sphere_scene(std::size_t triangles) {
     return scene;
 }
 
-namespace {
-
-Primitive box_primitive(glm::vec3 lo, glm::vec3 hi) {
-    Primitive p;
-    p.material = 0;
+void append_box(Primitive& p, glm::vec3 lo, glm::vec3 hi) {
     for (int axis = 0; axis < 3; ++axis)
         for (int sign = 0; sign < 2; ++sign) {
             glm::vec3 n(0.0f);
@@ -114,6 +110,14 @@ Primitive box_primitive(glm::vec3 lo, glm::vec3 hi) {
             if (!flip) p.indices.insert(p.indices.end(), {base, base + 1, base + 2, base, base + 2, base + 3});
             else p.indices.insert(p.indices.end(), {base, base + 2, base + 1, base, base + 3, base + 2});
         }
+}
+
+namespace {
+
+Primitive box_primitive(glm::vec3 lo, glm::vec3 hi) {
+    Primitive p;
+    p.material = 0;
+    append_box(p, lo, hi);
     compute_bounds(p);
     return p;
 }

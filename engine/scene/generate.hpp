@@ -6,6 +6,9 @@
 
 namespace candela {
 
+// An axis-aligned box's six faces (flat normals, counter-clockwise seen from outside) added to `p`.
+void append_box(Primitive& p, glm::vec3 lo, glm::vec3 hi);
+
 // A bumpy sphere (a UV sphere with a deterministic radial displacement) of about `triangles`
 // triangles on a ground quad, one white Lambert material, a directional light, a framing camera.
 Scene make_bumpy_sphere_scene(std::size_t triangles);

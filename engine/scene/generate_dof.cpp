@@ -12,29 +12,6 @@
 namespace candela {
 namespace {
 
-// An axis-aligned box's six faces, wound counter-clockwise seen from outside, into `p`.
-void add_box(Primitive& p, glm::vec3 lo, glm::vec3 hi) {
-    for (int axis = 0; axis < 3; ++axis)
-        for (int sign = 0; sign < 2; ++sign) {
-            glm::vec3 n(0.0f);
-            n[axis] = sign ? 1.0f : -1.0f;
-            const int u = (axis + 1) % 3, v = (axis + 2) % 3;
-            const auto base = static_cast<std::uint32_t>(p.vertices.size());
-            for (int k = 0; k < 4; ++k) {
-                glm::vec3 q;
-                q[axis] = sign ? hi[axis] : lo[axis];
-                q[u] = (k == 1 || k == 2) ? hi[u] : lo[u];
-                q[v] = k >= 2 ? hi[v] : lo[v];
-                Vertex vert;
-                vert.position = q;
-                vert.normal = n;
-                p.vertices.push_back(vert);
-            }
-            if (sign) p.indices.insert(p.indices.end(), {base, base + 1, base + 2, base, base + 2, base + 3});
-            else p.indices.insert(p.indices.end(), {base, base + 2, base + 1, base, base + 3, base + 2});
-        }
-}
-
 // A quad with corner `o` and edges `eu`, `ev`, facing cross(eu, ev).
 void add_quad(Primitive& p, glm::vec3 o, glm::vec3 eu, glm::vec3 ev) {
     const glm::vec3 n = glm::normalize(glm::cross(eu, ev));
@@ -99,7 +76,7 @@ Scene make_dof_scene() {
     {
         Primitive a, b;
         for (int k = 0; k < 7; ++k)
-            add_box(k % 2 == 0 ? a : b, {-0.35f, 0.2f * static_cast<float>(k), -0.35f}, {0.35f, 0.2f * static_cast<float>(k + 1), 0.35f});
+            append_box(k % 2 == 0 ? a : b, {-0.35f, 0.2f * static_cast<float>(k), -0.35f}, {0.35f, 0.2f * static_cast<float>(k + 1), 0.35f});
         add_mesh("subject", std::move(a), red, std::move(b), cream);
     }
     // The near object, 3 from the camera, left of the subject and overlapping it on screen: a
@@ -109,7 +86,7 @@ Scene make_dof_scene() {
         for (int i = 0; i < 2; ++i)
             for (int k = 0; k < 7; ++k) {
                 const float x = -0.65f + 0.25f * static_cast<float>(i), y = 0.25f * static_cast<float>(k);
-                add_box((i + k) % 2 == 0 ? a : b, {x, y, 2.75f}, {x + 0.25f, y + 0.25f, 3.0f});
+                append_box((i + k) % 2 == 0 ? a : b, {x, y, 2.75f}, {x + 0.25f, y + 0.25f, 3.0f});
             }
         add_mesh("near", std::move(a), yellow, std::move(b), blue);
     }
@@ -119,7 +96,7 @@ Scene make_dof_scene() {
         for (int i = 0; i < 2; ++i)
             for (int k = 0; k < 6; ++k) {
                 const float x = 1.0f + 0.4f * static_cast<float>(i), y = 0.4f * static_cast<float>(k);
-                add_box((i + k) % 2 == 0 ? a : b, {x, y, -3.4f}, {x + 0.4f, y + 0.4f, -3.0f});
+                append_box((i + k) % 2 == 0 ? a : b, {x, y, -3.4f}, {x + 0.4f, y + 0.4f, -3.0f});
             }
         add_mesh("far", std::move(a), green, std::move(b), white);
     }
