@@ -181,8 +181,7 @@ const std::vector<int>& device_sample_counts() {
 }
 
 namespace {
-// The device's standard sample positions for `n` samples, from the pixel centre (y up).
-std::vector<glm::vec2> device_positions(int n) {
+std::vector<glm::vec2> query_sample_positions(int n) {
     std::vector<glm::vec2> out;
     if (n <= 1) return {glm::vec2(0.0f)};
     GLuint fbo = 0, tex = 0;
@@ -204,6 +203,13 @@ std::vector<glm::vec2> device_positions(int n) {
     return out;
 }
 }  // namespace
+
+const std::vector<glm::vec2>& device_sample_positions(int n) {
+    static std::vector<glm::vec2> cache[9];
+    const size_t i = static_cast<size_t>(std::clamp(n, 1, 8));
+    if (cache[i].empty()) cache[i] = query_sample_positions(static_cast<int>(i));
+    return cache[i];
+}
 
 AaPlan aa_plan_for(int samples, const std::vector<int>& counts, const std::vector<glm::vec2>& positions) {
     AaPlan p;
@@ -258,9 +264,7 @@ AaPlan aa_plan(const Features& f, const RenderSettings& s) {
     int hw = 1;
     for (int c : counts)
         if (c <= n && n % c == 0) hw = std::max(hw, c);
-    static std::vector<std::vector<glm::vec2>> cache(9);
-    if (hw > 1 && cache[static_cast<size_t>(hw)].empty()) cache[static_cast<size_t>(hw)] = device_positions(hw);
-    return aa_plan_for(n, counts, cache[static_cast<size_t>(std::min(hw, 8))]);
+    return aa_plan_for(n, counts, device_sample_positions(hw));
 }
 
 const Effect& aa_effect() {

@@ -47,6 +47,9 @@ struct AaPlan {
 // The sample counts the current GL context can multisample RGBA32F, RG16F, RGBA16F, RGBA8 and
 // DEPTH32F textures with (1 always; queried once, on the first call with a context).
 const std::vector<int>& device_sample_counts();
+// The device's standard positions of `n` samples, pixel units from the pixel centre, y up
+// (glGetMultisamplefv; queried once per count with the current context; n = 1: the centre).
+const std::vector<glm::vec2>& device_sample_positions(int n);
 // The plan for these settings (the device's counts from device_sample_counts()).
 AaPlan aa_plan(const Features& f, const RenderSettings& s);
 // The same for given device counts (tests).

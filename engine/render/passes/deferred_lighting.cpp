@@ -12,6 +12,7 @@
 #include <mutex>
 
 #include "core/log.hpp"
+#include "effects/aa/aa.hpp"
 #include "render/passes/pass_env.hpp"
 
 namespace candela {
@@ -25,32 +26,15 @@ bool count_edges() {
     return v && *v && *v != '0';
 }
 
-// The device's sample positions for `n` samples, [0,1] in the pixel, y up (as gl_SamplePosition).
-std::vector<float> sample_positions(int n) {
-    std::vector<float> out;
-    GLuint fbo = 0, tex = 0;
-    glCreateFramebuffers(1, &fbo);
-    glCreateTextures(GL_TEXTURE_2D_MULTISAMPLE, 1, &tex);
-    glTextureStorage2DMultisample(tex, n, GL_RGBA8, 4, 4, GL_TRUE);
-    glNamedFramebufferTexture(fbo, GL_COLOR_ATTACHMENT0, tex, 0);
-    GLint previous = 0;
-    glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &previous);
-    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, fbo);
-    for (int i = 0; i < n; ++i) {
-        GLfloat p[2] = {0.5f, 0.5f};
-        glGetMultisamplefv(GL_SAMPLE_POSITION, static_cast<GLuint>(i), p);
-        out.push_back(p[0]);
-        out.push_back(p[1]);
-    }
-    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, static_cast<GLuint>(previous));
-    glDeleteFramebuffers(1, &fbo);
-    glDeleteTextures(1, &tex);
-    return out;
-}
-
+// The device's sample positions for `n` samples, [0,1] in the pixel, y up (as gl_SamplePosition),
+// flattened x, y for the shader's uniform.
 const std::vector<float>& positions_for(int n) {
     static std::vector<float> positions[9];
-    if (positions[n].empty()) positions[n] = sample_positions(n);
+    if (positions[n].empty())
+        for (const glm::vec2& p : device_sample_positions(n)) {
+            positions[n].push_back(p.x + 0.5f);
+            positions[n].push_back(p.y + 0.5f);
+        }
     return positions[n];
 }
 
