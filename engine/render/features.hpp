@@ -51,6 +51,10 @@ struct Features {
     // the camera's own); aperture 0 is a pinhole. The renderer re-plans when it changes.
     float lens_aperture = 0.0f;
     float lens_focus_distance = 0.0f;
+    // Motion during the shutter (issue 21): the draws that move while camera.shutter is open and
+    // whose bounds (at open or close) meet the camera's view; the renderer counts them from
+    // GpuScene's motion (set_motion) and re-plans when the count turns zero or non-zero.
+    int moving_draws = 0;
     std::vector<const EffectDecision*> effects() const {
         std::vector<const EffectDecision*> v;
         for (const EffectDecision& d : modules) v.push_back(&d);

@@ -183,15 +183,19 @@ std::vector<AreaPiece> area_light_pieces(const Scene& scene, const GpuScene& gpu
 GpuScene::GpuScene(const Scene& scene) : scene_(scene) {
     std::vector<Vertex> vertices;
     std::vector<std::uint32_t> indices;
-    struct Range { std::size_t first_index; GLint base_vertex; };
-    std::vector<std::vector<Range>> ranges(scene.meshes.size());
+    std::vector<std::vector<Range>>& ranges = ranges_;
+    ranges.assign(scene.meshes.size(), {});
     for (size_t mi = 0; mi < scene.meshes.size(); ++mi)
         for (const Primitive& p : scene.meshes[mi].primitives) {
             ranges[mi].push_back({indices.size(), static_cast<GLint>(vertices.size())});
             vertices.insert(vertices.end(), p.vertices.begin(), p.vertices.end());
             indices.insert(indices.end(), p.indices.begin(), p.indices.end());
         }
-    vertices_ = gl::Buffer(static_cast<GLsizeiptr>(vertices.size() * sizeof(Vertex)), vertices.data());
+    // Deformable primitives (skins, morph targets) are re-uploaded per pose: dynamic storage then.
+    const bool deformable = has_deformation(scene);
+    vertex_count_ = vertices.size();
+    vertices_ = gl::Buffer(static_cast<GLsizeiptr>(std::max<size_t>(vertices.size(), 1) * sizeof(Vertex)), vertices.empty() ? nullptr : vertices.data(),
+                           deformable ? GL_DYNAMIC_STORAGE_BIT : 0);
     indices_ = gl::Buffer(static_cast<GLsizeiptr>(indices.size() * sizeof(std::uint32_t)), indices.data());
     auto make_vao = [&](const gl::Buffer& elements) {
         gl::VertexArray vao = gl::VertexArray::create();
@@ -240,6 +244,7 @@ GpuScene::GpuScene(const Scene& scene) : scene_(scene) {
             d.first_index = ranges[static_cast<size_t>(node.mesh)][pi].first_index;
             d.base_vertex = ranges[static_cast<size_t>(node.mesh)][pi].base_vertex;
             d.model = node.world;
+            d.model_open = d.model_close = node.world;
             d.normal_matrix = glm::inverseTranspose(glm::mat3(node.world));
             d.mirrored = node.mirrored();
             const Material& m = scene.material(p.material);
@@ -431,6 +436,104 @@ const gl::Sampler& GpuScene::sampler(const SamplerDesc& d) {
     const GLenum ws = valid(d.wrap_s, {GL_REPEAT, GL_CLAMP_TO_EDGE, GL_MIRRORED_REPEAT}, GL_REPEAT);
     const GLenum wt = valid(d.wrap_t, {GL_REPEAT, GL_CLAMP_TO_EDGE, GL_MIRRORED_REPEAT}, GL_REPEAT);
     return samplers_.emplace(key, gl::Sampler::create(min, mag, ws, wt)).first->second;
+}
+
+
+namespace {
+Bounds transformed(const Bounds& b, const glm::mat4& m) {
+    Bounds out;
+    if (b.empty()) return out;
+    for (int corner = 0; corner < 8; ++corner)
+        out.extend(glm::vec3(m * glm::vec4(corner & 1 ? b.max.x : b.min.x, corner & 2 ? b.max.y : b.min.y, corner & 4 ? b.max.z : b.min.z, 1.0f)));
+    return out;
+}
+}  // namespace
+
+bool GpuScene::update_pose() {
+    bool changed = false;
+    for (size_t mi = 0; mi < scene_.meshes.size() && mi < ranges_.size(); ++mi)
+        for (size_t pi = 0; pi < scene_.meshes[mi].primitives.size() && pi < ranges_[mi].size(); ++pi) {
+            const Primitive& p = scene_.meshes[mi].primitives[pi];
+            if (!p.deformable() || p.vertices.empty()) continue;
+            vertices_.update(static_cast<GLintptr>(static_cast<size_t>(ranges_[mi][pi].base_vertex) * sizeof(Vertex)),
+                             static_cast<GLsizeiptr>(p.vertices.size() * sizeof(Vertex)), p.vertices.data());
+            changed = true;
+        }
+    for (Draw& d : draws_) {
+        const Node& node = scene_.nodes[static_cast<size_t>(d.node)];
+        const Primitive& p = scene_.meshes[static_cast<size_t>(node.mesh)].primitives[static_cast<size_t>(d.primitive)];
+        if (node.world != d.model) changed = true;
+        d.model = node.world;
+        d.normal_matrix = glm::inverseTranspose(glm::mat3(node.world));
+        d.mirrored = node.mirrored();
+        d.world_bounds = transformed(p.bounds, node.world);
+        if (!has_motion_) d.model_open = d.model_close = d.model;
+    }
+    // Lights on animated nodes and moving emitters: rebuild the light buffer at the next update_lights.
+    if (changed) {
+        light_key_ = {-1, false, 0, 0};
+        ++pose_version_;
+    }
+    return changed;
+}
+
+void GpuScene::clear_motion() {
+    has_motion_ = false;
+    for (Draw& d : draws_) {
+        d.model_open = d.model_close = d.model;
+        d.moves = false;
+    }
+}
+
+void GpuScene::set_motion(const Pose& open, const Pose& close) {
+    // Object-space positions at open and close for every vertex of the main vertex buffer:
+    // deformed primitives from the poses, rigid ones from the scene (they do not change).
+    std::vector<glm::vec4> motion(std::max<size_t>(vertex_count_, 1) * 2, glm::vec4(0.0f));
+    std::vector<std::vector<bool>> deforms(scene_.meshes.size());
+    for (size_t mi = 0; mi < scene_.meshes.size() && mi < ranges_.size(); ++mi) {
+        deforms[mi].assign(scene_.meshes[mi].primitives.size(), false);
+        for (size_t pi = 0; pi < scene_.meshes[mi].primitives.size() && pi < ranges_[mi].size(); ++pi) {
+            const Primitive& p = scene_.meshes[mi].primitives[pi];
+            const size_t base = static_cast<size_t>(ranges_[mi][pi].base_vertex);
+            auto from = [&](const Pose& pose, size_t v) {
+                if (mi < pose.vertices.size() && pi < pose.vertices[mi].size() && pose.vertices[mi][pi].size() == p.vertices.size())
+                    return pose.vertices[mi][pi][v].position;
+                return p.vertices[v].position;
+            };
+            for (size_t v = 0; v < p.vertices.size(); ++v) {
+                const glm::vec3 a = from(open, v), b = from(close, v);
+                motion[2 * (base + v)] = glm::vec4(a, 1.0f);
+                motion[2 * (base + v) + 1] = glm::vec4(b, 1.0f);
+                if (a != b) deforms[mi][pi] = true;
+            }
+        }
+    }
+    has_motion_ = false;
+    for (Draw& d : draws_) {
+        const size_t ni = static_cast<size_t>(d.node);
+        d.model_open = ni < open.world.size() ? open.world[ni] : d.model;
+        d.model_close = ni < close.world.size() ? close.world[ni] : d.model;
+        const int mesh = scene_.nodes[ni].mesh;
+        d.moves = d.model_open != d.model_close || deforms[static_cast<size_t>(mesh)][static_cast<size_t>(d.primitive)];
+        has_motion_ = has_motion_ || d.moves;
+    }
+    const GLsizeiptr bytes = static_cast<GLsizeiptr>(motion.size() * sizeof(glm::vec4));
+    if (!motion_ || motion_.size() != bytes) {
+        motion_ = gl::Buffer(bytes, motion.data(), GL_DYNAMIC_STORAGE_BIT);
+        motion_vao_ = gl::VertexArray::create();
+        glVertexArrayVertexBuffer(motion_vao_.id(), 0, vertices_.id(), 0, sizeof(Vertex));
+        glVertexArrayVertexBuffer(motion_vao_.id(), 1, motion_.id(), 0, 2 * sizeof(glm::vec4));
+        glVertexArrayElementBuffer(motion_vao_.id(), indices_.id());
+        const struct { GLuint loc, binding, offset; } attribs[] = {
+            {0, 0, offsetof(Vertex, position)}, {1, 1, 0}, {2, 1, sizeof(glm::vec4)}};
+        for (const auto& a : attribs) {
+            glEnableVertexArrayAttrib(motion_vao_.id(), a.loc);
+            glVertexArrayAttribFormat(motion_vao_.id(), a.loc, 3, GL_FLOAT, GL_FALSE, a.offset);
+            glVertexArrayAttribBinding(motion_vao_.id(), a.loc, a.binding);
+        }
+    } else {
+        motion_.update(0, bytes, motion.data());
+    }
 }
 
 }  // namespace candela

@@ -10,6 +10,7 @@
 
 #include "gl/handles.hpp"
 #include "image/image.hpp"
+#include "scene/animation.hpp"
 #include "scene/scene.hpp"
 
 namespace candela {
@@ -104,6 +105,10 @@ public:
         std::array<int, 5> textures;  // scene image per slot, -1 none
         std::array<bool, 5> srgb;
         std::array<SamplerDesc, 5> samplers;
+        // Motion during the shutter (set_motion): the model matrix at shutter open and close, and
+        // whether this draw moves at all (its matrix or, deformed, its vertices change).
+        glm::mat4 model_open{1.0f}, model_close{1.0f};
+        bool moves = false;
     };
 
     // Throws candela::Error (bad_input) if the environment map cannot be read.
@@ -148,7 +153,29 @@ public:
     const std::array<glm::vec3, 9>& environment_sh() const { return env_sh_; }
     std::size_t triangle_count() const { return triangles_; }
 
+    // Animation (issue 21). After apply_pose() on the scene: re-uploads the deformable primitives'
+    // vertices and updates every draw's model and normal matrix, mirroring and world bounds.
+    // Returns whether anything changed (the renderer re-captures probes then).
+    bool update_pose();
+    // Motion during the shutter, for the raster motion blur: every vertex's object-space position
+    // at shutter open and close, in the order of the main vertex buffer (so a draw's base_vertex
+    // and the index buffer apply), and each draw's model_open/model_close. motion_vertex_array():
+    // attribute 0 = position at open (vec3), 1 = at close, with the main index buffer.
+    // clear_motion(): nothing moves (model_open = model_close = model).
+    void set_motion(const Pose& open, const Pose& close);
+    void clear_motion();
+    bool has_motion() const { return has_motion_; }
+    const gl::VertexArray& motion_vertex_array() const { return motion_vao_; }
+    std::uint64_t pose_version() const { return pose_version_; }  // bumped by update_pose when something moved
+
 private:
+    struct Range { std::size_t first_index; GLint base_vertex; };
+    std::vector<std::vector<Range>> ranges_;  // [mesh][primitive]
+    gl::Buffer motion_;
+    gl::VertexArray motion_vao_;
+    bool has_motion_ = false;
+    std::uint64_t pose_version_ = 0;
+    std::size_t vertex_count_ = 0;
     const Scene& scene_;
     gl::Buffer vertices_, indices_, materials_, lights_, sorted_indices_;
     gl::VertexArray vao_, sorted_vao_;

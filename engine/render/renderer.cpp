@@ -54,6 +54,7 @@ void Renderer::set_settings(const RenderSettings& settings) {
 
 void Renderer::plan() {
     features_ = analyze(scene_, settings_, indirect_estimate_ ? &*indirect_estimate_ : nullptr, camera_ ? &*camera_ : nullptr);
+    features_.moving_draws = moving_draws_;
     const LightSetup& ls = features_.lights;
     gpu_.update_lights(ls.area_samples, ls.shadows, ls.cascades, ls.max_shadowed);
     features_.area_light_pieces = gpu_.light_count() - gpu_.punctual_light_count();
@@ -75,11 +76,51 @@ ShaderReload Renderer::reload_shaders(const std::vector<std::filesystem::path>& 
     return report;
 }
 
+int Renderer::count_moving_draws(const Camera& camera, int width, int height) const {
+    if (!gpu_.has_motion()) return 0;
+    const glm::mat4 view_proj = projection_matrix(camera, static_cast<float>(width) / static_cast<float>(std::max(height, 1))) *
+                                glm::inverse(camera.world);
+    int count = 0;
+    for (const GpuScene::Draw& d : gpu_.draws()) {
+        if (!d.moves) continue;
+        const Node& node = scene_.nodes[static_cast<size_t>(d.node)];
+        const Bounds& local = scene_.meshes[static_cast<size_t>(node.mesh)].primitives[static_cast<size_t>(d.primitive)].bounds;
+        // Outside the view when all corners of the box at open, now and close lie beyond one clip plane.
+        int outside[6] = {0, 0, 0, 0, 0, 0};
+        int corners = 0;
+        for (const glm::mat4* m : {&d.model_open, &d.model, &d.model_close})
+            for (int c = 0; c < 8; ++c) {
+                const glm::vec4 p = view_proj * (*m) * glm::vec4(c & 1 ? local.max.x : local.min.x, c & 2 ? local.max.y : local.min.y,
+                                                                 c & 4 ? local.max.z : local.min.z, 1.0f);
+                outside[0] += p.x < -p.w, outside[1] += p.x > p.w, outside[2] += p.y < -p.w, outside[3] += p.y > p.w;
+                outside[4] += p.z > p.w, outside[5] += p.w <= 0.0f;  // reversed Z: z > w is in front of the near plane
+                ++corners;
+            }
+        bool culled = false;
+        for (int k = 0; k < 6; ++k) culled = culled || outside[k] == corners;
+        count += !culled;
+    }
+    return count;
+}
+
 void Renderer::render(const Camera& view_camera, int width, int height, FrameOutput output, float exposure_ev) {
     // The settings' lens over the camera's own; a lens that turns depth of field on or off re-plans
     // (a changed aperture or focus alone does not: the passes read them every frame).
     const Camera camera = with_lens(view_camera, settings_);
-    const bool replan = (camera.aperture > 0.0f) != (features_.lens_aperture > 0.0f);
+    // Animation (issue 21): a new pose moves the bounds (shadow fitting, auto focus), the lights
+    // and what the probes captured; they re-capture. Motion in view during the shutter plans
+    // the motion blur; the renderer re-plans when that turns on or off.
+    if (gpu_.pose_version() != pose_version_) {
+        pose_version_ = gpu_.pose_version();
+        scene_bounds_ = scene_.world_bounds();
+        invalidate_captures();
+        const LightSetup& ls = features_.lights;
+        gpu_.update_lights(ls.area_samples, ls.shadows, ls.cascades, ls.max_shadowed);
+    }
+    moving_draws_ = settings_.camera.shutter > 0.0f ? count_moving_draws(camera, width, height) : 0;
+    const bool replan = (camera.aperture > 0.0f) != (features_.lens_aperture > 0.0f) ||
+                        (moving_draws_ > 0) != (features_.moving_draws > 0);
+    features_.moving_draws = moving_draws_;
     camera_ = view_camera;
     if (replan) plan();
     if (width != width_ || height != height_) {

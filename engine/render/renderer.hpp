@@ -106,6 +106,7 @@ public:
 private:
     // Analyzes and configures for settings_ and the last camera (features_, effects, programs).
     void plan();
+    int count_moving_draws(const Camera& camera, int width, int height) const;
     void render_subframe(const Camera& camera, FrameOutput output, float exposure_ev, const AaPlan& aa, int sub);
 
     const ShaderLibrary& shaders_;
@@ -141,6 +142,8 @@ private:
     const gl::Texture* inspected_ = nullptr;
     std::vector<std::string> inspectable_;
     bool timer_warmed_ = false;
+    std::uint64_t pose_version_ = 0;  // GpuScene::pose_version() the bounds and captures are for
+    int moving_draws_ = 0;
 };
 
 }  // namespace candela

@@ -46,6 +46,8 @@ std::vector<Knob> base_knobs() {
             .boolean("indirect_occlusion", &S::RayTracing::indirect_occlusion,
                      "--raytrace indirect: 0 ignores visibility between the bounce points (RSM's own model)")
             .boolean("env_importance", &S::RayTracing::env_importance, "path/direct: importance-sample environment maps by luminance, with MIS")
+            .integer("shutter_slices", &S::RayTracing::shutter_slices, 0, 1 << 24,
+                     "motion blur: poses (and BVH builds) per render at random shutter times; 0: one per sample")
             .rows);
     add(KnobRows<S::EnvironmentMap>("environment", [](S& s) -> S::EnvironmentMap& { return s.environment; })
             .integer("resolution", &S::EnvironmentMap::resolution, 16, 1024,
@@ -56,6 +58,8 @@ std::vector<Knob> base_knobs() {
                   "thin-lens radius in scene units (depth of field); 0: pinhole; -1: the camera's own (glTF extras.aperture)")
             .real("focus_distance", &S::Lens::focus_distance, -1.0f, 1e9f,
                   "distance in focus along the view axis, scene units; 0: auto; -1: the camera's own (extras.focus_distance)")
+            .real("shutter", &S::Lens::shutter, 0.0f, 1.0f, "motion blur: shutter open for this fraction of a frame, centred on the frame's time; 0: off")
+            .real("fps", &S::Lens::fps, 1.0f, 1000.0f, "frames per second: the frame length camera.shutter is a fraction of")
             .rows);
     return rows;
 }

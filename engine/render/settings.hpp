@@ -80,6 +80,10 @@ struct RenderSettings {
         float whitted_max_roughness = 0.05f;  // [0, 1] smoother surfaces are mirrors in whitted mode
         bool indirect_occlusion = true;       // indirect mode: visibility between bounce points
         bool env_importance = true;           // path/direct: sample environment maps by luminance (MIS)
+        // Motion blur: the tracer poses the scene and rebuilds its geometry this many times per
+        // render, at stratified random times in the shutter (each sample pass takes one time);
+        // 0: one time per sample (exact per pixel). Cost: one pose + BVH build per slice.
+        int shutter_slices = 0;  // [0, 1 << 24]
     } rt;
     struct EnvironmentMap {
         int resolution = 128;  // [16, 1024] face size of the static environment's prefiltered cube
@@ -89,6 +93,10 @@ struct RenderSettings {
     struct Lens {
         float aperture = -1.0f;        // [-1, 1e9] lens radius in scene units; 0: pinhole
         float focus_distance = -1.0f;  // [-1, 1e9] distance in focus along the view axis; 0: auto
+        // Motion blur (issue 21): the shutter stays open this fraction of a frame, centred on the
+        // frame's time (animation.hpp shutter_interval); 0: off. fps sets the frame length.
+        float shutter = 0.0f;  // [0, 1]
+        float fps = 30.0f;     // [1, 1000] frames per second (render --fps sets it too)
     } camera;
 };
 

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include <glm/glm.hpp>
+#include <glm/gtc/quaternion.hpp>
 
 namespace candela {
 
@@ -95,17 +96,72 @@ struct Vertex {
 };
 static_assert(sizeof(Vertex) == 18 * sizeof(float), "Vertex is uploaded as-is");
 
+// A morph target (glTF 2.0 section 3.7.2.2): per-vertex displacements, each array empty or one
+// entry per vertex. Tangent deltas are xyz only (the handedness does not morph).
+struct MorphTarget {
+    std::vector<glm::vec3> position, normal, tangent;
+};
+
 struct Primitive {
-    std::vector<Vertex> vertices;
+    std::vector<Vertex> vertices;        // posed (animation.hpp pose_scene); rest pose for rigid ones
     std::vector<std::uint32_t> indices;  // always indexed (non-indexed input gets 0..n-1)
     int material = -1;                   // -1: the default material
-    Bounds bounds;                       // mesh space
+    Bounds bounds;                       // mesh space, of `vertices`
+    // Deformation (issue 21), empty for rigid primitives:
+    // - rest: the vertices as the file gives them, before morphing and skinning; `vertices` is
+    //   then the pose that pose_scene() computed from them (in the node's own space).
+    // - joints/weights: `influence_sets` sets of 4 influences per vertex (JOINTS_n/WEIGHTS_n, n <
+    //   influence_sets), vertex v's set k at [v * influence_sets + k]; joints index the node's
+    //   skin's joint list. The loader normalises each vertex's weights to sum 1 (warning when a
+    //   sum was off by more than 1e-3; all-zero weights bind to the node's own transform).
+    // - targets: morph targets, as many as the mesh's weights.
+    std::vector<Vertex> rest;
+    std::vector<glm::u16vec4> joints;
+    std::vector<glm::vec4> weights;
+    int influence_sets = 0;
+    std::vector<MorphTarget> targets;
+    bool skinned() const { return influence_sets > 0; }
+    bool deformable() const { return !rest.empty(); }
     std::size_t triangle_count() const { return indices.size() / 3; }
 };
 
 struct Mesh {
     std::string name;
     std::vector<Primitive> primitives;
+    std::vector<float> weights;  // default morph weights (one per target; zeros if the file has none)
+};
+
+// glTF skin (section 3.7.3): joint nodes and their inverse bind matrices (identity if absent).
+struct Skin {
+    std::string name;
+    std::vector<int> joints;
+    std::vector<glm::mat4> inverse_bind;  // one per joint
+    int skeleton = -1;                    // informative only
+};
+
+// glTF animation (section 3.11). Keyframe times in seconds, strictly increasing (the loader
+// rejects others). Values: `width` floats per keyframe element (3 translation/scale, 4 rotation
+// quaternion xyzw, the morph target count for weights); CUBICSPLINE stores 3 elements per
+// keyframe (in-tangent, value, out-tangent), as the file does.
+enum class Interpolation { linear, step, cubic_spline };
+enum class AnimationPath { translation, rotation, scale, weights };
+struct AnimationSampler {
+    std::vector<float> times;
+    std::vector<float> values;
+    int width = 3;
+    Interpolation interpolation = Interpolation::linear;
+};
+struct AnimationChannel {
+    int sampler = -1;
+    int node = -1;
+    AnimationPath path = AnimationPath::translation;
+};
+struct Animation {
+    std::string name;
+    std::vector<AnimationSampler> samplers;
+    std::vector<AnimationChannel> channels;
+    float start = 0.0f;  // the earliest keyframe time of any sampler
+    float end = 0.0f;    // the latest: the duration is `end` (glTF times start at 0)
 };
 
 enum class LightType { directional, point, spot };
@@ -155,6 +211,19 @@ struct Node {
     std::vector<int> children;
     glm::mat4 local{1.0f};
     glm::mat4 world{1.0f};
+    // The node's rest transform as translation, rotation, scale (what animation channels replace;
+    // glTF forbids animating a node given by `matrix`, so `has_matrix` nodes keep `local`).
+    glm::vec3 translation{0.0f};
+    glm::quat rotation{1.0f, 0.0f, 0.0f, 0.0f};
+    glm::vec3 scale{1.0f};
+    bool has_matrix = false;
+    // `local` before the first apply_pose changed it: what nodes that the animation does not
+    // move return to (set by apply_pose; scenes built in code may set only `local`).
+    std::optional<glm::mat4> rest_local;
+    int skin = -1;
+    // Morph weights: `rest_weights` from the node (else the mesh's); `weights` the posed ones.
+    std::vector<float> rest_weights;
+    std::vector<float> weights;
     int mesh = -1;
     int camera = -1;
     int light = -1;
@@ -209,6 +278,8 @@ struct Scene {
     std::vector<Image> images;
     std::vector<Light> lights;
     std::vector<Camera> cameras;
+    std::vector<Skin> skins;
+    std::vector<Animation> animations;
     Environment environment;
     SanitizeReport sanitized;
     // glTF features in the file that Candela does not implement, one phrase each, e.g. "1 skin",
