@@ -36,6 +36,7 @@ FrameLoop::FrameLoop(const Scene& scene, const ShaderLibrary& shaders, const Sti
     gpu_ = std::make_unique<GpuScene>(scene);
     result_.upload_ms = ms_since(t0);
     t0 = std::chrono::steady_clock::now();
+    update_motion(scene, *gpu_, options.animation, options.time, options.settings);
     renderer_ = std::make_unique<Renderer>(shaders, scene, *gpu_, options.settings);
     renderer_->set_verify_state(options.verify_state);
     result_.shader_ms = ms_since(t0);
@@ -67,6 +68,21 @@ StillResult FrameLoop::finish() {
     if (options_.output == FrameOutput::display) result_.display = renderer_->read_display();
     result_.readback_ms = ms_since(t0);
     return result_;
+}
+
+void update_motion(const Scene& scene, GpuScene& gpu, int animation, float time, const RenderSettings& settings) {
+    const ShutterInterval shutter = shutter_interval(time, settings.camera.shutter, settings.camera.fps);
+    if (animation < 0 || shutter.instant()) return gpu.clear_motion();
+    gpu.set_motion(evaluate_pose(scene, animation, shutter.open), evaluate_pose(scene, animation, shutter.close));
+}
+
+void FrameLoop::set_pose(Scene& scene, int animation, float time) {
+    pose_scene(scene, animation, time);
+    gpu_->update_pose();
+    update_motion(scene, *gpu_, animation, time, options_.settings);
+    options_.animation = animation;
+    options_.time = time;
+    camera_ = scene.select_camera(options_.camera, static_cast<float>(options_.width) / static_cast<float>(options_.height));
 }
 
 StillResult render_still(const Scene& scene, const ShaderLibrary& shaders, const StillOptions& options) {

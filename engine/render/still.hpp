@@ -23,6 +23,10 @@ struct StillOptions {
     bool verify_state = false;
     FrameOutput output = FrameOutput::hdr;  // display: also run the GPU tonemap pass
     float exposure_ev = 0.0f;
+    // Animation (issue 21): the scene is already posed at `time` of `animation` (-1: none); with
+    // settings.camera.shutter > 0 the loop adds the motion over the shutter (raster motion blur).
+    int animation = -1;
+    float time = 0.0f;
 };
 
 struct StillResult {
@@ -48,6 +52,11 @@ public:
     void warmup(int frames);
     double measure_frame();  // render + glFinish; returns the wall time in ms
     StillResult finish();    // reads the image back; pass gpu_ms are medians over measured frames
+    // Poses `scene` (the scene this loop was made with) at `time` of `animation` (-1: the rest
+    // pose), updates the GPU copy, the motion over the shutter and the camera (it may be animated).
+    void set_pose(Scene& scene, int animation, float time);
+    GpuScene& gpu() { return *gpu_; }
+    Renderer& renderer() { return *renderer_; }
 
 private:
     StillOptions options_;
@@ -57,6 +66,10 @@ private:
     std::unique_ptr<Renderer> renderer_;
     std::map<std::string, std::vector<double>> gpu_ms_;
 };
+
+// The motion over the shutter around `time` (shutter_interval with camera.shutter and camera.fps)
+// into gpu.set_motion, or clear_motion when the shutter is closed or nothing is animated.
+void update_motion(const Scene& scene, GpuScene& gpu, int animation, float time, const RenderSettings& settings);
 
 StillResult render_still(const Scene& scene, const ShaderLibrary& shaders, const StillOptions& options);
 

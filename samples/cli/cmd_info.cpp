@@ -55,6 +55,19 @@ int cmd_info(const Args& args) {
     else
         std::printf("bounds: min (%.4g, %.4g, %.4g)  max (%.4g, %.4g, %.4g)\n", b.min.x, b.min.y, b.min.z, b.max.x,
                     b.max.y, b.max.z);
+    // Animation (issue 21): what posing changes, and each animation with its duration.
+    {
+        size_t skinned = 0, morphed = 0;
+        for (const Mesh& m : scene.meshes)
+            for (const Primitive& prim : m.primitives) skinned += prim.skinned(), morphed += !prim.targets.empty();
+        std::printf("animations: %zu  skins: %zu  skinned primitives: %zu  morphed primitives: %zu\n", scene.animations.size(),
+                    scene.skins.size(), skinned, morphed);
+        for (size_t i = 0; i < scene.animations.size(); ++i) {
+            const Animation& a = scene.animations[i];
+            std::printf("  [%zu] '%s' %.3f s (keyframes %.3f to %.3f s), %zu channels\n", i, a.name.c_str(), a.end, a.start, a.end,
+                        a.channels.size());
+        }
+    }
     std::printf("cameras: %zu\n", scene.cameras.size());
     for (size_t i = 0; i < scene.cameras.size(); ++i) {
         const Camera& c = scene.cameras[i];

@@ -4,6 +4,7 @@
 #include <cctype>
 #include <chrono>
 #include <cstdint>
+#include <cmath>
 #include <cstdio>
 
 #include <unistd.h>
@@ -17,6 +18,7 @@
 #include "profile/stats.hpp"
 #include "render/still.hpp"
 #include "rt/ray_tracer.hpp"
+#include "scene/animation.hpp"
 
 namespace candela::cli {
 namespace fs = std::filesystem;
@@ -25,7 +27,7 @@ namespace {
 
 // --raytrace MODE: the image comes from the compute-shader ray tracer. Its options come from the
 // command line and from the rt.* knobs, debug.light (visibility mode) and the AO radius.
-int raytrace(const Parsed& p, const SceneSetup& s, const fs::path& out_path, float exposure) {
+int raytrace(const Parsed& p, SceneSetup& s, const fs::path& out_path, float exposure) {
     rt::Options o;
     const auto mode = rt::parse_mode(p.get("--raytrace"));
     if (!mode) throw bad_input("--raytrace '" + p.get("--raytrace") + "' must be whitted, path, direct, indirect, ao, primary or visibility");
@@ -50,6 +52,14 @@ int raytrace(const Parsed& p, const SceneSetup& s, const fs::path& out_path, flo
     const RtJitter jitter = s.options.settings.rt.jitter;
     o.jitter = jitter == RtJitter::automatic ? -1 : jitter == RtJitter::on ? 1 : 0;
     o.progress = true;
+    // Motion blur (issue 21): each time slice poses the scene at its time in the shutter.
+    const ShutterInterval shutter = shutter_interval(s.options.time, s.options.settings.camera.shutter, s.options.settings.camera.fps);
+    if (s.options.animation >= 0 && !shutter.instant()) {
+        const int animation = s.options.animation;
+        Scene& scene = s.scene;
+        o.pose_at = [&scene, animation, shutter](float u) { pose_scene(scene, animation, shutter.open + u * (shutter.close - shutter.open)); };
+        o.shutter_slices = s.options.settings.rt.shutter_slices;
+    }
     const ShaderLibrary shaders(s.shader_dir);
     GpuScene gpu(s.scene);
     rt::RayTracer tracer(shaders, s.scene, gpu, o);
@@ -67,12 +77,39 @@ int raytrace(const Parsed& p, const SceneSetup& s, const fs::path& out_path, flo
     return check_gl_errors(s);
 }
 
+// Whether `out` holds exactly one printf integer conversion (%d, %4d, %04d) and no other '%'.
+bool has_frame_pattern(const std::string& out) {
+    const size_t at = out.find('%');
+    if (at == std::string::npos) return false;
+    size_t i = at + 1;
+    while (i < out.size() && i - at <= 3 && std::isdigit(static_cast<unsigned char>(out[i]))) ++i;
+    if (i >= out.size() || out[i] != 'd') throw bad_input(out + ": the frame pattern must be %d, %4d or %04d (at most 2 digits)");
+    if (out.find('%', i) != std::string::npos) throw bad_input(out + ": only one '%' frame pattern is allowed");
+    return true;
+}
+
+fs::path frame_path(const std::string& pattern, int frame) {
+    char buf[4096];
+    std::snprintf(buf, sizeof buf, pattern.c_str(), frame);
+    return fs::path(buf);
+}
+
+// The frame times of a render: --time T is one frame; --time A:B every 1/fps from A up to B.
+std::vector<float> frame_times(const SceneSetup& s, float fps) {
+    std::vector<float> times{s.time_first};
+    const double span = static_cast<double>(s.time_last) - s.time_first;
+    const long frames = static_cast<long>(std::floor(span * fps + 1e-4)) + 1;
+    if (frames > 100000) throw bad_input("--time A:B at --fps " + format_number("%g", fps) + " is " + std::to_string(frames) + " frames (at most 100000)");
+    for (long i = 1; i < frames; ++i) times.push_back(static_cast<float>(s.time_first + static_cast<double>(i) / fps));
+    return times;
+}
+
 }  // namespace
 
 int cmd_render(const Args& args) {
     std::vector<std::string> with_value = kSceneSetupOptions;
     with_value.insert(with_value.end(), {"-o", "--output", "--exposure", "--stats", "--raytrace", "--spp", "--max-depth",
-                                         "--seed", "--spp-shard", "--time-limit"});
+                                         "--seed", "--spp-shard", "--time-limit", "--fps"});
     std::vector<std::string> flags = kSceneSetupFlags;
     flags.push_back("--timings");
     const Parsed p = parse(args, with_value, flags);
@@ -93,6 +130,14 @@ int cmd_render(const Args& args) {
         if (access(dir.c_str(), W_OK) != 0) throw bad_input(out + ": cannot write: " + dir.string() + " is not writable");
     }
     SceneSetup s = setup_scene(p, p.positional[0], 512, 512);
+    // Sequences (issue 21): --time A:B --fps F writes frames at A, A + 1/F, ... <= B to a path with
+    // one printf integer conversion (out_%04d.png: the frame index from 0).
+    if (p.has("--fps")) s.options.settings.camera.fps = parse_float("--fps", p.get("--fps"), 1.0f, 1000.0f);
+    const float fps = s.options.settings.camera.fps;
+    const bool sequence = s.time_last > s.time_first;
+    if (sequence && !has_frame_pattern(out))
+        throw bad_input(out + ": --time A:B writes a sequence: the output needs a frame-number pattern such as out_%04d.png");
+    if (!sequence && has_frame_pattern(out)) throw bad_input(out + ": a frame-number pattern needs --time A:B (a sequence)");
     // A .png gets its display transform on the GPU (the tonemap pass); an .exr is the HDR target.
     const bool display = is_display_format(out_path);
     s.options.output = display ? FrameOutput::display : FrameOutput::hdr;
@@ -104,7 +149,36 @@ int cmd_render(const Args& args) {
     const double context_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 
     const ShaderLibrary shaders(s.shader_dir);
-    if (p.has("--raytrace")) return raytrace(p, s, out_path, exposure);
+    const std::vector<float> times = frame_times(s, fps);
+    if (p.has("--raytrace")) {
+        for (size_t i = 0; i < times.size(); ++i) {
+            if (i > 0) {
+                s.options.time = times[i];
+                pose_scene(s.scene, s.options.animation, times[i]);
+            }
+            const int rc = raytrace(p, s, sequence ? frame_path(out, static_cast<int>(i)) : out_path, exposure);
+            if (rc != 0) return rc;
+        }
+        return 0;
+    }
+    if (sequence) {
+        // One loop for the whole sequence: the context, programs and textures are reused.
+        FrameLoop loop(s.scene, shaders, s.options);
+        for (size_t i = 0; i < times.size(); ++i) {
+            if (i > 0) loop.set_pose(s.scene, s.options.animation, times[i]);
+            if (i == 0) loop.warmup(s.options.warmup);
+            loop.measure_frame();
+            const StillResult r = loop.finish();
+            const fs::path path = frame_path(out, static_cast<int>(i));
+            if (const std::size_t bad = count_nonfinite(r.radiance))
+                log::warn(path.string() + ": " + std::to_string(bad) + " non-finite values in the rendered radiance (written as 0 in .png)");
+            if (display) write_display_rgba8(path, r.display, r.radiance.width, r.radiance.height);
+            else write_image(path, r.radiance, exposure);
+        }
+        log::info("wrote " + std::to_string(times.size()) + " frames, " + format_number("%.3f", times.front()) + " to " +
+                  format_number("%.3f", times.back()) + " s at " + format_number("%g", fps) + " fps");
+        return check_gl_errors(s);
+    }
     const StillResult result = render_still(s.scene, shaders, s.options);
     const std::size_t bad = count_nonfinite(result.radiance);
     if (bad) log::warn(out + ": " + std::to_string(bad) + " non-finite values in the rendered radiance (written as 0 in .png)");

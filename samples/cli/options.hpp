@@ -68,6 +68,9 @@ struct SceneSetup {
     bool debug = false;  // --debug-gl or CANDELA_DEBUG_GL=1
     double load_ms = 0;
     std::filesystem::path shader_dir = ShaderLibrary::default_root();  // --shader-dir
+    // --time T or A:B (seconds): the scene is posed at time_first (options.time) of
+    // options.animation; render writes a sequence over [time_first, time_last].
+    float time_first = 0.0f, time_last = 0.0f;
 };
 // Reads kSceneSetupOptions/kSceneSetupFlags from p and loads scene_path; the image is
 // default_w x default_h unless --size says otherwise.
