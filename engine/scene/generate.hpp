@@ -27,4 +27,14 @@ Scene make_dof_scene();
 // point light at the camera.
 Scene make_edges_scene();
 
+// generated:motion (generate_motion.cpp): the motion-blur scene, animation 0 (LINEAR samplers,
+// [0, 1] s) slides a banded box across the view and spins another over a checkered floor and
+// back wall under a directional light.
+Scene make_motion_scene();
+
+// generated:skinned:N (generate_skinned.cpp): a tube of about N triangles skinned to a chain of 8
+// bones (two influences per vertex) that sway in a travelling wave (animation 0, 2 s), over a
+// floor under a directional light: the animation cost benchmark at any size.
+Scene make_skinned_scene(std::size_t triangles);
+
 }  // namespace candela

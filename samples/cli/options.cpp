@@ -199,6 +199,12 @@ Scene load_scene(const std::string& path, bool strict) {
     if (path == "generated:dof") return make_dof_scene();
     if (path == "generated:edges") return make_edges_scene();
     if (path == "generated:motion") return make_motion_scene();
+    if (path.rfind("generated:skinned:", 0) == 0) {
+        const std::string n = path.substr(18);
+        if (n.empty() || n.size() > 8 || n.find_first_not_of("0123456789") != std::string::npos || std::stoul(n) < 64)
+            throw bad_input(path + ": expected generated:skinned:N with 64 <= N < 1e8 triangles");
+        return make_skinned_scene(std::stoul(n));
+    }
     if (path.rfind("generated:lights:", 0) == 0) {
         const std::string n = path.substr(17);
         if (n.empty() || n.size() > 6 || n.find_first_not_of("0123456789") != std::string::npos || std::stoul(n) < 1)
