@@ -18,6 +18,7 @@
 
 #include "core/error.hpp"
 #include "core/log.hpp"
+#include "scene/animation.hpp"
 #include "scene/gltf_validate.hpp"
 #include "scene/mesh_utils.hpp"
 
@@ -154,6 +155,8 @@ private:
 
     // Reads an accessor as float vectors (normalized integers mapped to [0,1] / [-1,1]).
     std::vector<glm::vec4> read_accessor(int accessor, const std::string& path, int want_components_max) const;
+    // The same, flattened: `*components` floats per element (at most `want_components_max`, e.g. 16 for MAT4).
+    std::vector<float> read_floats(int accessor, const std::string& path, int want_components_max, int* components) const;
     std::vector<uint32_t> read_indices(int accessor, const std::string& path, size_t vertex_count) const;
     // Byte range check of a (bufferView, offset, element size, stride, count) read.
     const unsigned char* view_data(int view, size_t offset, size_t elem, size_t stride, size_t count,
@@ -165,14 +168,30 @@ private:
     TextureRef texture_ref(int index, int texcoord, const tinygltf::ExtensionMap& ext, const std::string& path,
                            double scale) const;
     Mesh build_mesh(size_t i, Scene& scene);
+    void read_skin_attributes(const tinygltf::Primitive& p, const std::string& path, Primitive& prim) const;
+    void read_morph_targets(const tinygltf::Primitive& p, const std::string& path, Primitive& prim) const;
     void build_nodes(Scene& scene);
+    void build_skins(Scene& scene);
+    void build_animations(Scene& scene);
+    void build_deformation(Scene& scene);
+    void check_posed(const Scene& scene) const;
     void build_environment(Scene& scene);
+    // The JSON path of scene.meshes[mesh].primitives[prim] in the file (meshes duplicated for
+    // several deformed instances and skipped primitives shift the indices).
+    std::string primitive_path(size_t mesh, size_t prim) const {
+        const size_t src = mesh < mesh_source_.size() ? mesh_source_[mesh] : mesh;
+        const size_t sp = src < primitive_source_.size() && prim < primitive_source_[src].size() ? primitive_source_[src][prim] : prim;
+        return idx("meshes", src) + "." + idx("primitives", sp);
+    }
 
     std::string file_;
     fs::path dir_;
     const tinygltf::Model& m_;
     ImageDecodeLog& image_log_;
     const std::vector<bool>& unavailable_;  // buffers with a stand-in for data the file does not provide
+    std::vector<std::vector<size_t>> primitive_source_;  // [file mesh][built primitive] -> the file's primitive index
+    std::vector<size_t> mesh_source_;                    // [scene mesh] -> the file's mesh (copies for deformed instances)
+    std::vector<bool> own_weights_;                      // [node]: the node has its own `weights`
 
     // Whether an accessor's data lies in such a buffer (the validation warned about it).
     bool unavailable(int accessor) const {
@@ -229,6 +248,15 @@ float read_component(const unsigned char* p, int type, bool normalized) {
 }
 
 std::vector<glm::vec4> Loader::read_accessor(int accessor, const std::string& path, int want_components_max) const {
+    int nc = 0;
+    const std::vector<float> flat = read_floats(accessor, path, std::min(want_components_max, 4), &nc);
+    std::vector<glm::vec4> out(nc > 0 ? flat.size() / static_cast<size_t>(nc) : 0, glm::vec4(0.0f));
+    for (size_t i = 0; i < out.size(); ++i)
+        for (int c = 0; c < nc; ++c) out[i][c] = flat[i * static_cast<size_t>(nc) + static_cast<size_t>(c)];
+    return out;
+}
+
+std::vector<float> Loader::read_floats(int accessor, const std::string& path, int want_components_max, int* components) const {
     if (accessor < 0 || static_cast<size_t>(accessor) >= m_.accessors.size())
         fail(path, "accessor " + std::to_string(accessor) + " does not exist (the file has " +
                        std::to_string(m_.accessors.size()) + ")");
@@ -239,13 +267,17 @@ std::vector<glm::vec4> Loader::read_accessor(int accessor, const std::string& pa
     if (csize <= 0 || ncomp <= 0) fail(apath, "invalid componentType or type");
     if (ncomp > want_components_max) fail(apath, "has " + std::to_string(ncomp) + " components, at most " +
                                                      std::to_string(want_components_max) + " expected");
+    if ((a.type == TINYGLTF_TYPE_MAT2 || a.type == TINYGLTF_TYPE_MAT3) && csize < 4)
+        fail(apath, "matrices of 8- or 16-bit components (padded columns) are not supported");
     constexpr size_t kMaxCount = size_t(1) << 28;
-    if (a.count > kMaxCount) fail(apath, "count " + std::to_string(a.count) + " is larger than supported");
+    if (a.count > kMaxCount || a.count * static_cast<size_t>(ncomp) > 4 * kMaxCount) fail(apath, "count " + std::to_string(a.count) + " is larger than supported");
     const size_t elem = static_cast<size_t>(csize * ncomp);
-    std::vector<glm::vec4> out(a.count, glm::vec4(0.0f));
+    const size_t nc = static_cast<size_t>(ncomp);
+    *components = ncomp;
+    std::vector<float> out(a.count * nc, 0.0f);
     auto read_block = [&](const unsigned char* base, size_t stride, size_t count, auto&& store) {
+        float v[16];
         for (size_t i = 0; i < count; ++i) {
-            glm::vec4 v(0.0f);
             for (int c = 0; c < ncomp; ++c)
                 v[c] = read_component(base + i * stride + static_cast<size_t>(c * csize), a.componentType, a.normalized);
             store(i, v);
@@ -261,7 +293,7 @@ std::vector<glm::vec4> Loader::read_accessor(int accessor, const std::string& pa
             }
         }
         const unsigned char* base = view_data(a.bufferView, a.byteOffset, elem, stride, a.count, apath);
-        read_block(base, stride, a.count, [&](size_t i, const glm::vec4& v) { out[i] = v; });
+        read_block(base, stride, a.count, [&](size_t i, const float* v) { std::copy(v, v + nc, out.begin() + static_cast<std::ptrdiff_t>(i * nc)); });
     }
     if (a.sparse.isSparse) {
         const size_t n = static_cast<size_t>(std::max(a.sparse.count, 0));
@@ -273,12 +305,12 @@ std::vector<glm::vec4> Loader::read_accessor(int accessor, const std::string& pa
                                             static_cast<size_t>(isize), static_cast<size_t>(isize), n, apath + ".sparse.indices");
         const unsigned char* vb = view_data(a.sparse.values.bufferView, static_cast<size_t>(std::max(a.sparse.values.byteOffset, 0)),
                                             elem, elem, n, apath + ".sparse.values");
-        read_block(vb, elem, n, [&](size_t i, const glm::vec4& v) {
+        read_block(vb, elem, n, [&](size_t i, const float* v) {
             const auto target = static_cast<size_t>(read_component(ib + i * static_cast<size_t>(isize), itype, false));
-            if (target >= out.size())
+            if (target >= a.count)
                 fail(apath + ".sparse.indices", "index " + std::to_string(target) + " out of range (accessor has " +
-                                                    std::to_string(out.size()) + " elements)");
-            out[target] = v;
+                                                    std::to_string(a.count) + " elements)");
+            std::copy(v, v + nc, out.begin() + static_cast<std::ptrdiff_t>(target * nc));
         });
     }
     return out;
@@ -445,6 +477,7 @@ void Loader::build_images(Scene& scene) {
 
 Mesh Loader::build_mesh(size_t mi, Scene& scene) {
     const tinygltf::Mesh& src = m_.meshes[mi];
+    if (primitive_source_.size() <= mi) primitive_source_.resize(mi + 1);
     Mesh mesh;
     mesh.name = src.name.empty() ? idx("meshes", mi) : src.name;
     for (size_t pi = 0; pi < src.primitives.size(); ++pi) {
@@ -456,7 +489,7 @@ Mesh Loader::build_mesh(size_t mi, Scene& scene) {
             ++scene.sanitized.skipped_primitives;
             continue;
         }
-        auto attr = [&](const char* name) {
+        auto attr = [&](const std::string& name) {
             auto it = p.attributes.find(name);
             return it == p.attributes.end() ? -1 : it->second;
         };
@@ -467,6 +500,8 @@ Mesh Loader::build_mesh(size_t mi, Scene& scene) {
         }
         bool missing_data = unavailable(p.indices);
         for (const auto& [name, a] : p.attributes) missing_data = missing_data || unavailable(a);
+        for (const auto& target : p.targets)
+            for (const auto& [name, a] : target) missing_data = missing_data || unavailable(a);
         if (missing_data) {  // warned by the validation
             ++scene.sanitized.skipped_primitives;
             continue;
@@ -485,7 +520,7 @@ Mesh Loader::build_mesh(size_t mi, Scene& scene) {
         auto read_attr = [&](const char* name, int max_components, auto&& store) {
             const int a = attr(name);
             if (a < 0) return false;
-            const auto values = read_accessor(a, path + ".attributes." + name, max_components);
+            const auto values = read_accessor(a, path + ".attributes." + std::string(name), max_components);
             if (values.size() != pos.size())
                 fail(path + ".attributes." + name, "has " + std::to_string(values.size()) + " elements, POSITION has " +
                                                        std::to_string(pos.size()));
@@ -519,8 +554,30 @@ Mesh Loader::build_mesh(size_t mi, Scene& scene) {
             fail(path + ".material", "material " + std::to_string(p.material) + " does not exist (the file has " +
                                          std::to_string(m_.materials.size()) + ")");
         prim.material = p.material;
+        // Deformation data (issue 21), per vertex like the attributes above; what the node it is
+        // drawn by does not use (joints without a skin) is dropped in build_deformation.
+        read_skin_attributes(p, path, prim);
+        read_morph_targets(p, path, prim);
+        // Deltas of an attribute the file does not give are not applied to the generated one.
+        for (MorphTarget& t : prim.targets) {
+            if (!has_normals) t.normal.clear();
+            if (!has_tangents) t.tangent.clear();
+        }
         if (!has_normals) {
+            // Flat normals unshare the vertices: corner i becomes vertex i, so the per-vertex
+            // deformation data follows its corner.
+            const std::vector<uint32_t> corner = prim.indices;
             generate_flat_normals(prim);
+            auto follow = [&](auto& values, size_t per_vertex) {
+                if (values.empty()) return;
+                std::remove_reference_t<decltype(values)> out(corner.size() * per_vertex);
+                for (size_t i = 0; i < corner.size(); ++i)
+                    for (size_t k = 0; k < per_vertex; ++k) out[i * per_vertex + k] = values[corner[i] * per_vertex + k];
+                values = std::move(out);
+            };
+            follow(prim.joints, static_cast<size_t>(prim.influence_sets));
+            follow(prim.weights, static_cast<size_t>(prim.influence_sets));
+            for (MorphTarget& t : prim.targets) follow(t.position, 1), follow(t.tangent, 1);
             ++scene.sanitized.generated_normals;
         } else {
             scene.sanitized.bad_normals += repair_normals(prim);
@@ -532,8 +589,89 @@ Mesh Loader::build_mesh(size_t mi, Scene& scene) {
         }
         compute_bounds(prim);
         mesh.primitives.push_back(std::move(prim));
+        primitive_source_[mi].push_back(pi);
+    }
+    // Morph targets: as many in every primitive, and as many default weights (glTF 3.7.2.2).
+    const size_t targets = src.primitives.empty() ? 0 : src.primitives[0].targets.size();
+    for (size_t pi = 1; pi < src.primitives.size(); ++pi)
+        if (src.primitives[pi].targets.size() != targets)
+            fail(idx("meshes", mi) + "." + idx("primitives", pi) + ".targets",
+                 "has " + std::to_string(src.primitives[pi].targets.size()) + " morph targets, primitives[0] has " + std::to_string(targets));
+    if (!src.weights.empty()) {
+        const std::string wpath = idx("meshes", mi) + ".weights";
+        if (src.weights.size() != targets)
+            fail(wpath, "has " + std::to_string(src.weights.size()) + " weights for " + std::to_string(targets) + " morph targets");
+        for (size_t k = 0; k < targets; ++k) mesh.weights.push_back(f32(wpath + "[" + std::to_string(k) + "]", src.weights[k]));
+    } else {
+        mesh.weights.assign(targets, 0.0f);
     }
     return mesh;
+}
+
+void Loader::read_skin_attributes(const tinygltf::Primitive& p, const std::string& path, Primitive& prim) const {
+    const size_t nv = prim.vertices.size();
+    auto attr = [&](const std::string& name) {
+        auto it = p.attributes.find(name);
+        return it == p.attributes.end() ? -1 : it->second;
+    };
+    // JOINTS_n/WEIGHTS_n for n = 0..k-1 (sets are numbered without gaps; the validation warns otherwise).
+    int sets = 0;
+    while (sets < 64 && attr("JOINTS_" + std::to_string(sets)) >= 0 && attr("WEIGHTS_" + std::to_string(sets)) >= 0) ++sets;
+    if (sets == 0) return;
+    const size_t k_sets = static_cast<size_t>(sets);
+    prim.influence_sets = sets;
+    prim.joints.assign(nv * k_sets, glm::u16vec4(0));
+    prim.weights.assign(nv * k_sets, glm::vec4(0.0f));
+    for (size_t k = 0; k < k_sets; ++k) {
+        const std::string jname = "JOINTS_" + std::to_string(k), wname = "WEIGHTS_" + std::to_string(k);
+        const std::string jpath = path + ".attributes." + jname, wpath = path + ".attributes." + wname;
+        const int ja = attr(jname), wa = attr(wname);
+        const std::vector<glm::vec4> j = read_accessor(ja, jpath, 4);
+        const tinygltf::Accessor& jacc = m_.accessors[static_cast<size_t>(ja)];
+        if (jacc.type != TINYGLTF_TYPE_VEC4 || jacc.normalized ||
+            (jacc.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE && jacc.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT))
+            fail(jpath, "accessor " + std::to_string(ja) + " must be VEC4 of UNSIGNED_BYTE or UNSIGNED_SHORT (not normalized)");
+        const std::vector<glm::vec4> w = read_accessor(wa, wpath, 4);
+        const tinygltf::Accessor& wacc = m_.accessors[static_cast<size_t>(wa)];
+        const bool unorm = wacc.normalized && (wacc.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ||
+                                               wacc.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT);
+        if (wacc.type != TINYGLTF_TYPE_VEC4 || !(wacc.componentType == TINYGLTF_COMPONENT_TYPE_FLOAT || unorm))
+            fail(wpath, "accessor " + std::to_string(wa) + " must be VEC4 of FLOAT or normalized UNSIGNED_BYTE/UNSIGNED_SHORT");
+        if (j.size() != nv) fail(jpath, "has " + std::to_string(j.size()) + " elements, POSITION has " + std::to_string(nv));
+        if (w.size() != nv) fail(wpath, "has " + std::to_string(w.size()) + " elements, POSITION has " + std::to_string(nv));
+        for (size_t v = 0; v < nv; ++v) {
+            prim.joints[v * k_sets + k] = glm::u16vec4(j[v]);
+            for (int c = 0; c < 4; ++c) {
+                if (!std::isfinite(w[v][c])) fail(wpath, "vertex " + std::to_string(v) + ": weight " + num(w[v][c]) + " is not a finite number");
+                prim.weights[v * k_sets + k][c] = std::max(w[v][c], 0.0f);  // negative: warned by the validation
+            }
+        }
+    }
+}
+
+void Loader::read_morph_targets(const tinygltf::Primitive& p, const std::string& path, Primitive& prim) const {
+    const size_t nv = prim.vertices.size();
+    for (size_t ti = 0; ti < p.targets.size(); ++ti) {
+        const std::string tpath = path + "." + idx("targets", ti);
+        MorphTarget target;
+        // TEXCOORD_n and COLOR_n targets are named among the ignored features; others were warned about.
+        for (const auto& [name, out] : {std::pair<const char*, std::vector<glm::vec3>*>{"POSITION", &target.position},
+                                        {"NORMAL", &target.normal}, {"TANGENT", &target.tangent}}) {
+            auto it = p.targets[ti].find(name);
+            if (it == p.targets[ti].end()) continue;
+            const std::string apath = tpath + "." + name;
+            const std::vector<glm::vec4> d = read_accessor(it->second, apath, 3);
+            if (d.size() != nv) fail(apath, "has " + std::to_string(d.size()) + " elements, the primitive has " + std::to_string(nv) + " vertices");
+            out->resize(nv);
+            for (size_t v = 0; v < nv; ++v) {
+                const glm::vec3 x(d[v]);
+                if (!std::isfinite(x.x) || !std::isfinite(x.y) || !std::isfinite(x.z))
+                    fail(apath, "element " + std::to_string(v) + " is not a finite number");
+                (*out)[v] = x;
+            }
+        }
+        prim.targets.push_back(std::move(target));
+    }
 }
 
 void Loader::build_nodes(Scene& scene) {
@@ -547,6 +685,7 @@ void Loader::build_nodes(Scene& scene) {
         if (src.matrix.size() == 16) {
             for (int k = 0; k < 16; ++k)
                 glm::value_ptr(node.local)[k] = f32(path + ".matrix[" + std::to_string(k) + "]", src.matrix[static_cast<size_t>(k)]);
+            node.has_matrix = true;  // not animatable (glTF 3.7.2.1): channels on it are dropped
         } else {
             glm::vec3 t(0.0f), s(1.0f);
             glm::quat r(1.0f, 0.0f, 0.0f, 0.0f);
@@ -561,6 +700,9 @@ void Loader::build_nodes(Scene& scene) {
                 r = len > 0.0f && std::isfinite(len) ? r / len : glm::quat(1, 0, 0, 0);
             }
             node.local = glm::translate(glm::mat4(1.0f), t) * glm::mat4_cast(r) * glm::scale(glm::mat4(1.0f), s);
+            node.translation = t;
+            node.rotation = r;
+            node.scale = s;
         }
         for (int k = 0; k < 16; ++k)
             if (!std::isfinite(glm::value_ptr(node.local)[k])) fail(path, "transform has a non-finite value");
@@ -570,6 +712,26 @@ void Loader::build_nodes(Scene& scene) {
                                          std::to_string(m_.meshes.size()) + ")");
             node.mesh = src.mesh;
         }
+        if (src.skin >= 0) {
+            if (static_cast<size_t>(src.skin) >= m_.skins.size())
+                fail(path + ".skin", "skin " + std::to_string(src.skin) + " does not exist (the file has " + std::to_string(m_.skins.size()) + ")");
+            node.skin = src.skin;
+        }
+        // Morph weights: the node's own, else its mesh's defaults (zeros when the file has none).
+        own_weights_.resize(n, false);
+        if (node.mesh >= 0) {
+            const std::vector<float>& defaults = scene.meshes[static_cast<size_t>(node.mesh)].weights;
+            node.rest_weights = defaults;
+            if (!src.weights.empty()) {
+                if (src.weights.size() != defaults.size())
+                    fail(path + ".weights", "has " + std::to_string(src.weights.size()) + " weights, meshes[" + std::to_string(node.mesh) +
+                                                "] has " + std::to_string(defaults.size()) + " morph targets");
+                for (size_t k = 0; k < defaults.size(); ++k)
+                    node.rest_weights[k] = f32(path + ".weights[" + std::to_string(k) + "]", src.weights[k]);
+                own_weights_[i] = true;
+            }
+        }  // weights without a mesh: warned by the validation, nothing to morph
+        node.weights = node.rest_weights;
         if (src.camera >= 0) {
             if (static_cast<size_t>(src.camera) >= m_.cameras.size())
                 fail(path + ".camera", "camera " + std::to_string(src.camera) + " does not exist");
@@ -636,6 +798,241 @@ void Loader::build_nodes(Scene& scene) {
     }
     // With one parent per node and parentless roots, no cycle is reachable from a root.
     scene.update_world_transforms();
+}
+
+void Loader::build_skins(Scene& scene) {
+    const size_t nodes = scene.nodes.size();
+    for (size_t i = 0; i < m_.skins.size(); ++i) {
+        const tinygltf::Skin& src = m_.skins[i];
+        const std::string path = idx("skins", i);
+        Skin skin;
+        skin.name = src.name.empty() ? path : src.name;
+        if (src.joints.empty()) fail(path + ".joints", "a skin needs at least one joint");
+        for (size_t k = 0; k < src.joints.size(); ++k) {
+            const int j = src.joints[k];
+            if (j < 0 || static_cast<size_t>(j) >= nodes)
+                fail(path + ".joints[" + std::to_string(k) + "]", "node " + std::to_string(j) + " does not exist (the file has " +
+                                                                      std::to_string(nodes) + ")");
+            skin.joints.push_back(j);
+        }
+        skin.inverse_bind.assign(skin.joints.size(), glm::mat4(1.0f));
+        const int ibm = src.inverseBindMatrices;
+        if (ibm >= 0 && unavailable(ibm)) {
+            warn(path + ".inverseBindMatrices", "the data is not available; identity matrices used");
+        } else if (ibm >= 0) {
+            const std::string ipath = path + ".inverseBindMatrices";
+            int nc = 0;
+            const std::vector<float> m = read_floats(ibm, ipath, 16, &nc);
+            const tinygltf::Accessor& a = m_.accessors[static_cast<size_t>(ibm)];
+            if (a.type != TINYGLTF_TYPE_MAT4 || a.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT)
+                fail(ipath, "accessor " + std::to_string(ibm) + " must be FLOAT MAT4");
+            const size_t count = m.size() / 16;
+            if (count < skin.joints.size())
+                fail(ipath, "accessor " + std::to_string(ibm) + " has " + std::to_string(count) + " matrices for " +
+                                std::to_string(skin.joints.size()) + " joints");
+            for (size_t k = 0; k < skin.joints.size(); ++k) {
+                for (size_t c = 0; c < 16; ++c)
+                    if (!std::isfinite(m[k * 16 + c])) fail(ipath, "matrix " + std::to_string(k) + " is not finite");
+                skin.inverse_bind[k] = glm::make_mat4(m.data() + k * 16);
+            }
+        }
+        if (src.skeleton >= 0 && static_cast<size_t>(src.skeleton) < nodes) skin.skeleton = src.skeleton;
+        scene.skins.push_back(std::move(skin));
+    }
+}
+
+void Loader::build_animations(Scene& scene) {
+    for (size_t ai = 0; ai < m_.animations.size(); ++ai) {
+        const tinygltf::Animation& src = m_.animations[ai];
+        const std::string path = idx("animations", ai);
+        Animation anim;
+        anim.name = src.name.empty() ? path : src.name;
+        // Samplers: the input times (finite, strictly increasing) here; the output when a channel
+        // says how wide its elements are. Samplers the validation warned about stay empty.
+        anim.samplers.resize(src.samplers.size());
+        std::vector<bool> usable(src.samplers.size(), false);
+        std::vector<std::vector<float>> outputs(src.samplers.size());
+        std::vector<int> output_components(src.samplers.size(), 0);
+        bool any_times = false;
+        for (size_t si = 0; si < src.samplers.size(); ++si) {
+            const tinygltf::AnimationSampler& s = src.samplers[si];
+            const std::string spath = path + "." + idx("samplers", si);
+            auto exists = [&](int a) { return a >= 0 && static_cast<size_t>(a) < m_.accessors.size() && !unavailable(a); };
+            if (!exists(s.input) || !exists(s.output)) continue;  // warned by the validation
+            AnimationSampler& out = anim.samplers[si];
+            if (s.interpolation == "STEP") out.interpolation = Interpolation::step;
+            else if (s.interpolation == "CUBICSPLINE") out.interpolation = Interpolation::cubic_spline;
+            const std::string ipath = spath + ".input";
+            const tinygltf::Accessor& in = m_.accessors[static_cast<size_t>(s.input)];
+            if (in.type != TINYGLTF_TYPE_SCALAR || in.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT)
+                fail(ipath, "accessor " + std::to_string(s.input) + " must be FLOAT SCALAR (times in seconds)");
+            // An accessor without data is all zeros: valid glTF, but no keyframe times to sample.
+            if (in.bufferView < 0 && !in.sparse.isSparse && in.count > 1) {
+                warn(ipath, "accessor " + std::to_string(s.input) + " has no data (all times 0); the sampler is ignored");
+                continue;
+            }
+            int nc = 0;
+            out.times = read_floats(s.input, ipath, 1, &nc);
+            if (out.times.empty()) fail(ipath, "accessor " + std::to_string(s.input) + " has no keyframes");
+            for (size_t k = 0; k < out.times.size(); ++k) {
+                if (!std::isfinite(out.times[k]))
+                    fail(ipath, "keyframe " + std::to_string(k) + ": time " + num(out.times[k]) + " is not a finite number");
+                if (k > 0 && !(out.times[k] > out.times[k - 1]))
+                    fail(ipath, "keyframe times are not strictly increasing (keyframe " + std::to_string(k) + ": " + num(out.times[k]) +
+                                    " after " + num(out.times[k - 1]) + ")");
+            }
+            const std::string opath = spath + ".output";
+            outputs[si] = read_floats(s.output, opath, 4, &output_components[si]);
+            for (size_t k = 0; k < outputs[si].size(); ++k)
+                if (!std::isfinite(outputs[si][k]))
+                    fail(opath, "element " + std::to_string(k / static_cast<size_t>(output_components[si])) + " is not a finite number");
+            out.width = output_components[si];
+            usable[si] = true;
+            anim.start = any_times ? std::min(anim.start, out.times.front()) : out.times.front();
+            anim.end = any_times ? std::max(anim.end, out.times.back()) : out.times.back();
+            any_times = true;
+        }
+        std::vector<int> width(src.samplers.size(), 0);  // fixed by the first channel using the sampler
+        for (size_t ci = 0; ci < src.channels.size(); ++ci) {
+            const tinygltf::AnimationChannel& c = src.channels[ci];
+            const std::string cpath = path + "." + idx("channels", ci);
+            AnimationChannel channel;
+            if (c.target_path == "translation") channel.path = AnimationPath::translation;
+            else if (c.target_path == "rotation") channel.path = AnimationPath::rotation;
+            else if (c.target_path == "scale") channel.path = AnimationPath::scale;
+            else if (c.target_path == "weights") channel.path = AnimationPath::weights;
+            else continue;  // KHR_animation_pointer ("pointer"): an ignored feature; others warned by the validation
+            if (c.target_node < 0 || static_cast<size_t>(c.target_node) >= scene.nodes.size()) continue;  // warned by the validation
+            if (c.sampler < 0 || static_cast<size_t>(c.sampler) >= src.samplers.size() || !usable[static_cast<size_t>(c.sampler)]) continue;
+            const Node& node = scene.nodes[static_cast<size_t>(c.target_node)];
+            // glTF 3.11: a node given by `matrix` is not animated (the validation warns: the channel is dropped).
+            if (node.has_matrix && channel.path != AnimationPath::weights) continue;
+            const size_t si = static_cast<size_t>(c.sampler);
+            const int nc = output_components[si];
+            const int need_components = channel.path == AnimationPath::rotation ? 4 : channel.path == AnimationPath::weights ? 1 : 3;
+            if (nc != need_components)
+                fail(cpath + ".sampler", "output accessor " + std::to_string(src.samplers[si].output) + " has " + std::to_string(nc) +
+                                             " components per element; path '" + c.target_path + "' needs " + std::to_string(need_components));
+            int w = need_components;
+            if (channel.path == AnimationPath::weights) {
+                w = node.mesh >= 0 ? static_cast<int>(scene.meshes[static_cast<size_t>(node.mesh)].weights.size()) : 0;
+                if (w == 0) continue;  // no morph targets to animate: warned by the validation
+            }
+            AnimationSampler& smp = anim.samplers[si];
+            const size_t per_key = static_cast<size_t>(w) * (smp.interpolation == Interpolation::cubic_spline ? 3 : 1);
+            const size_t expect = smp.times.size() * per_key;  // floats
+            if (outputs[si].size() != expect) {
+                const size_t elements = outputs[si].size() / static_cast<size_t>(nc);
+                fail(path + "." + idx("samplers", si) + ".output",
+                     "has " + std::to_string(elements) + " elements for " + std::to_string(smp.times.size()) + " keyframes; " +
+                         std::to_string(expect / static_cast<size_t>(nc)) + " expected (" + std::to_string(smp.times.size()) + " keyframes" +
+                         (smp.interpolation == Interpolation::cubic_spline ? " x 3 for CUBICSPLINE" : "") +
+                         (channel.path == AnimationPath::weights ? " x " + std::to_string(w) + " morph targets of nodes[" +
+                                                                       std::to_string(c.target_node) + "]" : "") +
+                         ", as " + cpath + " uses it)");
+            }
+            if (width[si] != 0 && width[si] != w)
+                fail(cpath + ".sampler", "sampler " + std::to_string(si) + " is used with " + std::to_string(width[si]) + " and " +
+                                             std::to_string(w) + " values per keyframe");
+            width[si] = w;
+            smp.width = w;
+            if (smp.values.empty()) smp.values = outputs[si];
+            channel.sampler = c.sampler;
+            channel.node = c.target_node;
+            anim.channels.push_back(channel);
+        }
+        scene.animations.push_back(std::move(anim));
+    }
+}
+
+void Loader::build_deformation(Scene& scene) {
+    const size_t file_meshes = scene.meshes.size();
+    mesh_source_.resize(file_meshes);
+    for (size_t m = 0; m < file_meshes; ++m) mesh_source_[m] = m;
+    std::vector<std::vector<size_t>> users(file_meshes);
+    for (size_t i = 0; i < scene.nodes.size(); ++i)
+        if (scene.nodes[i].mesh >= 0) users[static_cast<size_t>(scene.nodes[i].mesh)].push_back(i);
+    std::vector<bool> weights_animated(scene.nodes.size(), false);
+    for (const Animation& a : scene.animations)
+        for (const AnimationChannel& c : a.channels)
+            if (c.path == AnimationPath::weights) weights_animated[static_cast<size_t>(c.node)] = true;
+    // A mesh that deforms differently per node (a skin, own or animated weights) gets one copy per
+    // node, so that each deformed primitive belongs to exactly one node. Instances that all deform
+    // alike (the mesh's default weights, no skin) keep sharing it.
+    for (size_t m = 0; m < file_meshes; ++m) {
+        if (users[m].size() < 2) continue;
+        bool has_joints = false, has_targets = false;
+        for (const Primitive& p : scene.meshes[m].primitives) has_joints |= p.skinned(), has_targets |= !p.targets.empty();
+        bool individual = false;
+        for (size_t u : users[m]) {
+            const Node& node = scene.nodes[u];
+            individual |= (has_joints && node.skin >= 0) || (has_targets && (own_weights_[u] || weights_animated[u]));
+        }
+        if (!individual) continue;
+        for (size_t k = 1; k < users[m].size(); ++k) {
+            Mesh copy = scene.meshes[m];
+            scene.meshes.push_back(std::move(copy));
+            mesh_source_.push_back(m);
+            scene.nodes[users[m][k]].mesh = static_cast<int>(scene.meshes.size()) - 1;
+        }
+    }
+    std::vector<int> owner(scene.meshes.size(), -1);
+    for (size_t i = 0; i < scene.nodes.size(); ++i)
+        if (const int m = scene.nodes[i].mesh; m >= 0 && owner[static_cast<size_t>(m)] < 0) owner[static_cast<size_t>(m)] = static_cast<int>(i);
+    for (size_t mi = 0; mi < scene.meshes.size(); ++mi) {
+        const int skin_index = owner[mi] >= 0 ? scene.nodes[static_cast<size_t>(owner[mi])].skin : -1;
+        for (size_t pi = 0; pi < scene.meshes[mi].primitives.size(); ++pi) {
+            Primitive& prim = scene.meshes[mi].primitives[pi];
+            if (prim.skinned() && skin_index >= 0) {
+                const Skin& skin = scene.skins[static_cast<size_t>(skin_index)];
+                const size_t sets = static_cast<size_t>(prim.influence_sets);
+                const size_t nv = prim.vertices.size();
+                for (size_t v = 0; v < nv; ++v)
+                    for (size_t k = 0; k < sets; ++k)
+                        for (int c = 0; c < 4; ++c)
+                            if (const unsigned j = prim.joints[v * sets + k][c]; j >= skin.joints.size())
+                                fail(primitive_path(mi, pi) + ".attributes.JOINTS_" + std::to_string(k),
+                                     "vertex " + std::to_string(v) + ": joint " + std::to_string(j) + " is out of range (skins[" +
+                                         std::to_string(skin_index) + "] of nodes[" + std::to_string(owner[mi]) + "] has " +
+                                         std::to_string(skin.joints.size()) + " joints)");
+                // Each vertex's weights sum to 1 (all zero: the vertex stays in the node's space).
+                size_t off = 0;
+                float worst = 0.0f;
+                for (size_t v = 0; v < nv; ++v) {
+                    float sum = 0.0f;
+                    for (size_t k = 0; k < sets; ++k) sum += glm::dot(prim.weights[v * sets + k], glm::vec4(1.0f));
+                    if (!(sum > 0.0f)) continue;
+                    if (std::fabs(sum - 1.0f) > 1e-3f) ++off, worst = std::max(worst, std::fabs(sum - 1.0f));
+                    if (!std::isfinite(sum)) fail(primitive_path(mi, pi) + ".attributes.WEIGHTS_0", "vertex " + std::to_string(v) + ": the weights overflow");
+                    for (size_t k = 0; k < sets; ++k) prim.weights[v * sets + k] /= sum;
+                }
+                if (off && mesh_source_[mi] == mi)  // once per primitive of the file, not per copy
+                    warn(primitive_path(mi, pi) + ".attributes.WEIGHTS_0",
+                         "the skin weights of " + std::to_string(off) + " of " + std::to_string(nv) +
+                             " vertices do not sum to 1 (off by up to " + num(worst) + "); normalised");
+            } else if (prim.skinned()) {
+                // Joints without a skin on the node that draws the mesh: drawn rigid (glTF 3.7.3).
+                prim.joints.clear();
+                prim.weights.clear();
+                prim.influence_sets = 0;
+            }
+            if (prim.skinned() || !prim.targets.empty()) prim.rest = prim.vertices;
+        }
+    }
+}
+
+// The rest pose of skins and morph targets computed by pose_scene must be usable geometry.
+void Loader::check_posed(const Scene& scene) const {
+    auto finite = [](const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); };
+    for (size_t mi = 0; mi < scene.meshes.size(); ++mi)
+        for (size_t pi = 0; pi < scene.meshes[mi].primitives.size(); ++pi) {
+            const Primitive& prim = scene.meshes[mi].primitives[pi];
+            if (!prim.deformable()) continue;
+            for (size_t v = 0; v < prim.vertices.size(); ++v)
+                if (!finite(prim.vertices[v].position) || !finite(prim.vertices[v].normal) || !finite(glm::vec3(prim.vertices[v].tangent)))
+                    fail(primitive_path(mi, pi), "vertex " + std::to_string(v) +
+                                                     " is not finite after skinning and morphing (the joints' matrices or the morph deltas overflow a 32-bit float)");
+        }
 }
 
 void Loader::build_environment(Scene& scene) {
@@ -708,6 +1105,12 @@ Scene Loader::build() {
     }
     for (size_t i = 0; i < m_.meshes.size(); ++i) scene.meshes.push_back(build_mesh(i, scene));
     build_nodes(scene);
+    build_skins(scene);
+    build_animations(scene);
+    build_deformation(scene);
+    // The rest pose (no animation), so that every consumer sees skinned and morphed geometry.
+    pose_scene(scene, -1, 0.0f);
+    check_posed(scene);
     for (Node& node : scene.nodes)
         if (std::find(unknown_lights.begin(), unknown_lights.end(), node.light) != unknown_lights.end()) node.light = -1;
     for (size_t i = 0; i < scene.nodes.size(); ++i)

@@ -300,11 +300,11 @@ public:
         check_nodes();
         check_scenes();
         check_node_loops();
+        check_skins();       // errors: what posing reads (joints, inverse bind matrices); warnings: the hierarchy
+        check_animations();  // errors: what sampling reads (times, output formats and counts); warnings: the rest
         {
-            Soft soft(*this);  // skins and animations are not implemented: their problems are warnings
-            check_skins();
+            Soft soft(*this);  // posing works without these
             check_skinned_nodes_in_scenes();
-            check_animations();
             check_variants();
         }
         return std::move(issues_);
@@ -319,6 +319,9 @@ private:
     };
     void problem(const std::string& path, const std::string& what) { issues_.push_back({soft_ == 0, path, what}); }
     void warn(const std::string& path, const std::string& what) { issues_.push_back({false, path, what}); }
+    // An error even while a Soft is alive (skins, animations and morph targets are implemented:
+    // data that posing cannot use is bad input).
+    void error(const std::string& path, const std::string& what) { issues_.push_back({true, path, what}); }
 
     const json* get(const json& obj, const char* key) const {
         if (!obj.is_object()) return nullptr;
@@ -473,9 +476,6 @@ private:
         for (const char* c : collections) {
             const json* v = get(d_, c);
             if (!v) continue;
-            const bool ignored = std::strcmp(c, "animations") == 0 || std::strcmp(c, "skins") == 0;
-            std::optional<Soft> soft;
-            if (ignored) soft.emplace(*this);
             if (!v->is_array()) {
                 problem(c, "must be an array of objects, not " + std::string(v->type_name()));
                 continue;
@@ -1053,10 +1053,10 @@ private:
             if (set_index(name, p) >= 0) return true;
         return !name.empty() && name[0] == '_';
     }
-    // Attributes Candela reads; the others (JOINTS, WEIGHTS, TEXCOORD_2+, COLOR_1+, custom) it ignores.
+    // Attributes Candela reads; the others (TEXCOORD_2+, COLOR_1+, custom) it ignores.
     static bool read_by_candela(const std::string& name) {
         return name == "POSITION" || name == "NORMAL" || name == "TANGENT" || name == "TEXCOORD_0" || name == "TEXCOORD_1" ||
-               name == "COLOR_0";
+               name == "COLOR_0" || set_index(name, "JOINTS_") >= 0 || set_index(name, "WEIGHTS_") >= 0;
     }
 
     // texCoord sets and normal maps a material asks of a primitive.
@@ -1103,16 +1103,12 @@ private:
                 }
                 const size_t t = check_primitive(prim, pp);
                 if (!targets) targets = t;
-                else if (*targets != t) {
-                    Soft soft(*this);
-                    problem(at(pp, "targets"), "has " + std::to_string(t) + " morph targets, primitive 0 has " + std::to_string(*targets));
-                }
+                else if (*targets != t)
+                    error(at(pp, "targets"), "has " + std::to_string(t) + " morph targets, primitive 0 has " + std::to_string(*targets));
             }
             morph_targets_[mi] = targets.value_or(0);
-            if (const json* w = numbers(*m, "weights", p, 0); w && w->size() != morph_targets_[mi]) {
-                Soft soft(*this);
-                problem(at(p, "weights"), "has " + std::to_string(w->size()) + " weights for " + std::to_string(morph_targets_[mi]) + " morph targets");
-            }
+            if (const json* w = numbers(*m, "weights", p, 0); w && w->size() != morph_targets_[mi])
+                error(at(p, "weights"), "has " + std::to_string(w->size()) + " weights for " + std::to_string(morph_targets_[mi]) + " morph targets");
         }
     }
 
@@ -1173,14 +1169,11 @@ private:
             if (!sets.empty() && *sets.rbegin() + 1 != static_cast<int>(sets.size()))
                 warn(ap, std::string(prefix) + "n sets are not numbered 0, 1, 2... without gaps");
         }
-        {
-            Soft soft(*this);
-            for (const auto& [name, a] : base) {
-                const int j = set_index(name, "JOINTS_");
-                if (j >= 0 && !base.count("WEIGHTS_" + std::to_string(j))) problem(ap, name + " has no matching WEIGHTS_" + std::to_string(j));
-                const int w = set_index(name, "WEIGHTS_");
-                if (w >= 0 && !base.count("JOINTS_" + std::to_string(w))) problem(ap, name + " has no matching JOINTS_" + std::to_string(w));
-            }
+        for (const auto& [name, a] : base) {
+            const int j = set_index(name, "JOINTS_");
+            if (j >= 0 && !base.count("WEIGHTS_" + std::to_string(j))) problem(ap, name + " has no matching WEIGHTS_" + std::to_string(j));
+            const int w = set_index(name, "WEIGHTS_");
+            if (w >= 0 && !base.count("JOINTS_" + std::to_string(w))) problem(ap, name + " has no matching JOINTS_" + std::to_string(w));
         }
         if (get(prim, "indices")) {
             const int64_t a = ref(prim, "indices", pp, "accessors", false, "accessor");
@@ -1210,7 +1203,8 @@ private:
             if (!needs.normal_map.empty() && !base.count("NORMAL"))
                 warn(at(pp, "material"), needs.normal_map + " needs a tangent space but the primitive has no NORMAL (flat normals are generated)");
         }
-        // Morph targets: Candela ignores them, so their problems are warnings.
+        // Morph targets: what the loader reads (POSITION, NORMAL, TANGENT deltas, one per vertex) is
+        // checked as errors; the rest (semantics it cannot morph, a delta without a base attribute) warns.
         Soft soft(*this);
         const json* targets = get(prim, "targets");
         if (!targets) return 0;
@@ -1240,13 +1234,13 @@ private:
                 const AccessorInfo& info = accessors_[static_cast<size_t>(a)];
                 if (!info.ok) continue;
                 if (vertex_count >= 0 && info.count != vertex_count)
-                    problem(ip, "accessor " + std::to_string(a) + " has " + std::to_string(info.count) + " elements, the primitive has " +
-                                    std::to_string(vertex_count));
+                    error(ip, "accessor " + std::to_string(a) + " has " + std::to_string(info.count) + " elements, the primitive has " +
+                                  std::to_string(vertex_count) + " vertices");
                 if (name == "POSITION" && (!info.has_min || !info.has_max)) problem(ip, "accessor " + std::to_string(a) + " has no min and max");
                 if (info.view >= 0 && views_[static_cast<size_t>(info.view)].target == kElementArrayBuffer)
                     problem(ip, "accessor " + std::to_string(a) + "'s bufferView is an index buffer (target 34963)");
                 if ((name == "POSITION" || name == "NORMAL" || name == "TANGENT") && info.type != "VEC3")
-                    problem(ip, "accessor " + std::to_string(a) + " must be VEC3, not " + info.type);
+                    error(ip, "accessor " + std::to_string(a) + " must be VEC3, not " + info.type);
             }
         }
         return targets->size();
@@ -1261,8 +1255,8 @@ private:
             ref(*node, "camera", p, "cameras", false);
             const int64_t mesh = ref(*node, "mesh", p, "meshes", false);
             {
-                Soft soft(*this);
                 const int64_t skin = ref(*node, "skin", p, "skins", false);
+                Soft soft(*this);
                 if (get(*node, "skin") && !get(*node, "mesh")) problem(at(p, "skin"), "a skin needs a mesh on the same node");
                 if (skin >= 0 && mesh >= 0) {
                     bool skinned = false;
@@ -1276,7 +1270,7 @@ private:
                 if (const json* w = numbers(*node, "weights", p, 0)) {
                     if (mesh < 0) problem(at(p, "weights"), "morph weights need a mesh on the same node");
                     else if (static_cast<size_t>(mesh) < morph_targets_.size() && w->size() != morph_targets_[static_cast<size_t>(mesh)])
-                        problem(at(p, "weights"), "has " + std::to_string(w->size()) + " weights, mesh " + std::to_string(mesh) + " has " +
+                        error(at(p, "weights"), "has " + std::to_string(w->size()) + " weights, mesh " + std::to_string(mesh) + " has " +
                                                       std::to_string(morph_targets_[static_cast<size_t>(mesh)]) + " morph targets");
                 }
             }
@@ -1386,8 +1380,9 @@ private:
                     problem(at(p, "inverseBindMatrices"), "accessor " + std::to_string(ibm) + " has " + std::to_string(a.count) +
                                                               " matrices for " + std::to_string(joints.size()) + " joints");
                 if (a.view >= 0 && views_[static_cast<size_t>(a.view)].stride)
-                    problem(at(p, "inverseBindMatrices"), "bufferView " + std::to_string(a.view) + " cannot have a byteStride");
+                    warn(at(p, "inverseBindMatrices"), "bufferView " + std::to_string(a.view) + " cannot have a byteStride");
             }
+            Soft soft(*this);  // informative for posing (which uses the joints' world matrices)
             const int64_t skeleton = ref(*s, "skeleton", p, "nodes", false, "node");
             if (get(*s, "joints") && joints.empty()) continue;
             bool common = true;
@@ -1402,8 +1397,11 @@ private:
         }
     }
 
+    // Errors: what sampling reads (input times as FLOAT SCALAR, an output whose format fits the
+    // path and whose count fits the input); the rest warns and the loader drops what it cannot use.
     void check_animations() {
         static const std::set<std::string> paths = {"translation", "rotation", "scale", "weights"};
+        Soft soft(*this);
         for (auto [i, anim] : items("animations")) {
             const std::string p = at("animations", i);
             const json* samplers = get(*anim, "samplers");
@@ -1436,7 +1434,7 @@ private:
                 if (io[si].first >= 0 && accessors_[static_cast<size_t>(io[si].first)].ok) {
                     const AccessorInfo& in = accessors_[static_cast<size_t>(io[si].first)];
                     if (in.type != "SCALAR" || in.component_type != kFloat)
-                        problem(at(sp, "input"), "accessor " + std::to_string(io[si].first) + " must be FLOAT SCALAR (times in seconds)");
+                        error(at(sp, "input"), "accessor " + std::to_string(io[si].first) + " must be FLOAT SCALAR (times in seconds)");
                     if (!in.has_min || !in.has_max) problem(at(sp, "input"), "accessor " + std::to_string(io[si].first) + " needs min and max");
                     if (interp[si] == "CUBICSPLINE" && in.count < 2)
                         problem(at(sp, "input"), "CUBICSPLINE needs at least 2 keyframes, accessor has " + std::to_string(in.count));
@@ -1480,7 +1478,7 @@ private:
                 if (!targets.insert({node, *path}).second) problem(tp, "node " + std::to_string(node) + " " + *path + " is animated twice");
                 const json* nj = item("nodes", node);
                 if (nj && get(*nj, "matrix") && *path != "weights")
-                    problem(tp, "node " + std::to_string(node) + " has a matrix; TRS animation needs translation/rotation/scale");
+                    warn(tp, "node " + std::to_string(node) + " has a matrix; TRS animation needs translation/rotation/scale (the channel is ignored)");
                 int64_t morphs = 0;
                 if (*path == "weights") {
                     const json* mesh = nj ? get(*nj, "mesh") : nullptr;
@@ -1500,15 +1498,18 @@ private:
                 else if (*path == "rotation") format_ok = o.type == "VEC4" && (ct == kFloat || normalized_ok);
                 else format_ok = o.type == "SCALAR" && (ct == kFloat || normalized_ok);
                 if (!format_ok)
-                    problem(at(cp, "sampler"), "output accessor " + std::to_string(out) + " (" + component_name(ct) + " " + o.type +
+                    error(at(cp, "sampler"), "output accessor " + std::to_string(out) + " (" + component_name(ct) + " " + o.type +
                                                    ") does not fit path '" + *path + "'");
                 const int64_t in = io[static_cast<size_t>(s)].first;
                 if (in >= 0 && accessors_[static_cast<size_t>(in)].ok) {
                     const int64_t expect = accessors_[static_cast<size_t>(in)].count * (interp[static_cast<size_t>(s)] == "CUBICSPLINE" ? 3 : 1) *
                                            (*path == "weights" ? std::max<int64_t>(morphs, 1) : 1);
-                    if (o.count != expect)
-                        problem(at(cp, "sampler"), "output accessor " + std::to_string(out) + " has " + std::to_string(o.count) +
-                                                       " elements, " + std::to_string(expect) + " expected");
+                    if (o.count != expect && (*path != "weights" || morphs > 0))
+                        error(at(cp, "sampler"), "output accessor " + std::to_string(out) + " has " + std::to_string(o.count) + " elements, " +
+                                                     std::to_string(expect) + " expected (input accessor " + std::to_string(in) + ": " +
+                                                     std::to_string(accessors_[static_cast<size_t>(in)].count) + " keyframes" +
+                                                     (interp[static_cast<size_t>(s)] == "CUBICSPLINE" ? " x 3 for CUBICSPLINE" : "") +
+                                                     (*path == "weights" ? " x " + std::to_string(morphs) + " morph targets" : "") + ")");
                 }
             }
         }
@@ -1607,6 +1608,7 @@ public:
 
 private:
     void warn(const std::string& path, const std::string& what) { issues_.push_back({false, path, what}); }
+    void error(const std::string& path, const std::string& what) { issues_.push_back({true, path, what}); }
 
     // Components of accessor `i` as doubles (raw values, not normalized), sparse applied; empty
     // when the accessor has no data this checker can read.
@@ -1809,7 +1811,7 @@ private:
     }
 
     // Skin weights (spec 3.7.3.3): non-negative; a joint appears once per vertex with a non-zero
-    // weight. Skins are ignored, so these are warnings.
+    // weight. Warnings: the loader clamps negative weights to 0 and normalises the sums.
     void check_weights(const json& attrs, int set, const std::string& path) {
         if (set != 0) return;  // all sets are summed together, once
         std::vector<const std::vector<double>*> ws, js;
@@ -1847,7 +1849,7 @@ private:
                     }
                 }
             }
-            (void)sum;  // not checked: exported models (RiggedFigure) often sum to 0.9, and skins are ignored
+            (void)sum;  // not checked here: the loader normalises each vertex's weights (and warns once per primitive)
         }
     }
 
@@ -1865,18 +1867,35 @@ private:
                 int64_t ct = 0;
                 bool norm = false;
                 const auto* in = accessor_values(s["input"], &nc, &ct, &norm);
-                const std::string p = at(at(at(at("animations", ai), "samplers"), si), "input");
-                if (!in || nc != 1) continue;
-                for (size_t k = 0; k < in->size(); ++k) {
-                    if ((*in)[k] < 0) {
-                        warn(p, "keyframe time " + num((*in)[k]) + " is negative");
-                        break;
+                const std::string sp = at(at(at("animations", ai), "samplers"), si);
+                const std::string p = at(sp, "input");
+                // Errors: the times must be finite and strictly increasing (sampling searches them),
+                // the output values finite.
+                bool negative = false;
+                if (in && nc == 1)
+                    for (size_t k = 0; k < in->size(); ++k) {
+                        if (!std::isfinite((*in)[k])) {
+                            error(p, "keyframe " + std::to_string(k) + ": time " + num((*in)[k]) + " is not a finite number");
+                            break;
+                        }
+                        if (k > 0 && !((*in)[k] > (*in)[k - 1])) {
+                            error(p, "keyframe times are not strictly increasing (keyframe " + std::to_string(k) + ": " + num((*in)[k]) +
+                                         " after " + num((*in)[k - 1]) + ")");
+                            break;
+                        }
+                        if ((*in)[k] < 0 && !negative) {
+                            warn(p, "keyframe time " + num((*in)[k]) + " is negative");
+                            negative = true;
+                        }
                     }
-                    if (k > 0 && !((*in)[k] > (*in)[k - 1])) {
-                        warn(p, "keyframe times are not strictly increasing (element " + std::to_string(k) + ")");
-                        break;
-                    }
-                }
+                if (!s.contains("output")) continue;
+                const auto* out = accessor_values(s["output"], &nc, &ct, &norm);
+                if (out && ct == kFloat)
+                    for (size_t k = 0; k < out->size(); ++k)
+                        if (!std::isfinite((*out)[k])) {
+                            error(at(sp, "output"), "element " + std::to_string(k / size_t(std::max(nc, 1))) + " is not a finite number");
+                            break;
+                        }
             }
             if (!a.contains("channels") || !a["channels"].is_array()) continue;
             for (size_t ci = 0; ci < a["channels"].size(); ++ci) {
@@ -2011,8 +2030,8 @@ std::vector<IgnoredFeature> ignored_features(const nlohmann::json& doc) {
         return it != doc.end() && it->is_array() && !it->empty() ? &*it : nullptr;
     };
     auto counted = [](size_t n, const char* one, const char* many) { return std::to_string(n) + " " + (n == 1 ? one : many); };
-    if (const json* s = collection("skins")) out.push_back({counted(s->size(), "skin", "skins"), "skins[0]"});
-    if (const json* a = collection("animations")) out.push_back({counted(a->size(), "animation", "animations"), "animations[0]"});
+    // Skins, animations and POSITION/NORMAL/TANGENT morph targets are implemented (issue 21);
+    // morph targets of texture coordinates or colours are not.
     if (const json* meshes = collection("meshes")) {
         size_t n = 0;
         std::string first;
@@ -2022,14 +2041,20 @@ std::vector<IgnoredFeature> ignored_features(const nlohmann::json& doc) {
             bool morphed = false;
             for (size_t pi = 0; pi < m["primitives"].size(); ++pi) {
                 const json& p = m["primitives"][pi];
-                if (p.is_object() && p.contains("targets") && p["targets"].is_array() && !p["targets"].empty()) {
-                    if (first.empty()) first = at(at(at("meshes", mi), "primitives"), pi) + ".targets";
-                    morphed = true;
+                if (!p.is_object() || !p.contains("targets") || !p["targets"].is_array()) continue;
+                for (size_t ti = 0; ti < p["targets"].size(); ++ti) {
+                    const json& t = p["targets"][ti];
+                    if (!t.is_object()) continue;
+                    for (auto it = t.begin(); it != t.end(); ++it)
+                        if (set_index(it.key(), "TEXCOORD_") >= 0 || set_index(it.key(), "COLOR_") >= 0) {
+                            if (first.empty()) first = at(at(at(at(at("meshes", mi), "primitives"), pi), "targets"), ti) + "." + it.key();
+                            morphed = true;
+                        }
                 }
             }
             n += morphed;
         }
-        if (n) out.push_back({"morph targets on " + counted(n, "mesh", "meshes"), first});
+        if (n) out.push_back({"morph targets of texture coordinates or colours on " + counted(n, "mesh", "meshes"), first});
     }
     // Extensions: every object carrying one Candela does not implement, counted per kind.
     struct Use {

@@ -6,10 +6,13 @@
 //
 // Severity policy: a problem that would make Candela's picture wrong or its reads unsafe (an
 // unresolved reference, an accessor outside its buffer, a wrong component type, a broken node
-// hierarchy, an impossible camera) is an error: the load fails with bad_input (exit 2). A problem
-// in data Candela ignores anyway (animations, skins, morph targets, extensions it does not
-// implement) or one the loader repairs (a non-unit rotation, min/max that disagree with the data)
-// is a warning. Messages name the JSON path, e.g. "accessors[0].bufferView: bufferView 3 does not
+// hierarchy, an impossible camera; for skins, animations and morph targets: what posing reads,
+// i.e. joints that are not nodes, too few inverse bind matrices, keyframe times that are not
+// finite and strictly increasing, non-finite keyframe values, output formats or counts that do
+// not fit the input and the path, morph target counts that disagree) is an error: the load fails
+// with bad_input (exit 2). A problem in data Candela ignores anyway (extensions it does not
+// implement, a channel it drops) or one the loader repairs (a non-unit rotation, min/max that
+// disagree with the data, skin weights that do not sum to 1) is a warning. Messages name the JSON path, e.g. "accessors[0].bufferView: bufferView 3 does not
 // exist (the file has 1)".
 #include <cstdint>
 #include <string>
@@ -40,9 +43,9 @@ std::vector<Issue> validate_document(const nlohmann::json& doc, bool glb, int64_
 // bytes of buffers[i]; call only after validate_document found no error.
 std::vector<Issue> validate_data(const nlohmann::json& doc, const std::vector<std::string_view>& buffers);
 
-// The glTF features the file uses that Candela does not implement, one phrase each ("1 skin",
-// "3 animations", "morph targets on 2 meshes", "KHR_materials_clearcoat on 4 materials"), with the
-// JSON path of the first occurrence.
+// The glTF features the file uses that Candela does not implement, one phrase each
+// ("KHR_materials_clearcoat on 4 materials", "morph targets of texture coordinates or colours on
+// 1 mesh"), with the JSON path of the first occurrence.
 struct IgnoredFeature {
     std::string phrase;
     std::string first_path;
