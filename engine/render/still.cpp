@@ -82,7 +82,10 @@ void FrameLoop::set_pose(Scene& scene, int animation, float time) {
     update_motion(scene, *gpu_, animation, time, options_.settings);
     options_.animation = animation;
     options_.time = time;
-    camera_ = scene.select_camera(options_.camera, static_cast<float>(options_.width) / static_cast<float>(options_.height));
+    // A glTF camera follows its (maybe animated) node; the framing camera stays where the first
+    // frame put it, so a sequence does not zoom with the pose's bounds.
+    const Camera c = scene.select_camera(options_.camera, static_cast<float>(options_.width) / static_cast<float>(options_.height));
+    if (c.node >= 0) camera_ = c;
 }
 
 StillResult render_still(const Scene& scene, const ShaderLibrary& shaders, const StillOptions& options) {

@@ -1,19 +1,26 @@
 // Golden-image check of one sample scene on one backend:
 //   candela_golden SCENE.gltf GOLDEN.png OUT_DIR --backend egl|osmesa [--size WxH] [--update]
+//                  [--animation N|NAME --time T] [--orbit DEGREES]
+// --animation/--time pose the scene (issue 21); --orbit turns the framing camera about the bounds'
+// vertical axis (a side view of an animated model).
 // Renders with GL debug output on; fails on any GL error, any non-finite pixel, or more than
 // 0.1 % of pixels differing by more than 2/255 from the golden (shared/DESIGN.md section 5).
 // On failure the actual image and a heat-map diff are written to OUT_DIR and their paths printed.
 // --update (used only by the `update-goldens` target) overwrites the golden instead.
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <string>
 #include <vector>
+
+#include <glm/gtc/matrix_transform.hpp>
 
 #include "core/error.hpp"
 #include "gl/debug.hpp"
 #include "image/image.hpp"
 #include "platform/context.hpp"
 #include "render/still.hpp"
+#include "scene/animation.hpp"
 #include "scene/gltf_loader.hpp"
 #include "scene/lighting.hpp"
 
@@ -36,6 +43,8 @@ int main(int argc, char** argv) {
     options.width = options.height = 256;
     bool update = false;
     std::vector<std::string> knobs;
+    std::string animation;
+    float time = 0.0f, orbit = 0.0f;
     for (int i = 4; i < argc; ++i) {
         const std::string a = argv[i];
         if (a == "--update") update = true;
@@ -43,6 +52,9 @@ int main(int argc, char** argv) {
         else if (a == "--size" && i + 1 < argc) std::sscanf(argv[++i], "%dx%d", &options.width, &options.height);
         else if (a == "--path" && i + 1 < argc) knobs.push_back(std::string("render.path=") + argv[++i]);  // forward|deferred: one golden for both
         else if (a == "--set" && i + 1 < argc) knobs.push_back(argv[++i]);
+        else if (a == "--animation" && i + 1 < argc) animation = argv[++i];
+        else if (a == "--time" && i + 1 < argc) time = std::strtof(argv[++i], nullptr);
+        else if (a == "--orbit" && i + 1 < argc) orbit = std::strtof(argv[++i], nullptr);
         else {
             std::fprintf(stderr, "candela_golden: unknown argument '%s'\n", a.c_str());
             return 2;
@@ -51,6 +63,19 @@ int main(int argc, char** argv) {
     try {
         for (const std::string& knob : knobs) apply_knob(options.settings, knob);
         Scene scene = load_gltf(scene_path);
+        if (!animation.empty()) {
+            options.animation = find_animation(scene, animation);
+            options.time = time;
+            pose_scene(scene, options.animation, time);
+        }
+        if (orbit != 0.0f) {
+            Camera cam = framing_camera(scene.world_bounds());
+            const glm::vec3 c = scene.world_bounds().center();
+            cam.world = glm::translate(glm::mat4(1.0f), c) * glm::rotate(glm::mat4(1.0f), glm::radians(orbit), glm::vec3(0, 1, 0)) *
+                        glm::translate(glm::mat4(1.0f), -c) * cam.world;
+            cam.name = "orbit";
+            scene.cameras.insert(scene.cameras.begin(), cam);  // the first camera is the default
+        }
         // As `candela render`: a file without lights gets the default rig (--lighting auto).
         apply_lighting(scene, LightingMode::auto_select,
                        scene.select_camera(options.camera, static_cast<float>(options.width) / static_cast<float>(options.height)));
@@ -75,7 +100,7 @@ int main(int argc, char** argv) {
             ++failures;
         }
         fs::create_directories(out_dir);
-        const std::string stem = scene_path.stem().string() + "." + to_string(backend) + "." + choice_name(kRenderPaths, options.settings.path);
+        const std::string stem = golden.stem().string() + "." + to_string(backend) + "." + choice_name(kRenderPaths, options.settings.path);
         const fs::path actual_path = out_dir / (stem + ".actual.png");
         write_display_rgba8(actual_path, result.display, options.width, options.height);
         if (update) {

@@ -15,6 +15,8 @@
 #include "render/still.hpp"
 #include "rt/ray_tracer.hpp"
 #include "scene/animation.hpp"
+#include "scene/gltf_loader.hpp"
+#include "scene/lighting.hpp"
 #include "scene/mesh_utils.hpp"
 
 namespace candela {
@@ -340,6 +342,75 @@ TEST_P(SkinRasterTracerTest, RasterAndTracerAgreeOnTheBentBar) {
     EXPECT_GT(moved, 100) << "the pose must move the bar's right half";
     EXPECT_LE(differ, covered / 25) << differ << " of " << covered << " pixels differ between raster and tracer";
 }
+
+// MorphStressTest (Khronos sample, tests/data/models): its animation's weights deform it as the
+// file says. The posed vertices are the rest ones plus the targets weighted by the file's own
+// sampler at that time, and the image at that time equals the one rendered from those weights set
+// by hand (no animation), and differs from the rest pose.
+class MorphStressTest : public test::GlContextTest {};
+
+TEST_P(MorphStressTest, AnimatedWeightsDeformItAsTheFileSays) {
+    Scene scene = load_gltf(std::filesystem::path(CANDELA_SOURCE_DIR) / "tests/data/models/MorphStressTest/MorphStressTest.gltf");
+    ASSERT_FALSE(scene.animations.empty());
+    apply_lighting(scene, LightingMode::auto_select, scene.select_camera("", 4.0f / 3.0f));  // the default rig, as render does
+    const int anim = find_animation(scene, "TheWave");
+    const float t = 1.0f;
+    // The file's weights at t, from its sampler.
+    const Animation& a = scene.animations[static_cast<size_t>(anim)];
+    ASSERT_EQ(a.channels.size(), 1u);
+    ASSERT_EQ(a.channels[0].path, AnimationPath::weights);
+    const AnimationSampler& smp = a.samplers[static_cast<size_t>(a.channels[0].sampler)];
+    std::vector<float> w(static_cast<size_t>(smp.width));
+    sample_animation(smp, AnimationPath::weights, t, w.data());
+    float wsum = 0.0f;
+    for (float x : w) wsum += x;
+    ASSERT_GT(wsum, 0.1f) << "the wave must be under way at t = 1";
+    const int node = a.channels[0].node;
+    const Mesh& mesh = scene.meshes[static_cast<size_t>(scene.nodes[static_cast<size_t>(node)].mesh)];
+
+    const ShaderLibrary lib(ShaderLibrary::default_root());
+    StillOptions so;
+    so.width = 128;
+    so.height = 96;
+    apply_effects(so.settings, "none");
+    FrameLoop loop(scene, lib, so);  // one context, GPU scene and program set for all three poses
+    auto raster = [&] {
+        loop.measure_frame();
+        StillResult r = loop.finish();
+        EXPECT_EQ(count_nonfinite(r.radiance), 0u);
+        return r.radiance;
+    };
+    const ImageF rest = raster();
+    loop.set_pose(scene, anim, t);
+    // Vertices: rest + sum_k w_k delta_k.
+    double worst = 0.0;
+    for (const Primitive& p : mesh.primitives) {
+        if (p.targets.empty()) continue;
+        for (size_t v = 0; v < p.vertices.size(); v += 7) {
+            glm::vec3 want = p.rest[v].position;
+            for (size_t k = 0; k < p.targets.size() && k < w.size(); ++k)
+                if (v < p.targets[k].position.size()) want += w[k] * p.targets[k].position[v];
+            worst = std::max(worst, static_cast<double>(glm::distance(want, p.vertices[v].position)));
+        }
+    }
+    EXPECT_LT(worst, 1e-5);
+    const ImageF posed = raster();
+    // The same weights by hand, without the animation.
+    scene.nodes[static_cast<size_t>(node)].rest_weights = w;
+    loop.set_pose(scene, -1, 0.0f);
+    const ImageF by_hand = raster();
+    int changed = 0, mismatched = 0;
+    for (int y = 0; y < rest.height; ++y)
+        for (int x = 0; x < rest.width; ++x) {
+            changed += std::fabs(posed.at(x, y)[0] - rest.at(x, y)[0]) + std::fabs(posed.at(x, y)[1] - rest.at(x, y)[1]) > 0.05f;
+            mismatched += std::fabs(posed.at(x, y)[0] - by_hand.at(x, y)[0]) > 1e-4f;
+        }
+    EXPECT_GT(changed, 30) << "the weights must change the image";
+    EXPECT_EQ(mismatched, 0);
+}
+
+// EGL only: both backends are the same llvmpipe; the Fox goldens run on both.
+INSTANTIATE_TEST_SUITE_P(Backends, MorphStressTest, ::testing::Values(Backend::egl), test::backend_name);
 
 INSTANTIATE_TEST_SUITE_P(Backends, SkinRasterTracerTest, ::testing::Values(Backend::egl, Backend::osmesa), test::backend_name);
 
