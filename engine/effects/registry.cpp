@@ -4,6 +4,7 @@
 #include "effects/area_lights/area_lights.hpp"
 #include "effects/dof/dof.hpp"
 #include "effects/gi/gi.hpp"
+#include "effects/motion_blur/motion_blur.hpp"
 #include "effects/reflections/reflections.hpp"
 #include "effects/rsm/rsm.hpp"
 #include "effects/shadows/shadows.hpp"
@@ -25,6 +26,7 @@ const std::vector<const Effect*>& effect_registry() {
         &rsm_effect(),
         &transparency_effect(),
         &aa_effect(),
+        &motion_blur_effect(),  // before dof: see docs/motion_blur.md (its velocity and depth match the sharp image)
         &dof_effect(),
     };
     return all;

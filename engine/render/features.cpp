@@ -41,9 +41,10 @@ const EffectDecision& Features::decision(std::string_view name) const {
     throw Error(ExitCode::internal, "no effect named '" + std::string(name) + "'");
 }
 
-Features analyze(const Scene& scene, const RenderSettings& s, const IndirectEstimate* indirect, const Camera* camera) {
+Features analyze(const Scene& scene, const RenderSettings& s, const IndirectEstimate* indirect, const Camera* camera, int moving_draws) {
     Features f;
     f.source = &scene;
+    f.moving_draws = moving_draws;
     // The lens of the camera the frames use (without one: the settings' lens, else a pinhole).
     if (camera) {
         const Camera lens = with_lens(*camera, s);

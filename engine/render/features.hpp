@@ -66,8 +66,9 @@ struct Features {
 };
 
 // `camera`: the camera the frames use (its lens plans depth of field); nullptr: the settings' lens.
+// `moving_draws`: Features::moving_draws, counted by the renderer (the motion blur decides on it).
 Features analyze(const Scene& scene, const RenderSettings& settings, const IndirectEstimate* indirect = nullptr,
-                 const Camera* camera = nullptr);
+                 const Camera* camera = nullptr, int moving_draws = 0);
 
 // The raster passes a frame runs, in order, with the reason for each; the renderer builds its
 // frame graph from exactly this list (so `candela info` shows what will run).

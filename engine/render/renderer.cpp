@@ -53,8 +53,7 @@ void Renderer::set_settings(const RenderSettings& settings) {
 }
 
 void Renderer::plan() {
-    features_ = analyze(scene_, settings_, indirect_estimate_ ? &*indirect_estimate_ : nullptr, camera_ ? &*camera_ : nullptr);
-    features_.moving_draws = moving_draws_;
+    features_ = analyze(scene_, settings_, indirect_estimate_ ? &*indirect_estimate_ : nullptr, camera_ ? &*camera_ : nullptr, moving_draws_);
     const LightSetup& ls = features_.lights;
     gpu_.update_lights(ls.area_samples, ls.shadows, ls.cascades, ls.max_shadowed);
     features_.area_light_pieces = gpu_.light_count() - gpu_.punctual_light_count();

@@ -22,6 +22,7 @@
 #include "render/renderer.hpp"
 #include "render/still.hpp"
 #include "rt/ray_tracer.hpp"
+#include "scene/animation.hpp"
 #include "scene/generate.hpp"
 #include "scene/gltf_loader.hpp"
 
@@ -119,13 +120,51 @@ Scene load(const Run& c, const std::string& name) {
     if (name.rfind("generated:lights:", 0) == 0) return make_many_lights_scene(std::stoi(name.substr(17)));
     if (name == "generated:dof") return make_dof_scene();
     if (name == "generated:edges") return make_edges_scene();
+    if (name == "generated:motion") return make_motion_scene();
     const fs::path p = fs::path(name).has_parent_path() ? fs::path(name) : c.o.scene_dir / name;
     return load_gltf(p);
 }
 
+// The time a sweep's scene is shown at, and its shutter. Animated scenes (motion blur) are posed
+// at a fixed time: animation 0 at its midpoint, (start + end) / 2; the shutter (camera.shutter of
+// the sweep's first variant, at camera.fps) is centred on it. The raster frame is the pose at that
+// time with GpuScene::set_motion of the poses at open and close; the tracer poses the scene at
+// its samples' times in the shutter (rt::Options::pose_at).
+struct SceneTime {
+    Scene* scene = nullptr;
+    int animation = -1;  // -1: not animated
+    float time = 0.0f;
+    ShutterInterval shutter;
+    bool moving() const { return scene && animation >= 0 && !shutter.instant(); }
+};
+
+SceneTime pose_for_sweep(Scene& scene, const RenderSettings& s) {
+    SceneTime t;
+    t.scene = &scene;
+    if (scene.animations.empty()) return t;
+    t.animation = 0;
+    const Animation& a = scene.animations.front();
+    t.time = 0.5f * (a.start + a.end);
+    t.shutter = shutter_interval(t.time, s.camera.shutter, s.camera.fps);
+    pose_scene(scene, t.animation, t.time);
+    return t;
+}
+
+// The raster side: the poses at shutter open and close (the frame's pose is the scene's own).
+void set_sweep_motion(GpuScene& gpu, const SceneTime& t) {
+    if (t.moving()) gpu.set_motion(evaluate_pose(*t.scene, t.animation, t.shutter.open), evaluate_pose(*t.scene, t.animation, t.shutter.close));
+}
+
 rt::Result trace(const Run& c, const Scene& scene, GpuScene& gpu, const AccuracySweep::Reference& r, int spp, std::uint32_t seed,
-                 const RenderSettings& settings) {
+                 const RenderSettings& settings, const SceneTime* motion = nullptr) {
     rt::Options o;
+    if (motion && motion->moving()) {
+        // The exact motion blur: each time slice of the shutter poses the scene (the tracer leaves
+        // it at the shutter's centre, the sweep's time, when it is done).
+        const SceneTime m = *motion;
+        o.pose_at = [m](float u) { pose_scene(*m.scene, m.animation, m.shutter.open + u * (m.shutter.close - m.shutter.open)); };
+        o.shutter_slices = settings.rt.shutter_slices;
+    }
     o.mode = r.mode;
     o.spp = spp;
     o.max_depth = r.max_depth;
@@ -152,9 +191,10 @@ struct Reference {
     int spp = 0;
 };
 
-Reference make_reference(const Run& c, const Scene& scene, GpuScene& gpu, const AccuracySweep::Reference& r, const RenderSettings& s) {
-    const rt::Result a = trace(c, scene, gpu, r, r.spp, 1, s);
-    const rt::Result b = trace(c, scene, gpu, r, r.spp, 2, s);
+Reference make_reference(const Run& c, const Scene& scene, GpuScene& gpu, const AccuracySweep::Reference& r, const RenderSettings& s,
+                         const SceneTime* motion = nullptr) {
+    const rt::Result a = trace(c, scene, gpu, r, r.spp, 1, s, motion);
+    const rt::Result b = trace(c, scene, gpu, r, r.spp, 2, s, motion);
     if (count_nonfinite(a.image) || count_nonfinite(b.image) || a.nonfinite_samples || b.nonfinite_samples)
         throw Error(ExitCode::internal, std::string("accuracy: non-finite values in a ") + rt::to_string(r.mode) + " reference");
     Reference ref;
@@ -558,14 +598,16 @@ int run_accuracy(const AccuracyOptions& o) {
             measure_errors(unbounded, unbounded.image, ref, Buffer::radiance);
             rows.push_back(std::move(unbounded));
         } else {
-            const Scene scene = load(c, j.scene);
-            GpuScene gpu(scene);
+            Scene scene = load(c, j.scene);
             const RenderSettings base = variant_settings(s, s.variants.front());
-            const Reference ref = make_reference(c, scene, gpu, *s.reference, base);
+            const SceneTime when = pose_for_sweep(scene, base);  // animated: animation 0 at its midpoint
+            GpuScene gpu(scene);
+            set_sweep_motion(gpu, when);
+            const Reference ref = make_reference(c, scene, gpu, *s.reference, base, &when);
             progress.step(s.effect + ": reference");
             std::optional<Reference> split;
             if (s.split) {
-                split = make_reference(c, scene, gpu, *s.split, base);
+                split = make_reference(c, scene, gpu, *s.split, base, &when);
                 sec.occlusion_rmse = compare(ref.image, split->image, 2.0 / 255.0).rmse;
                 progress.step(s.effect + ": reference without occlusion");
             }
@@ -619,6 +661,9 @@ int run_accuracy(const AccuracyOptions& o) {
           "(RMSE of the two seeds / 2) is printed; an error within 1.5x of it is reported as *at noise floor*. "
           "Anti-aliasing (aa) is measured on the edge pixels only: those whose 3x3 neighbourhood in the reference "
           "spans more than a tenth of its largest luminance.\n"
+       << "- Animated scenes (motion blur) are shown at a fixed time: animation 0 at its midpoint, (start + end) / 2, "
+          "with the shutter (camera.shutter of the sweep's first variant, a fraction of a frame at camera.fps) centred on it; "
+          "the reference traces every sample at its own time in the shutter on the scene posed then.\n"
        << "- Pareto rows (no other row is both faster and more accurate) are marked **P**; the plot's red line is the "
           "front, the dashed lines the reference noise and the ray tracer's time for the reference.\n\n";
     for (Section& sec : sections) {

@@ -10,7 +10,7 @@ import sys
 rows = list(csv.DictReader(open(sys.argv[1])))
 problems = []
 effects = {r["effect"] for r in rows}
-for e in ["shadows", "shadows_colour", "area_lights", "ssao", "rsm", "gi", "transparency", "reflections", "dof", "aa", "forward_deferred", "ray_tracer", "ray_tracer_depth"]:
+for e in ["shadows", "shadows_colour", "area_lights", "ssao", "rsm", "gi", "transparency", "reflections", "dof", "aa", "motion_blur", "forward_deferred", "ray_tracer", "ray_tracer_depth"]:
     if e not in effects:
         problems.append(f"no rows for {e}")
 
@@ -76,6 +76,15 @@ if "32 samples" in dof and "pinhole (no DOF)" in dof:
         problems.append(f"dof: '32 samples' has error {dof['32 samples']:.5g}, not below the pinhole's {dof['pinhole (no DOF)']:.5g}")
 else:
     problems.append(f"dof: missing variants (have {sorted(dof)})")
+
+# Motion blur (issue 21): the shipped reconstruction is closer to the tracer's exact motion blur
+# than the sharp frame at the shutter's centre.
+mb = {r["variant"]: f(r, "rmse") for r in rows if r["effect"] == "motion_blur"}
+if "15 samples" in mb and "no motion blur" in mb:
+    if not mb["15 samples"] < mb["no motion blur"]:
+        problems.append(f"motion_blur: '15 samples' has error {mb['15 samples']:.5g}, not below the sharp frame's {mb['no motion blur']:.5g}")
+else:
+    problems.append(f"motion_blur: missing variants (have {sorted(mb)})")
 
 # The depth cap: the same paths up to the cap, so the error is the truncation alone. It falls as the
 # cap rises, and the default (no cap) is the reference itself.

@@ -1,0 +1,157 @@
+// generated:motion, the motion-blur scene (issue 21): a glTF-style animation (LINEAR samplers)
+// moves two boxes in view over a checkered floor and back wall, lit by one directional light.
+// - "slider": a red and cream banded box that translates along x from -12 to +12 over the
+//   animation's one second (24 units/s: at 30 fps with camera.shutter=1 it moves 0.8 units, about
+//   30 pixels at 320 x 240, during the shutter); it is at x = 0, mid-screen, at t = 0.5.
+// - "spinner": a box of two colours, right of centre and floating, turning about the view axis
+//   (z) twice per second (nine rotation keys 90 degrees apart, slerped: 24 degrees per shutter).
+// Animation 0, "motion", spans [0, 1] s; the accuracy bench poses it at its midpoint, 0.5 s.
+#include <cmath>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "scene/generate.hpp"
+#include "scene/mesh_utils.hpp"
+
+namespace candela {
+namespace {
+
+void add_quad(Primitive& p, glm::vec3 o, glm::vec3 eu, glm::vec3 ev) {
+    const glm::vec3 n = glm::normalize(glm::cross(eu, ev));
+    const auto base = static_cast<std::uint32_t>(p.vertices.size());
+    for (const glm::vec3& q : {o, o + eu, o + eu + ev, o + ev}) {
+        Vertex vert;
+        vert.position = q;
+        vert.normal = n;
+        p.vertices.push_back(vert);
+    }
+    p.indices.insert(p.indices.end(), {base, base + 1, base + 2, base, base + 2, base + 3});
+}
+
+Material lambert(const char* name, glm::vec3 colour) {
+    Material m;
+    m.name = name;
+    m.base_color = glm::vec4(colour, 1.0f);
+    m.metallic = 0.0f;
+    m.roughness = 0.9f;
+    return m;
+}
+
+}  // namespace
+
+Scene make_motion_scene() {
+    Scene scene;
+    scene.source = "generated:motion";
+    enum { white, dark, red, cream, yellow, blue, pale };
+    scene.materials = {lambert("white", glm::vec3(0.8f)),    lambert("dark", glm::vec3(0.05f)),
+                       lambert("red", {0.8f, 0.08f, 0.05f}), lambert("cream", {0.85f, 0.8f, 0.65f}),
+                       lambert("yellow", {0.9f, 0.75f, 0.1f}), lambert("blue", {0.05f, 0.15f, 0.7f}),
+                       lambert("pale", {0.75f, 0.85f, 0.75f})};
+    // A node with a two-primitive mesh at `t`; returns its index.
+    auto add_mesh = [&](const char* name, Primitive a, int ma, Primitive b, int mb, glm::vec3 t) {
+        a.material = ma;
+        b.material = mb;
+        compute_bounds(a);
+        compute_bounds(b);
+        scene.meshes.push_back({name, {std::move(a), std::move(b)}, {}});
+        Node node;
+        node.name = name;
+        node.mesh = static_cast<int>(scene.meshes.size()) - 1;
+        node.translation = t;
+        node.local = glm::translate(glm::mat4(1.0f), t);
+        scene.roots.push_back(static_cast<int>(scene.nodes.size()));
+        scene.nodes.push_back(node);
+        return static_cast<int>(scene.nodes.size()) - 1;
+    };
+
+    // Back wall (z = -4) and floor (y = 0): 1 x 1 checkers.
+    {
+        Primitive a, b;
+        for (int i = -10; i < 10; ++i)
+            for (int j = 0; j < 8; ++j)
+                add_quad((i + j) % 2 == 0 ? a : b, {static_cast<float>(i), static_cast<float>(j), -4.0f}, {1, 0, 0}, {0, 1, 0});
+        add_mesh("wall", std::move(a), white, std::move(b), dark, glm::vec3(0.0f));
+    }
+    {
+        Primitive a, b;
+        for (int i = -10; i < 10; ++i)
+            for (int k = -4; k < 10; ++k)
+                add_quad((i + k) % 2 == 0 ? a : b, {static_cast<float>(i), 0.0f, static_cast<float>(k) + 1.0f}, {1, 0, 0}, {0, 0, -1});
+        add_mesh("floor", std::move(a), pale, std::move(b), dark, glm::vec3(0.0f));
+    }
+    // The slider: a 0.8 box of red and cream bands 0.2 wide (vertical: the blur runs across them),
+    // resting on the floor, centred on its node.
+    int slider = -1;
+    {
+        Primitive a, b;
+        for (int k = 0; k < 4; ++k) {
+            const float x = -0.4f + 0.2f * static_cast<float>(k);
+            append_box(k % 2 == 0 ? a : b, {x, -0.4f, -0.4f}, {x + 0.2f, 0.4f, 0.4f});
+        }
+        slider = add_mesh("slider", std::move(a), red, std::move(b), cream, {0.0f, 0.4f, 0.5f});
+    }
+    // The spinner: a 1.0 x 0.6 x 0.6 box, yellow on the left half and blue on the right, floating
+    // right of centre.
+    int spinner = -1;
+    {
+        Primitive a, b;
+        append_box(a, {-0.5f, -0.3f, -0.3f}, {0.0f, 0.3f, 0.3f});
+        append_box(b, {0.0f, -0.3f, -0.3f}, {0.5f, 0.3f, 0.3f});
+        spinner = add_mesh("spinner", std::move(a), yellow, std::move(b), blue, {2.2f, 1.6f, 0.0f});
+    }
+
+    Animation anim;
+    anim.name = "motion";
+    {
+        AnimationSampler s;
+        s.times = {0.0f, 1.0f};
+        s.values = {-12.0f, 0.4f, 0.5f, 12.0f, 0.4f, 0.5f};
+        s.width = 3;
+        s.interpolation = Interpolation::linear;
+        anim.samplers.push_back(s);
+        anim.channels.push_back({0, slider, AnimationPath::translation});
+    }
+    {
+        AnimationSampler s;
+        s.width = 4;
+        s.interpolation = Interpolation::linear;
+        for (int k = 0; k <= 8; ++k) {
+            const float half = 0.5f * static_cast<float>(k) * 0.5f * 3.14159265f;  // half of k * 90 degrees
+            s.times.push_back(static_cast<float>(k) / 8.0f);
+            s.values.insert(s.values.end(), {0.0f, 0.0f, std::sin(half), std::cos(half)});  // xyzw about +z
+        }
+        anim.samplers.push_back(s);
+        anim.channels.push_back({1, spinner, AnimationPath::rotation});
+    }
+    anim.start = 0.0f;
+    anim.end = 1.0f;
+    scene.animations.push_back(anim);
+
+    Light sun;
+    sun.name = "sun";
+    sun.type = LightType::directional;
+    sun.intensity = 3.0f;
+    scene.lights.push_back(sun);
+    Node l;
+    l.name = "sun";
+    l.light = 0;
+    // From above, behind the camera and from the left (a light points along its -Z): the shadows
+    // fall behind and right of the boxes.
+    const glm::vec3 to_light = glm::normalize(glm::vec3(-0.4f, 0.9f, 0.5f));
+    const glm::vec3 side = glm::normalize(glm::cross(glm::vec3(0, 1, 0), to_light));
+    l.local = glm::mat4(glm::mat3(side, glm::cross(to_light, side), to_light));
+    scene.roots.push_back(static_cast<int>(scene.nodes.size()));
+    scene.nodes.push_back(l);
+
+    Camera camera;
+    camera.name = "motion";
+    camera.yfov = 0.7f;
+    camera.znear = 0.05f;
+    const glm::vec3 eye(0.0f, 2.2f, 8.0f), target(0.6f, 0.9f, 0.0f);
+    camera.world = glm::inverse(glm::lookAt(eye, target, glm::vec3(0, 1, 0)));
+    scene.cameras.push_back(camera);
+    scene.update_world_transforms();
+    return scene;
+}
+
+}  // namespace candela
