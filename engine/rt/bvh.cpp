@@ -9,6 +9,7 @@
 #include <memory>
 #include <optional>
 #include <stdexcept>
+#include <string>
 
 namespace candela::rt {
 namespace {
@@ -604,6 +605,36 @@ Bvh build_bvh_sweep_sah(const std::vector<Aabb>& prims, const BvhOptions& option
     check_size(prims.size());
     SweepSplitter splitter(clamp_options(options), prims.size());
     return build(prims, options, splitter);
+}
+
+double refit_bvh(Bvh& bvh, const std::vector<Aabb>& prims, const BvhOptions& options) {
+    const auto start = std::chrono::steady_clock::now();
+    if (prims.size() != bvh.prim_indices.size())
+        throw std::invalid_argument("refit_bvh: " + std::to_string(prims.size()) + " primitives for a tree built over " +
+                                    std::to_string(bvh.prim_indices.size()));
+    auto& nodes = bvh.nodes;
+    // Children follow their parent in the depth-first layout (left = i + 1, right > i), so one
+    // backward sweep sees every child before its parent.
+    for (std::size_t i = nodes.size(); i-- > 0;) {
+        BvhNode& node = nodes[i];
+        Aabb box;
+        if (node.leaf()) {
+            const auto first = static_cast<std::size_t>(node.right_or_first);
+            for (std::size_t j = first; j < first + static_cast<std::size_t>(node.count); ++j) {
+                const Aabb& b = prims[bvh.prim_indices[j]];
+                if (!b.empty() && finite(b.min) && finite(b.max)) box.extend(b);
+            }
+        } else if (i + 1 < nodes.size()) {  // not the empty BVH's lone node
+            const BvhNode& left = nodes[i + 1];
+            const BvhNode& right = nodes[static_cast<std::size_t>(node.right_or_first)];
+            box.extend(Aabb{left.bmin, left.bmax});
+            box.extend(Aabb{right.bmin, right.bmax});
+        }
+        node.bmin = box.min;
+        node.bmax = box.max;
+    }
+    bvh.stats.sah_cost = sah_cost(bvh, options);
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
 
 double sah_cost(const Bvh& bvh, const BvhOptions& options) {

@@ -104,6 +104,15 @@ Bvh build_bvh_binned_sah(const std::vector<Aabb>& prims, const BvhOptions& optio
 // evaluates every split position, O(n log^2 n). Same tree rules and layout as the binned builder.
 Bvh build_bvh_sweep_sah(const std::vector<Aabb>& prims, const BvhOptions& options = {});
 
+// Refit (issue 21, posed geometry): keeps the tree's topology (nodes, prim_indices) and recomputes
+// every node's box bottom-up from `prims`, one box per primitive index as at the build (the same
+// count; throws std::invalid_argument otherwise). Primitives whose box is now empty or non-finite
+// widen nothing (a ray never reaches them through their box). stats.sah_cost is recomputed with
+// `options`; the other stats keep the build's values. Returns the refit's wall time in ms. The
+// tree stays valid for any motion; its quality drops as primitives move away from where the
+// build put them (measured in tests/bench/bench_rt_motion.cpp).
+double refit_bvh(Bvh& bvh, const std::vector<Aabb>& prims, const BvhOptions& options = {});
+
 // Normalised SAH cost of a built tree: sum over nodes of area(node) / area(root) times
 // traversal_cost for interior nodes and intersection_cost * count for leaves. A root of zero area
 // (all primitives on one line or point) counts every node with weight 1.

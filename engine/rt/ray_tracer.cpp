@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -9,6 +10,7 @@
 #include "core/error.hpp"
 #include "core/log.hpp"
 #include "rt/intersect.hpp"
+#include "rt/sampling.hpp"
 
 namespace candela::rt {
 namespace {
@@ -152,6 +154,57 @@ void RayTracer::set_shard(int shard, int count) {
     options_.shard_count = count;
 }
 
+// --- motion blur (issue 21) ---------------------------------------------------------------
+
+int RayTracer::slice_count() const {
+    if (!options_.pose_at) return 0;
+    return options_.shutter_slices > 0 ? std::min(options_.shutter_slices, options_.spp) : options_.spp;
+}
+
+// Stratified in [0, 1), jittered by a hash of the seed and the slice index only: every shard gives
+// a sample the time the single run gives it.
+float RayTracer::slice_time(int slice) const {
+    const std::uint32_t h = pcg_hash(options_.seed * 0x9E3779B9u ^ pcg_hash(static_cast<std::uint32_t>(slice) ^ 0x85EBCA6Bu));
+    const double r = static_cast<double>(h >> 8) * (1.0 / 16777216.0);
+    const double u = (static_cast<double>(slice) + r) / static_cast<double>(slice_count());
+    return std::min(static_cast<float>(u), std::nextafter(1.0f, 0.0f));
+}
+
+int RayTracer::slice_of(int sample) const {
+    return static_cast<int>(static_cast<std::int64_t>(sample) * slice_count() / options_.spp);
+}
+
+void RayTracer::refresh_counts(FrameGpu& f) const {
+    const RtGeometry& g = rt_scene_.geometry();
+    f.counts.x = static_cast<int>(g.triangles.size());
+    f.counts.y = static_cast<int>(g.spheres.size());
+    f.counts.z = static_cast<int>(g.emitters.size());
+    f.counts2.x = static_cast<int>(g.surfaces.size());
+    f.fparams.z = static_cast<float>(g.emitted_power);
+}
+
+RtUpdateStats RayTracer::update_geometry(RtUpdate how) {
+    const RtUpdateStats stats = rt_scene_.update(scene_, how);
+    posed_slice_ = -1;
+    return stats;
+}
+
+bool RayTracer::pose_slice(int slice, FrameGpu& f, Result* result) {
+    if (slice == posed_slice_) return false;
+    const auto t0 = std::chrono::steady_clock::now();
+    options_.pose_at(slice_time(slice));
+    const auto t1 = std::chrono::steady_clock::now();
+    rt_scene_.update(scene_, RtUpdate::refit);
+    posed_slice_ = slice;
+    refresh_counts(f);
+    if (result) {
+        result->pose_ms += std::chrono::duration<double, std::milli>(t1 - t0).count();
+        result->geometry_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t1).count();
+        ++result->shutter_slices;
+    }
+    return true;
+}
+
 FrameGpu scene_frame_block(const Scene& scene, const RtScene& rt_scene, const GpuScene& gpu) {
     FrameGpu f{};
     const Bounds b = scene.world_bounds();
@@ -227,6 +280,10 @@ void RayTracer::bind(const gl::Buffer& accum, const gl::Buffer& diagnostics) con
 
 void RayTracer::progressive_restart(const Camera& camera, int width, int height) {
     if (width < 1 || height < 1 || width > 16384 || height > 16384) throw bad_input("reference size is out of range");
+    if (options_.pose_at) {  // the tree for this frame's refits, built at its time
+        options_.pose_at(0.5f);
+        update_geometry(RtUpdate::rebuild);
+    }
     Progressive& p = progressive_;
     const size_t pixels = static_cast<size_t>(width) * static_cast<size_t>(height);
     if (p.width != width || p.height != height || !p.accum) {
@@ -250,7 +307,9 @@ void RayTracer::progressive_step(double budget_ms) {
     bind(p.accum, p.diagnostics);
     const auto t0 = std::chrono::steady_clock::now();
     const int rows = std::max(1, options_.tile_rows);
+    const bool motion = static_cast<bool>(options_.pose_at);
     do {
+        if (motion && pose_slice(slice_of(p.sample), *p.frame, nullptr)) bind(p.accum, p.diagnostics);
         FrameGpu f = *p.frame;
         f.image = glm::ivec4(p.width, p.height, p.sample, static_cast<int>(options_.seed));
         f.params.w = p.row;
@@ -266,6 +325,9 @@ void RayTracer::progressive_step(double budget_ms) {
     } while (!progressive_done() &&
              std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count() < budget_ms);
     glUseProgram(0);
+    // The scene goes back to the frame's time between steps (the caller may draw it); the
+    // geometry keeps the slice, so the next step continues without posing again.
+    if (motion) options_.pose_at(0.5f);
 }
 
 ImageF RayTracer::progressive_image() const {
@@ -294,13 +356,22 @@ Result RayTracer::render(const Camera& camera, int width, int height) {
     const unsigned zeros4[4] = {0, 0, 0, 0};
     gl::Buffer diagnostics(sizeof(zeros4), zeros4, GL_DYNAMIC_STORAGE_BIT);
 
+    const bool motion = static_cast<bool>(options_.pose_at);
+    const auto start = std::chrono::steady_clock::now();
+    if (motion) {  // the tree every slice refits, built at the frame's time (the same for every shard)
+        options_.pose_at(0.5f);
+        const auto posed = std::chrono::steady_clock::now();
+        update_geometry(RtUpdate::rebuild);
+        result.pose_ms += std::chrono::duration<double, std::milli>(posed - start).count();
+        result.geometry_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - posed).count();
+    }
     FrameGpu f = make_frame(camera, width, height);
     bind(accum, diagnostics);
 
     const bool show_progress = options_.progress && isatty(STDERR_FILENO);
     int mine = 0;
     for (int s = 0; s < options_.spp; ++s) mine += s % options_.shard_count == options_.shard;
-    const auto t0 = std::chrono::steady_clock::now();
+    const auto t0 = start;
     auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
     const int rows = std::max(1, options_.tile_rows);
     for (int s = 0; s < options_.spp; ++s) {
@@ -309,6 +380,7 @@ Result RayTracer::render(const Camera& camera, int width, int height) {
             result.stopped_early = true;
             break;
         }
+        if (motion && pose_slice(slice_of(s), f, &result)) bind(accum, diagnostics);
         for (int y0 = 0; y0 < height; y0 += rows) {
             f.image = glm::ivec4(width, height, s, static_cast<int>(options_.seed));
             f.params.w = y0;
@@ -321,6 +393,11 @@ Result RayTracer::render(const Camera& camera, int width, int height) {
         if (show_progress) progress_bar(result.samples, mine, elapsed());
     }
     if (show_progress && result.stopped_early) std::fprintf(stderr, "\n");
+    if (motion) {
+        const auto posing = std::chrono::steady_clock::now();
+        options_.pose_at(0.5f);  // the scene back at the frame's time
+        result.pose_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - posing).count();
+    }
     result.trace_ms = elapsed() * 1000.0;
 
     std::vector<glm::vec4> sums(pixels);

@@ -1,6 +1,7 @@
 #pragma once
 // The compute-shader ray tracer: the reference every raster effect is judged against. Modes:
 // whitted, path, direct (path with one bounce), indirect (one diffuse bounce only), ao.
+#include <functional>
 #include <optional>
 #include <memory>
 #include <string>
@@ -62,6 +63,21 @@ struct Options {
     bool progress = false;      // progress bar with ETA on stderr
     int tile_rows = 64;         // rows per dispatch: short dispatches never trip a GPU watchdog
     bool traversal_stats = false;  // count BVH nodes and primitives per ray (slower; benchmarks)
+    // Motion blur (issue 21). With `pose_at` set, the shutter is open: before each time slice the
+    // tracer calls pose_at(u) with the slice's time u in [0, 1) within the shutter (stratified and
+    // jittered from the seed and the slice index only, so shards merge to the single run); the
+    // callback poses the Scene this tracer was made with (the caller owns it, e.g.
+    // pose_scene(scene, animation, open + u * (close - open))), and the tracer rebuilds its
+    // geometry from it. `shutter_slices` slices per render (rt.shutter_slices; 0: one per sample,
+    // each sample pass at its own time). The tracer calls pose_at(0.5) when it is done, so the
+    // scene is left at the frame's time (the centre of the shutter).
+    // How (ray_tracer.cpp, measured in tests/bench/bench_rt_motion.cpp): at the start of a render
+    // (and at progressive_restart) pose_at(0.5) and a full BVH build at the frame's time; before
+    // each slice pose_at(u) and a refit of that tree (same topology, boxes recomputed bottom-up),
+    // the triangles re-uploaded in place. The slice of sample s is s * S / spp (S the slice count,
+    // at most spp), its time (k + r(seed, k)) / S with r a hash in [0, 1).
+    std::function<void(float u)> pose_at;
+    int shutter_slices = 0;
 };
 
 // The tracer's frame block (std140, binding 8; RtFrame in shaders/rt/scene.glsl).
@@ -98,6 +114,10 @@ struct Result {
     // With Options::traversal_stats: mean BVH nodes visited and primitives tested per traced ray.
     double nodes_per_ray = 0.0, primitives_per_ray = 0.0;
     double trace_ms = 0.0;
+    // Motion blur (Options::pose_at): time slices this run traced, and the time spent posing the
+    // scene (pose_at) and updating the geometry (build/refit, pack, upload), part of trace_ms.
+    int shutter_slices = 0;
+    double pose_ms = 0.0, geometry_ms = 0.0;
     std::string defines;       // the program used: ModeProgram::name, then the feature defines
 };
 
@@ -120,6 +140,9 @@ public:
     bool progressive_done() const { return progressive_.sample >= options_.spp; }
     // Changes the sample count for the next render (benchmarks warm up with one sample first).
     void set_spp(int spp) { options_.spp = spp; }
+    // Changes the seed for the next render: independent full renders from one tracer (the motion
+    // blur test's batches, each a complete stratification of the shutter).
+    void set_seed(std::uint32_t seed) { options_.seed = seed; }
     // Changes the bounce limit of path mode for the next render (1: direct light only; the planner's
     // indirect estimate renders path and direct with one program).
     void set_max_depth(int depth) { options_.max_depth = depth; }
@@ -127,6 +150,11 @@ public:
     // batches from one tracer (the statistical tests). Throws bad_input unless 0 <= shard < count.
     void set_shard(int shard, int count);
     const RtScene& scene() const { return rt_scene_; }
+    // Rebuilds or refits the tracer's geometry from its Scene as it is now (after the caller posed
+    // it), e.g. when the viewer's pose changes; render() does this itself with Options::pose_at.
+    // The program stays (it was specialised to the features at construction). After a render with
+    // motion, scene() holds the last slice's geometry.
+    RtUpdateStats update_geometry(RtUpdate how);
 
 private:
     const Scene& scene_;
@@ -147,6 +175,16 @@ private:
     } progressive_;
     FrameGpu make_frame(const Camera& camera, int width, int height) const;
     mutable bool warned_orthographic_lens_ = false;
+    // Motion blur: the time slice the geometry holds (-1: the frame's time or unknown).
+    int posed_slice_ = -1;
+    int slice_count() const;
+    float slice_time(int slice) const;
+    int slice_of(int sample) const;
+    void refresh_counts(FrameGpu& f) const;  // the geometry's counts and emitted power into f
+    // Poses the scene at the slice and refits the geometry (unless it holds it already); adds the
+    // times to `result` when given. Returns whether the geometry changed.
+    bool pose_slice(int slice, FrameGpu& f, Result* result);
+    void pose_frame_time(Result* result);  // pose_at(0.5), rebuild at the frame's time
     void bind(const gl::Buffer& accum, const gl::Buffer& diagnostics) const;
 };
 

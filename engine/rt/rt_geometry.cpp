@@ -1,5 +1,7 @@
 #include "rt/rt_geometry.hpp"
 
+#include <glm/gtc/matrix_inverse.hpp>
+
 #include <algorithm>
 #include <bit>
 #include <cmath>
@@ -7,6 +9,7 @@
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 namespace candela::rt {
 namespace {
@@ -44,26 +47,72 @@ std::vector<Aabb> primitive_boxes(const RtGeometry& g) {
     return boxes;
 }
 
-RtGeometry build_rt_geometry(const Scene& scene, int default_material, const BvhOptions& options) {
-    RtGeometry g;
-    for (const WorldTriangle& t : scene.world_triangles()) {
-        if (scene.nodes[static_cast<size_t>(t.node)].sphere_radius) continue;  // traced as the exact sphere
-        const int material = t.material >= 0 ? t.material : default_material;
-        TriangleGpu tri{};
-        tri.p0 = glm::vec4(t.p[0], from_int_bits(material));
-        tri.p1 = glm::vec4(t.p[1], from_int_bits(t.node));
-        tri.p2 = glm::vec4(t.p[2], 0.0f);
-        tri.n0 = glm::vec4(t.n[0], 0.0f);
-        tri.n1 = glm::vec4(t.n[1], 0.0f);
-        tri.n2 = glm::vec4(t.n[2], 0.0f);
-        tri.uv_a = glm::vec4(t.uv0[0], t.uv0[1]);
-        tri.uv_b = glm::vec4(t.uv0[2], t.uv1[0]);
-        tri.uv_c = glm::vec4(t.uv1[1], t.uv1[2]);
-        tri.t0 = t.tangent[0];
-        tri.t1 = t.tangent[1];
-        tri.t2 = t.tangent[2];
-        g.triangles.push_back(tri);
+namespace {
+// The scene's triangles in world space as Scene::world_triangles() gives them (the same order and
+// the same arithmetic, so the same bits: test_rt_motion.cpp compares), written straight into the
+// tracer's layout, each vertex transformed once per node that draws it instead of once per
+// triangle corner, without world_triangles()'s intermediate copy (posed scenes redo this per time
+// slice). Nodes marked extras.sphere are left out: they are traced as the exact sphere.
+void append_world_triangles(const Scene& scene, int default_material, std::vector<TriangleGpu>& out) {
+    out.reserve(scene.triangle_count());
+    struct Transformed {
+        glm::vec3 p, n;
+        glm::vec4 t;
+    };
+    std::vector<Transformed> xf;
+    std::vector<int> stack(scene.roots.begin(), scene.roots.end());  // only nodes reachable from the roots are drawn
+    while (!stack.empty()) {
+        const int node_index = stack.back();
+        stack.pop_back();
+        const Node& node = scene.nodes[static_cast<size_t>(node_index)];
+        stack.insert(stack.end(), node.children.begin(), node.children.end());
+        if (node.mesh < 0 || node.sphere_radius) continue;
+        const glm::mat3 normal_matrix = glm::inverseTranspose(glm::mat3(node.world));
+        const bool flip = node.mirrored();
+        const float handedness = flip ? -1.0f : 1.0f;
+        for (const Primitive& prim : scene.meshes[static_cast<size_t>(node.mesh)].primitives) {
+            xf.resize(prim.vertices.size());
+            for (size_t i = 0; i < prim.vertices.size(); ++i) {
+                const Vertex& v = prim.vertices[i];
+                Transformed& x = xf[i];
+                x.p = glm::vec3(node.world * glm::vec4(v.position, 1.0f));
+                const glm::vec3 n = normal_matrix * v.normal;
+                const float len = glm::length(n);
+                x.n = len > 0.0f ? n / len : glm::vec3(0, 0, 1);
+                const glm::vec3 t = glm::mat3(node.world) * glm::vec3(v.tangent);
+                const float tl = glm::length(t);
+                x.t = glm::vec4(tl > 0.0f ? t / tl : glm::vec3(1, 0, 0), (v.tangent.w < 0.0f ? -1.0f : 1.0f) * handedness);
+            }
+            const float material = from_int_bits(prim.material >= 0 ? prim.material : default_material);
+            const float node_bits = from_int_bits(node_index);
+            for (size_t t = 0; t + 2 < prim.indices.size(); t += 3) {
+                // Corners 0, 2, 1 under a mirroring transform: counter-clockwise from the front.
+                const std::uint32_t i0 = prim.indices[t], i1 = prim.indices[t + (flip ? 2 : 1)], i2 = prim.indices[t + (flip ? 1 : 2)];
+                const Transformed &a = xf[i0], &b = xf[i1], &c = xf[i2];
+                const Vertex &va = prim.vertices[i0], &vb = prim.vertices[i1], &vc = prim.vertices[i2];
+                TriangleGpu tri{};
+                tri.p0 = glm::vec4(a.p, material);
+                tri.p1 = glm::vec4(b.p, node_bits);
+                tri.p2 = glm::vec4(c.p, 0.0f);
+                tri.n0 = glm::vec4(a.n, 0.0f);
+                tri.n1 = glm::vec4(b.n, 0.0f);
+                tri.n2 = glm::vec4(c.n, 0.0f);
+                tri.uv_a = glm::vec4(va.uv0, vb.uv0);
+                tri.uv_b = glm::vec4(vc.uv0, va.uv1);
+                tri.uv_c = glm::vec4(vb.uv1, vc.uv1);
+                tri.t0 = a.t;
+                tri.t1 = b.t;
+                tri.t2 = c.t;
+                out.push_back(tri);
+            }
+        }
     }
+}
+
+// Everything but the BVH.
+RtGeometry build_primitives(const Scene& scene, int default_material) {
+    RtGeometry g;
+    append_world_triangles(scene, default_material, g.triangles);
     for (size_t i = 0; i < scene.nodes.size(); ++i) {
         const Node& node = scene.nodes[i];
         if (!node.sphere_radius || node.mesh < 0) continue;
@@ -134,9 +183,23 @@ RtGeometry build_rt_geometry(const Scene& scene, int default_material, const Bvh
         g.has_blend = g.has_blend || m.alpha_mode == AlphaMode::blend;
         g.has_mask = g.has_mask || m.alpha_mode == AlphaMode::mask;
     }
+    return g;
+}
+}  // namespace
 
+RtGeometry build_rt_geometry(const Scene& scene, int default_material, const BvhOptions& options) {
+    RtGeometry g = build_primitives(scene, default_material);
     g.bvh = build_bvh_binned_sah(primitive_boxes(g), options);
     return g;
+}
+
+double refit_rt_geometry(RtGeometry& geometry, const Scene& scene, int default_material, const BvhOptions& options) {
+    RtGeometry g = build_primitives(scene, default_material);
+    if (g.triangles.size() != geometry.triangles.size() || g.spheres.size() != geometry.spheres.size()) return -1.0;
+    g.bvh = std::move(geometry.bvh);
+    const double ms = refit_bvh(g.bvh, primitive_boxes(g), options);
+    geometry = std::move(g);
+    return ms;
 }
 
 TraversalLayout pack_traversal(const RtGeometry& g) {

@@ -1,6 +1,7 @@
 #include "rt/rt_scene.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <stdexcept>
 #include <string>
 
@@ -9,9 +10,21 @@
 namespace candela::rt {
 
 namespace {
+double ms_since(std::chrono::steady_clock::time_point t0) {
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// Uploads `v` into `buffer`: in place when the size is unchanged (posed geometry), else into new
+// storage (at least one element). Returns whether the storage is new (views must be remade).
 template <typename T>
-gl::Buffer upload(const std::vector<T>& v) {
-    return gl::Buffer(static_cast<GLsizeiptr>(std::max<size_t>(v.size(), 1) * sizeof(T)), v.empty() ? nullptr : v.data());
+bool upload(gl::Buffer& buffer, const std::vector<T>& v) {
+    const auto bytes = static_cast<GLsizeiptr>(std::max<size_t>(v.size(), 1) * sizeof(T));
+    if (buffer && buffer.size() == bytes) {
+        if (!v.empty()) buffer.update(0, bytes, v.data());
+        return false;
+    }
+    buffer = gl::Buffer(bytes, v.empty() ? nullptr : v.data(), GL_DYNAMIC_STORAGE_BIT);
+    return true;
 }
 
 // An RGBA32F buffer texture over `buffer` of `texels` texels (at least one).
@@ -28,22 +41,54 @@ gl::Texture texel_view(const gl::Buffer& buffer, std::size_t texels, const char*
 }
 }  // namespace
 
-RtScene::RtScene(const Scene& scene, int default_material) : geometry_(build_rt_geometry(scene, default_material)) {
+RtScene::RtScene(const Scene& scene, int default_material)
+    : default_material_(default_material), geometry_(build_rt_geometry(scene, default_material)) {
+    RtUpdateStats unused;
+    upload_all(unused);
+}
+
+void RtScene::upload_all(RtUpdateStats& stats) {
+    auto t0 = std::chrono::steady_clock::now();
     TraversalLayout layout;
     try {
         layout = pack_traversal(geometry_);
     } catch (const std::length_error& e) {
         throw Error(ExitCode::bad_input, e.what());
     }
-    bvh_nodes_ = upload(layout.nodes);
-    bvh_prims_ = upload(layout.prims);
-    bvh_nodes_view_ = texel_view(bvh_nodes_, layout.nodes.size(), "BVH nodes");
-    bvh_prims_view_ = texel_view(bvh_prims_, layout.prims.size(), "BVH primitives");
-    triangles_ = upload(geometry_.triangles);
-    triangles_view_ = texel_view(triangles_, geometry_.triangles.size() * (sizeof(TriangleGpu) / 16), "triangles");
-    spheres_ = upload(geometry_.spheres);
-    emitters_ = upload(geometry_.emitters);
-    surfaces_ = upload(geometry_.surfaces);
+    stats.pack_ms = ms_since(t0);
+    t0 = std::chrono::steady_clock::now();
+    if (upload(bvh_nodes_, layout.nodes)) bvh_nodes_view_ = texel_view(bvh_nodes_, layout.nodes.size(), "BVH nodes");
+    if (upload(bvh_prims_, layout.prims)) bvh_prims_view_ = texel_view(bvh_prims_, layout.prims.size(), "BVH primitives");
+    if (upload(triangles_, geometry_.triangles))
+        triangles_view_ = texel_view(triangles_, geometry_.triangles.size() * (sizeof(TriangleGpu) / 16), "triangles");
+    upload(spheres_, geometry_.spheres);
+    upload(emitters_, geometry_.emitters);
+    upload(surfaces_, geometry_.surfaces);
+    stats.upload_ms = ms_since(t0);
+}
+
+RtUpdateStats RtScene::update(const Scene& scene, RtUpdate how) {
+    RtUpdateStats stats;
+    auto t0 = std::chrono::steady_clock::now();
+    if (how == RtUpdate::refit) {
+        const double refit_ms = refit_rt_geometry(geometry_, scene, default_material_);
+        stats.refit = refit_ms >= 0.0;
+        if (stats.refit) {
+            stats.bvh_ms = refit_ms;
+            stats.geometry_ms = ms_since(t0) - refit_ms;
+        }
+    }
+    if (!stats.refit) {
+        t0 = std::chrono::steady_clock::now();
+        geometry_ = build_rt_geometry(scene, default_material_);
+        stats.bvh_ms = geometry_.bvh.stats.build_ms;
+        stats.geometry_ms = ms_since(t0) - stats.bvh_ms;
+    }
+    upload_all(stats);
+    const auto t1 = std::chrono::steady_clock::now();
+    glFinish();  // the upload is done when the GL has the data
+    stats.upload_ms += ms_since(t1);
+    return stats;
 }
 
 void RtScene::bind() const {
