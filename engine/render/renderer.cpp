@@ -109,15 +109,15 @@ void Renderer::render(const Camera& view_camera, int width, int height, FrameOut
     // Animation (issue 21): a new pose moves the bounds (shadow fitting, auto focus), the lights
     // and what the probes captured; they re-capture. Motion in view during the shutter plans
     // the motion blur; the renderer re-plans when that turns on or off.
+    bool pose_replan = false;
     if (gpu_.pose_version() != pose_version_) {
         pose_version_ = gpu_.pose_version();
         scene_bounds_ = scene_.world_bounds();
         invalidate_captures();
-        const LightSetup& ls = features_.lights;
-        gpu_.update_lights(ls.area_samples, ls.shadows, ls.cascades, ls.max_shadowed);
+        pose_replan = true;  // the light buffer and the effects' set-up (GI's traced geometry, its grid) follow the pose
     }
     moving_draws_ = settings_.camera.shutter > 0.0f ? count_moving_draws(camera, width, height) : 0;
-    const bool replan = (camera.aperture > 0.0f) != (features_.lens_aperture > 0.0f) ||
+    const bool replan = pose_replan || (camera.aperture > 0.0f) != (features_.lens_aperture > 0.0f) ||
                         (moving_draws_ > 0) != (features_.moving_draws > 0);
     features_.moving_draws = moving_draws_;
     camera_ = view_camera;

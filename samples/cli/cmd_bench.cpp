@@ -17,6 +17,8 @@
 #include "core/error.hpp"
 #include "core/log.hpp"
 #include "options.hpp"
+#include "rt/rt_scene.hpp"
+#include "scene/animation.hpp"
 #include "profile/stats.hpp"
 #include "render/renderer.hpp"
 #include "render/settings.hpp"
@@ -199,6 +201,68 @@ int bench_frame(const Args& args) {
     return check_gl_errors(s);
 }
 
+// `candela bench animation SCENE...`: what animation costs per frame (issue 21): posing on the CPU
+// (evaluate: channels, world matrices, morphing and skinning; apply: into the scene), the upload of
+// the posed vertices, one raster frame at the new pose, and the tracer's geometry update by a full
+// BVH rebuild and by a refit. Medians over --poses poses spread over the animation (--animation, else 0).
+int bench_animation(const Args& args) {
+    std::vector<std::string> with_value = kSceneSetupOptions;
+    with_value.push_back("--poses");
+    const Parsed p = parse(args, with_value, kSceneSetupFlags);
+    if (p.positional.empty()) throw bad_input("bench animation needs at least one SCENE with an animation");
+    const int poses = p.has("--poses") ? parse_int("--poses", p.get("--poses"), 2, 1000) : 8;
+    SceneSetup s0 = setup_scene(p, p.positional[0], 1280, 720);
+    ContextResult ctx = open_context(s0);
+    if (!ctx.context) return static_cast<int>(ExitCode::no_gl);
+    const ShaderLibrary shaders(s0.shader_dir);
+    std::printf("device: %s (%s); %dx%d, medians over %d poses of animation %s\n", ctx.context->device_string().c_str(),
+                to_string(ctx.context->backend()), s0.options.width, s0.options.height, poses,
+                p.has("--animation") ? p.get("--animation").c_str() : "0");
+    std::printf("%-28s %10s %10s %10s %10s %10s %10s %10s %10s\n", "scene", "triangles", "pose ms", "apply ms", "upload ms",
+                "raster ms", "rebuild ms", "refit ms", "static ms");
+    for (size_t si = 0; si < p.positional.size(); ++si) {
+        SceneSetup s = si == 0 ? std::move(s0) : setup_scene(p, p.positional[si], 1280, 720);
+        Scene& scene = s.scene;
+        if (scene.animations.empty()) throw bad_input(p.positional[si] + ": bench animation needs a scene with an animation");
+        const int animation = std::max(0, s.options.animation);
+        const Animation& a = scene.animations[static_cast<size_t>(animation)];
+        GpuScene gpu(scene);
+        Renderer renderer(shaders, scene, gpu, s.options.settings);
+        const Camera camera = scene.select_camera(s.options.camera, static_cast<float>(s.options.width) / static_cast<float>(s.options.height));
+        rt::RtScene rt_scene(scene, static_cast<int>(scene.materials.size()));
+        auto now = [] { return std::chrono::steady_clock::now(); };
+        auto ms = [](auto t0, auto t1) { return std::chrono::duration<double, std::milli>(t1 - t0).count(); };
+        renderer.render(camera, s.options.width, s.options.height);  // compiles and captures once
+        glFinish();
+        std::vector<double> eval, apply, upload, raster, rebuild, refit, still;
+        for (int i = 0; i < poses; ++i) {
+            const float t = a.start + (a.end - a.start) * (static_cast<float>(i) + 0.5f) / static_cast<float>(poses);
+            auto t0 = now();
+            Pose pose = evaluate_pose(scene, animation, t);
+            auto t1 = now();
+            apply_pose(scene, std::move(pose));
+            auto t2 = now();
+            gpu.update_pose();
+            glFinish();
+            auto t3 = now();
+            renderer.render(camera, s.options.width, s.options.height);
+            glFinish();
+            auto t4 = now();
+            renderer.render(camera, s.options.width, s.options.height);  // the same pose again: what a still frame costs
+            glFinish();
+            auto t5 = now();
+            eval.push_back(ms(t0, t1)), apply.push_back(ms(t1, t2)), upload.push_back(ms(t2, t3)), raster.push_back(ms(t3, t4));
+            still.push_back(ms(t4, t5));
+            rebuild.push_back(rt_scene.update(scene, rt::RtUpdate::rebuild).total_ms());
+            refit.push_back(rt_scene.update(scene, rt::RtUpdate::refit).total_ms());
+        }
+        std::printf("%-28s %10zu %10.2f %10.2f %10.2f %10.2f %10.2f %10.2f %10.2f\n",
+                    p.positional[si].substr(p.positional[si].size() > 28 ? p.positional[si].size() - 28 : 0).c_str(), scene.triangle_count(),
+                    median(eval), median(apply), median(upload), median(raster), median(rebuild), median(refit), median(still));
+    }
+    return 0;
+}
+
 }  // namespace
 
 int cmd_bench(const Args& args) {
@@ -208,6 +272,7 @@ int cmd_bench(const Args& args) {
     if (which == "rays") return bench_rays(rest);
     if (which == "reload") return bench_reload(rest);
     if (which == "accuracy") return bench_accuracy(rest);
+    if (which == "animation") return bench_animation(rest);
     throw bad_input("bench needs a benchmark: 'candela bench frame SCENE' or 'candela bench rays SCENE...'");
 }
 

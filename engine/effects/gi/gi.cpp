@@ -56,6 +56,12 @@ public:
         if (scene_ != &s.scene || !rt_scene_) {
             scene_ = &s.scene;
             rt_scene_ = std::make_unique<rt::RtScene>(s.scene, static_cast<int>(s.scene.materials.size()));
+            pose_version_ = s.gpu.pose_version();
+            reset_ = true;
+        } else if (pose_version_ != s.gpu.pose_version()) {
+            // Animation (issue 21): the probes trace the posed geometry; they start over.
+            rt_scene_->update(s.scene, rt::RtUpdate::rebuild);
+            pose_version_ = s.gpu.pose_version();
             reset_ = true;
         }
         frame_block_ = rt::scene_frame_block(s.scene, *rt_scene_, s.gpu);
@@ -256,6 +262,7 @@ private:
     GiOptions options_;
     const Scene* scene_ = nullptr;
     std::unique_ptr<rt::RtScene> rt_scene_;
+    std::uint64_t pose_version_ = 0;
     rt::FrameGpu frame_block_{};
     glm::ivec3 counts_{0};
     glm::vec3 spacing_{1.0f}, origin_{0.0f};
