@@ -39,6 +39,11 @@ int cmd_view(const Args& args) {
         if (!out.empty() && out.extension() != ".png") throw bad_input(out.string() + ": screenshots are .png");
     if ((!o.screenshot.empty() || !o.window_shot.empty()) && o.frames == 0 && o.script.empty())
         throw bad_input("--screenshot/--window-shot need --frames N (the frame to capture)");
+    if (p.has("--animation")) o.animation = p.get("--animation");
+    if (p.has("--time")) {  // one time: the viewer starts paused there
+        if (p.get("--time").find(':') != std::string::npos) throw bad_input("--time A:B (a sequence) is for render; view takes one time T");
+        o.time = parse_float("--time", p.get("--time"), 0.0f, 1e6f);
+    }
     if (p.has("--exposure")) o.exposure_ev = parse_float("--exposure", p.get("--exposure"), -32, 32);
     return viewer::run_viewer(s.scene, o);
 }

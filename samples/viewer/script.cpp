@@ -16,7 +16,8 @@ std::vector<ScriptCommand> load_script(const std::filesystem::path& file) {
     static const std::map<std::string, std::pair<size_t, size_t>> verbs = {
         {"orbit", {2, 2}}, {"zoom", {1, 1}},    {"pan", {2, 2}},        {"camera", {1, 1}}, {"frame", {0, 0}},
         {"effects", {1, 1}}, {"set", {1, 1}}, {"path", {1, 1}}, {"screenshot", {1, 1}}, {"quit", {0, 0}},
-        {"reference", {1, 2}}, {"show", {1, 1}}, {"inspect", {1, 4}}};
+        {"reference", {1, 2}}, {"show", {1, 1}}, {"inspect", {1, 4}},
+        {"animation", {1, 1}}, {"time", {1, 1}}, {"play", {0, 0}}, {"pause", {0, 0}}, {"speed", {1, 1}}, {"loop", {1, 1}}};
     std::vector<ScriptCommand> out;
     std::string text;
     int line_no = 0;
@@ -42,7 +43,9 @@ std::vector<ScriptCommand> load_script(const std::filesystem::path& file) {
         for (std::string a; words >> a;) c.args.push_back(a);
         if (c.args.size() < v->second.first || c.args.size() > v->second.second)
             throw bad_input(where + "'" + c.verb + "' takes " + std::to_string(v->second.first) + " argument(s)");
-        for (const char* numeric : {"orbit", "zoom", "pan"})
+        if (c.verb == "loop" && c.args[0] != "on" && c.args[0] != "off")
+            throw bad_input(where + "'loop' takes on or off, not '" + c.args[0] + "'");
+        for (const char* numeric : {"orbit", "zoom", "pan", "time", "speed"})
             if (c.verb == numeric)
                 for (const auto& a : c.args) {
                     try {

@@ -14,6 +14,12 @@
 //                             background for MS (default 40) of each frame
 //   FRAME show VIEW           raster|reference|split|flip|difference
 //   FRAME inspect NAME [CHANNEL SCALE LAYER]  a frame-graph buffer (viewer panel names), or "off"
+//   FRAME animation N|NAME|none  choose the animation (none: the rest pose); its time goes to 0
+//   FRAME time T              scrub to T seconds (clamped to the animation's duration)
+//   FRAME play                play from the current time (at the speed, looping unless told)
+//   FRAME pause               stop at the current time (the pose stays, nothing is posed again)
+//   FRAME speed X             playback speed, 0.1..4
+//   FRAME loop on|off         wrap at the end, or stop there
 //   FRAME quit
 #include <filesystem>
 #include <string>

@@ -20,6 +20,7 @@
 
 #include "camera_controller.hpp"
 #include "effect_status.hpp"
+#include "playback.hpp"
 #include "core/error.hpp"
 #include "core/log.hpp"
 #include "image/image.hpp"
@@ -27,6 +28,7 @@
 #include "render/features.hpp"
 #include "render/renderer.hpp"
 #include "rt/ray_tracer.hpp"
+#include "scene/animation.hpp"
 #include "script.hpp"
 #include "shader/program_catalog.hpp"
 #include "shader/file_watcher.hpp"
@@ -87,6 +89,12 @@ struct Reference {
     glm::vec2 lens{-1.0f};  // the traced camera's aperture and focus distance (with_lens)
     int width = 0, height = 0;
     int shown_samples = -1;
+    // The pose the tracer's geometry was made from (Viewer::pose_serial_), and whether it was
+    // built with the shutter open (Options::pose_at: motion blur), and the time slices posed
+    // since the last restart (pose_within_shutter).
+    std::uint64_t pose_serial = 0;
+    bool built_motion = false;
+    std::uint32_t motion_slices = 0;
     double rmse = -1.0, rmse_display = -1.0;  // linear radiance; display values
     gl::Texture image, diff;
     gl::Framebuffer fbo;
@@ -94,11 +102,18 @@ struct Reference {
 
 class Viewer {
 public:
-    Viewer(const Scene& scene, const ViewerOptions& o, Context& ctx, std::vector<ScriptCommand> script)
+    Viewer(Scene& scene, const ViewerOptions& o, Context& ctx, std::vector<ScriptCommand> script, int animation)
         : scene_(scene), o_(o), ctx_(ctx), shaders_(o.shader_dir), gpu_(scene), settings_(o.settings),
           renderer_(shaders_, scene, gpu_, settings_), watcher_(shaders_.root()), effects_watcher_(shaders_.effects_root() / "effects"), bounds_(scene.world_bounds()),
           script_(std::move(script)) {
         select_camera(o.camera);
+        deformable_ = has_deformation(scene_);
+        if (animation >= 0) {
+            anim_.select(animation, scene_.animations[static_cast<size_t>(animation)].end);
+            anim_.playing = o.time < 0.0f;  // --time T: paused at T, the pose `render --time T` draws
+            if (o.time >= 0.0f) anim_.set_time(o.time);
+            log_animation("start");
+        }
         IMGUI_CHECKVERSION();
         ImGui::CreateContext();
         ImGui::GetIO().IniFilename = nullptr;  // no imgui.ini next to the user's files
@@ -152,6 +167,18 @@ private:
     }
     void run_script(int frame);
     void handle_input(float dt);
+    // Animation (issue 21): poses the scene when the animation, its time or the shutter changed
+    // since the last pose (paused: no work), then the GPU copy and the shutter's motion.
+    void update_pose();
+    // The reference tracer's Options::pose_at: the scene at time u in [0, 1) of the shutter.
+    void pose_within_shutter(float u);
+    std::string animation_label(int index) const {
+        if (index < 0) return "none (rest pose)";
+        const std::string& n = scene_.animations[static_cast<size_t>(index)].name;
+        return n.empty() ? "animation " + std::to_string(index) : n;
+    }
+    void log_animation(const std::string& why) const;
+    void animation_ui();
     void reload_shaders();
     void draw_ui(double frame_ms);
     void knob_widgets(const std::string& prefix_filter, bool exclude);
@@ -175,7 +202,7 @@ private:
     Reference ref_;
     gl::VertexArray empty_vao_;
 
-    const Scene& scene_;
+    Scene& scene_;  // posed by update_pose() as the animation plays
     ViewerOptions o_;
     Context& ctx_;
     ShaderLibrary shaders_;
@@ -194,12 +221,76 @@ private:
     std::vector<fs::path> pending_screenshots_;
     bool show_ui_ = true;
     float panel_width_ = kPanelWidth;
+    // Animation: the clock, the shutter interval of the current pose, and a serial that changes
+    // with every pose (the reference restarts on it; the Renderer watches GpuScene::pose_version).
+    Playback anim_;
+    bool deformable_ = false;  // has_deformation(scene): animations, skins or morph targets
+    ShutterInterval shutter_{};
+    std::uint64_t pose_serial_ = 0;
+    std::vector<double> pose_ms_;  // CPU pose + GPU upload + motion, per pose (the log's median)
 };
+
+void Viewer::log_animation(const std::string& why) const {
+    if (anim_.animation < 0) {
+        log::info("viewer: " + why + ": animation none (rest pose)");
+        return;
+    }
+    char line[256];
+    std::snprintf(line, sizeof line, "viewer: %s: animation '%s' (%d of %zu), %.3f s of %.3f s, %s, speed %.2fx, loop %s", why.c_str(),
+                  animation_label(anim_.animation).c_str(), anim_.animation, scene_.animations.size(), anim_.time, anim_.duration,
+                  anim_.playing ? "playing" : "paused", anim_.speed, anim_.loop ? "on" : "off");
+    log::info(line);
+}
+
+void Viewer::update_pose() {
+    const float shutter = settings_.camera.shutter, fps = settings_.camera.fps;
+    if (!deformable_ || !anim_.needs_pose(shutter, fps)) return;
+    const auto t0 = Clock::now();
+    pose_scene(scene_, anim_.animation, anim_.time);
+    gpu_.update_pose();
+    shutter_ = anim_.animation >= 0 ? shutter_interval(anim_.time, shutter, fps) : ShutterInterval{anim_.time, anim_.time};
+    if (!shutter_.instant())
+        gpu_.set_motion(evaluate_pose(scene_, anim_.animation, shutter_.open), evaluate_pose(scene_, anim_.animation, shutter_.close));
+    else
+        gpu_.clear_motion();
+    anim_.mark_posed(shutter, fps);
+    ++pose_serial_;
+    pose_ms_.push_back(ms_since(t0));
+}
+
+void Viewer::pose_within_shutter(float u) {
+    // u = 0.5 is the frame's own time (the tracer leaves the scene there between steps): exactly
+    // the pose the raster frame drew, not open + 0.5 * (close - open) rounded.
+    if (u == 0.5f) {
+        pose_scene(scene_, anim_.animation, anim_.time);
+        return;
+    }
+    // Any other call starts a new time slice (one per sample: the viewer leaves
+    // Options::shutter_slices at 0). The tracer stratifies its slice times over the whole render
+    // (Options::spp, 65536 here) in sample order, which suits a render that finishes; a
+    // progressive reference that shows its first few dozen samples would then show only the
+    // shutter's opening instant. So the viewer takes the k-th slice since the restart at the
+    // base-2 radical inverse of k, jittered within its 1/65536 stratum: every prefix of 2^n
+    // samples covers the shutter evenly, and the times stay uniform over it.
+    const std::uint32_t k = ref_.motion_slices++;
+    std::uint32_t bits = k & 0xFFFFu, reversed = 0;
+    for (int i = 0; i < 16; ++i, bits >>= 1) reversed = (reversed << 1) | (bits & 1u);
+    std::uint32_t h = k * 0x9E3779B9u;  // a jitter in [0, 1) from k (a PCG-style hash)
+    h ^= h >> 16;
+    h *= 0x7FEB352Du;
+    h ^= h >> 15;
+    const float jitter = static_cast<float>(h >> 8) * (1.0f / 16777216.0f);
+    const float v = std::min((static_cast<float>(reversed) + jitter) / 65536.0f, std::nextafter(1.0f, 0.0f));
+    pose_scene(scene_, anim_.animation, shutter_.open + v * (shutter_.close - shutter_.open));
+}
 
 void Viewer::update_reference(const Camera& camera, int w, int h) {
     Reference& r = ref_;
     if (!r.on) return;
-    if (!r.tracer || r.built_mode != r.mode) {
+    // Motion blur in the reference: the shutter is open and something is animated. The tracer
+    // then poses the scene itself per time slice (Options::pose_at) and rebuilds on restart.
+    const bool motion = anim_.animation >= 0 && !shutter_.instant();
+    if (!r.tracer || r.built_mode != r.mode || r.built_motion != motion) {
         rt::Options o;
         o.mode = *rt::parse_mode(Reference::kModes[r.mode]);
         o.spp = 1 << 16;
@@ -207,6 +298,12 @@ void Viewer::update_reference(const Camera& camera, int w, int h) {
         o.whitted_max_roughness = settings_.rt.whitted_max_roughness;
         o.env_importance = settings_.rt.env_importance;
         o.tile_rows = 16;
+        if (motion) {
+            // A time per sample (rt.shutter_slices is for `render`: with N slices over the
+            // reference's 65536 samples its first slice would last 65536 / N samples).
+            o.pose_at = [this](float u) { pose_within_shutter(u); };
+            o.shutter_slices = 0;
+        }
         try {
             r.tracer = std::make_unique<rt::RayTracer>(shaders_, scene_, gpu_, o);
         } catch (const Error& e) {
@@ -215,10 +312,33 @@ void Viewer::update_reference(const Camera& camera, int w, int h) {
             return;
         }
         r.built_mode = r.mode;
+        r.built_motion = motion;
+        r.pose_serial = pose_serial_;  // made from the scene as it is posed now
+        if (motion) {
+            char line[200];
+            std::snprintf(line, sizeof line, "viewer: reference: motion blur, the tracer poses the scene over the shutter %.4f..%.4f s (a time per sample)",
+                          shutter_.open, shutter_.close);
+            log::info(line);
+        }
         r.width = 0;  // restart below
+    }
+    if (r.pose_serial != pose_serial_) {
+        // The pose changed: the accumulation starts over on the new geometry. With motion the
+        // restart rebuilds at the frame's time itself; without, the tree is rebuilt here (a
+        // refit would degrade over a long playback; a rebuild on Fox is well under a millisecond).
+        if (!motion) r.tracer->update_geometry(rt::RtUpdate::rebuild);
+        r.pose_serial = pose_serial_;
+        r.width = 0;
+        if (!anim_.playing) {  // a scrub or a new animation (while playing this is every frame)
+            char line[160];
+            std::snprintf(line, sizeof line, "viewer: reference restarts: new pose at %.3f s%s", anim_.time,
+                          motion ? ", motion blur over the shutter" : "");
+            log::info(std::string(line) + (motion ? " " + std::to_string(shutter_.open) + ".." + std::to_string(shutter_.close) + " s" : ""));
+        }
     }
     const Camera lensed = with_lens(camera, settings_);  // camera.aperture / camera.focus_distance
     if (camera.world != r.camera || glm::vec2(lensed.aperture, lensed.focus_distance) != r.lens || w != r.width || h != r.height) {
+        r.motion_slices = 0;  // the shutter times start over (pose_within_shutter)
         r.tracer->progressive_restart(lensed, w, h);
         r.camera = camera.world;
         r.lens = glm::vec2(lensed.aperture, lensed.focus_distance);
@@ -301,7 +421,21 @@ void Viewer::run_script(int frame) {
             else if (c.verb == "frame") controller_.frame(bounds_);
             else if (c.verb == "screenshot") pending_screenshots_.push_back(c.args[0]);
             else if (c.verb == "quit") quit_ = true;
-            else if (c.verb == "inspect") {
+            else if (c.verb == "animation" || c.verb == "time" || c.verb == "play" || c.verb == "pause" || c.verb == "speed" ||
+                     c.verb == "loop") {
+                if (c.verb == "animation") {
+                    const int index = c.args[0] == "none" ? -1 : find_animation(scene_, c.args[0]);
+                    anim_.select(index, index >= 0 ? scene_.animations[static_cast<size_t>(index)].end : 0.0f);
+                } else if (anim_.animation < 0 && c.verb != "loop" && c.verb != "speed") {
+                    throw bad_input("'" + c.verb + "' needs an animation (the scene has " + std::to_string(scene_.animations.size()) +
+                                    "; none is chosen)");
+                } else if (c.verb == "time") anim_.set_time(num(0));
+                else if (c.verb == "play") anim_.play();
+                else if (c.verb == "pause") anim_.pause();
+                else if (c.verb == "speed") anim_.set_speed(num(0));
+                else anim_.loop = c.args[0] == "on";
+                log_animation("frame " + std::to_string(frame) + ": " + c.verb);
+            } else if (c.verb == "inspect") {
                 inspect_.name = c.args[0] == "off" ? "" : c.args[0];
                 static const std::vector<std::string> channels = {"rgb", "r", "g", "b", "a"};
                 if (c.args.size() > 1) {
@@ -364,6 +498,13 @@ void Viewer::handle_input(float dt) {
     if (ImGui::IsKeyPressed(GLFW_KEY_F)) controller_.frame(bounds_);
     if (ImGui::IsKeyPressed(GLFW_KEY_TAB)) controller_.fly_mode = !controller_.fly_mode;
     if (ImGui::IsKeyPressed(GLFW_KEY_H)) show_ui_ = !show_ui_;
+    if (anim_.animation >= 0) {
+        if (ImGui::IsKeyPressed(GLFW_KEY_SPACE)) anim_.playing ? anim_.pause() : anim_.play();
+        // Arrows: one frame (camera.fps) back or ahead, paused.
+        const float step = 1.0f / std::max(settings_.camera.fps, 1.0f);
+        if (ImGui::IsKeyPressed(GLFW_KEY_LEFT)) anim_.pause(), anim_.set_time(anim_.time - step);
+        if (ImGui::IsKeyPressed(GLFW_KEY_RIGHT)) anim_.pause(), anim_.set_time(anim_.time + step);
+    }
     if (ImGui::IsKeyPressed(GLFW_KEY_P) || ImGui::IsKeyPressed(GLFW_KEY_F12)) {
         char name[64];
         std::snprintf(name, sizeof name, "candela_%lld.png",
@@ -448,6 +589,64 @@ void wrapped_disabled(const std::string& text) {
     ImGui::PopStyleColor();
 }
 
+void Viewer::animation_ui() {
+    Playback& a = anim_;
+    char label[160];
+    const auto item = [&](int i) {
+        if (i < 0) return animation_label(i);
+        std::snprintf(label, sizeof label, "%s (%.2f s)", animation_label(i).c_str(), scene_.animations[static_cast<size_t>(i)].end);
+        return std::string(label);
+    };
+    if (ImGui::BeginCombo("animation", item(a.animation).c_str())) {
+        for (int i = -1; i < static_cast<int>(scene_.animations.size()); ++i) {
+            ImGui::PushID(i);
+            if (ImGui::Selectable(item(i).c_str(), i == a.animation) && i != a.animation) {
+                const bool was_playing = a.playing;
+                a.select(i, i >= 0 ? scene_.animations[static_cast<size_t>(i)].end : 0.0f);
+                if (i >= 0 && was_playing) a.play();
+            }
+            ImGui::PopID();
+        }
+        ImGui::EndCombo();
+    }
+    if (a.animation < 0) {
+        wrapped_disabled("the rest pose: the file's node transforms, default morph weights, skins at their bind pose");
+        return;
+    }
+    if (ImGui::Button(a.playing ? "pause" : "play", ImVec2(ImGui::GetFrameHeight() * 3.0f, 0.0f))) a.playing ? a.pause() : a.play();
+    ImGui::SameLine();
+    ImGui::Checkbox("loop", &a.loop);
+    ImGui::SameLine();
+    ImGui::Text("%.3f / %.3f s", a.time, a.duration);
+    // Scrubbing: the slider sets the time; playing goes on from there (pause first to hold it).
+    float t = a.time;
+    std::snprintf(label, sizeof label, "%%.3f s of %.3f", a.duration);
+    if (ImGui::SliderFloat("time", &t, 0.0f, a.duration, label)) a.set_time(t);
+    float speed = a.speed;
+    if (ImGui::SliderFloat("speed", &speed, Playback::kMinSpeed, Playback::kMaxSpeed, "%.2fx", ImGuiSliderFlags_Logarithmic))
+        a.set_speed(speed);
+    // The shutter (camera.shutter, also under Knobs): motion blur in the raster frame (when the
+    // effect plans) and in the reference.
+    float shutter = settings_.camera.shutter;
+    if (ImGui::SliderFloat("shutter", &shutter, 0.0f, 1.0f, "%.2f frame")) {
+        RenderSettings s = settings_;
+        s.camera.shutter = shutter;
+        apply_settings(s);
+    }
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("camera.shutter: the fraction of a frame (camera.fps) the shutter is open; 0: no motion blur");
+    std::string info;
+    if (!pose_ms_.empty()) {
+        std::snprintf(label, sizeof label, "last pose %.2f ms (CPU pose, upload%s); %zu poses", pose_ms_.back(),
+                      shutter_.instant() ? "" : ", shutter motion", pose_ms_.size());
+        info = label;
+    }
+    if (!shutter_.instant()) {
+        std::snprintf(label, sizeof label, "; shutter open %.4f..%.4f s at %.0f fps", shutter_.open, shutter_.close, settings_.camera.fps);
+        info += label;
+    }
+    if (!info.empty()) wrapped_disabled(info);
+}
+
 void Viewer::draw_ui(double frame_ms) {
     // Docked: pinned to the right edge at full height, opaque (the scene is not behind it), and
     // resizable only by its left edge; the new width moves the scene's edge on the next frame.
@@ -472,7 +671,7 @@ void Viewer::draw_ui(double frame_ms) {
     if (!o_.lighting.empty()) ImGui::TextWrapped("lighting: %s", o_.lighting.c_str());
     ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyleColorVec4(ImGuiCol_TextDisabled));
     ImGui::TextWrapped("drag: turn  shift/middle drag: pan  wheel: zoom  WASDQE: move  F: frame  Tab: fly  P: screenshot  "
-                       "H: hide this panel");
+                       "H: hide this panel%s", scene_.animations.empty() ? "" : "  Space: play/pause  arrows: step a frame");
     ImGui::PopStyleColor();
     if (!shader_errors_.empty()) {
         ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1.0f, 0.45f, 0.4f, 1.0f));
@@ -495,6 +694,7 @@ void Viewer::draw_ui(double frame_ms) {
         }
         ImGui::SliderFloat("exposure (EV)", &o_.exposure_ev, -8.0f, 8.0f);
     }
+    if (!scene_.animations.empty() && ImGui::CollapsingHeader("Animation", ImGuiTreeNodeFlags_DefaultOpen)) animation_ui();
     if (ImGui::CollapsingHeader("Effects", ImGuiTreeNodeFlags_DefaultOpen)) {
         const Features& f = renderer_.features();
         RenderSettings s = settings_;
@@ -638,12 +838,14 @@ int Viewer::run() {
         const float dt = static_cast<float>(std::chrono::duration<double>(t0 - last).count());
         last = t0;
         reload_shaders();
+        anim_.advance(std::min(dt, 0.1f));  // before the script: its `time T` is this frame's time
         run_script(frame);
         std::tie(w, h) = scene_viewport();  // after the script: it may hide or show the panel
         ImGui_ImplOpenGL3_NewFrame();
         ImGui_ImplGlfw_NewFrame();
         ImGui::NewFrame();
         handle_input(std::min(dt, 0.1f));
+        update_pose();
         const Camera camera = controller_.camera();
         renderer_.render(camera, w, h, FrameOutput::display, o_.exposure_ev);
         renderer_.resolve_gpu_times();
@@ -661,7 +863,17 @@ int Viewer::run() {
         if (last_frame && !o_.screenshot.empty()) pending_screenshots_.push_back(o_.screenshot);
         for (const fs::path& p : pending_screenshots_) {
             write_display_rgba8(p, renderer_.read_display(), w, h);
-            log::info("viewer: wrote " + p.string());
+            // The display image cannot show a NaN: the log counts them in the radiance.
+            const ImageF radiance = renderer_.read_radiance();
+            size_t nonfinite = 0;
+            for (float v : radiance.pixels) nonfinite += std::isfinite(v) ? 0 : 1;
+            std::string pose;
+            if (anim_.animation >= 0) {
+                char t[96];
+                std::snprintf(t, sizeof t, " (animation %d at %.3f s)", anim_.animation, anim_.time);
+                pose = t;
+            }
+            log::info("viewer: wrote " + p.string() + pose + ", " + std::to_string(nonfinite) + " non-finite radiance values");
         }
         pending_screenshots_.clear();
         if (show_ui_) draw_ui(ms_since(t0));
@@ -695,15 +907,36 @@ int Viewer::run() {
                       (without.empty() ? std::string("no frame without") : "without " + median(without) + " (" + std::to_string(without.size()) + " frames)") +
                       "; gi.budget " + std::to_string(settings_.get<GiOptions>().budget) + " rays/frame");
     }
+    if (ref_.on && ref_.tracer)
+        log::info(std::string("viewer: reference ") + Reference::kModes[ref_.mode] + ": " + std::to_string(ref_.tracer->progressive_samples()) +
+                  " samples per pixel at the end");
+    if (!pose_ms_.empty()) {
+        std::vector<double> sorted = pose_ms_;
+        std::sort(sorted.begin(), sorted.end());
+        log::info("viewer: posed the scene " + std::to_string(sorted.size()) + " times in " + std::to_string(frame) +
+                  " frames; median pose (pose_scene, GpuScene::update_pose, shutter motion) " + std::to_string(sorted[sorted.size() / 2]).substr(0, 6) +
+                  " ms, max " + std::to_string(sorted.back()).substr(0, 6) + " ms");
+    }
     return 0;
 }
 
 }  // namespace
 
-int run_viewer(const Scene& scene, const ViewerOptions& options) {
+int run_viewer(Scene& scene, const ViewerOptions& options) {
     // Bad input is reported before a window opens.
     std::vector<ScriptCommand> script;
     if (!options.script.empty()) script = load_script(options.script);
+    for (const ScriptCommand& c : script)  // the script's animation names, before a window opens
+        if (c.verb == "animation" && c.args[0] != "none") try {
+                find_animation(scene, c.args[0]);
+            } catch (const Error& e) {
+                throw bad_input(options.script.string() + ":" + std::to_string(c.line) + ": " + e.what());
+            }
+    // The first animation plays unless --animation says otherwise (none: the rest pose).
+    int animation = scene.animations.empty() ? -1 : 0;
+    if (!options.animation.empty()) animation = options.animation == "none" ? -1 : find_animation(scene, options.animation);
+    if (options.time >= 0.0f && animation < 0)
+        throw bad_input("--time needs an animation (" + std::string(scene.animations.empty() ? "the scene has none" : "--animation none was given") + ")");
     ContextOptions co;
     // --size is the scene's size; the docked panel is added beside it.
     co.width = options.width + static_cast<int>(kPanelWidth);
@@ -718,7 +951,7 @@ int run_viewer(const Scene& scene, const ViewerOptions& options) {
     log::info("viewer: " + ctx.context->device_string());
     ViewerOptions o = options;
     apply_viewer_defaults(o.settings, o.set_knobs);
-    Viewer viewer(scene, o, *ctx.context, std::move(script));
+    Viewer viewer(scene, o, *ctx.context, std::move(script), animation);
     return viewer.run();
 }
 

@@ -4,6 +4,8 @@
 // --set), the planned and culled passes with their reasons, per-pass GPU times and counters,
 // and shader errors. Shaders under --shader-dir reload when saved. GI probes update over frames
 // (gi.budget rays per frame, kViewerGiBudget unless --set gives it) and the panel says how far.
+// Animated scenes (issue 21) play their first animation, looping; the panel's Animation section
+// chooses the animation, plays, pauses, scrubs and sets the speed (viewer/playback.hpp).
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -26,10 +28,16 @@ struct ViewerOptions {
     bool vsync = true;
     float exposure_ev = 0.0f;
     std::string lighting;  // which lighting the scene got and why (scene/lighting.hpp), shown in the panel
+    // --animation N|NAME|none: the animation to play ("": the first, if the scene has any; none:
+    // the rest pose). --time T: start paused at T seconds (the pose `render --time T` draws);
+    // < 0: start at 0, playing.
+    std::string animation;
+    float time = -1.0f;
 };
 
 // Runs until the window closes, the script quits or --frames have passed. Returns the exit code:
 // 0, or 3 when no window with OpenGL 4.5 can be opened (the message says why and what to use).
-int run_viewer(const Scene& scene, const ViewerOptions& options);
+// The viewer poses `scene` (animation.hpp pose_scene) as the animation plays.
+int run_viewer(Scene& scene, const ViewerOptions& options);
 
 }  // namespace candela::viewer

@@ -1,0 +1,78 @@
+# The viewer plays glTF animation (issue 21): Fox under xvfb-run with tests/viewer/animation.script
+# (walk at 0.25 s and 0.5 s, scrub back, play at 4x, pause), then `view --animation Walk --time
+# 0.5` from the command line, which must equal `candela render --animation Walk --time 0.5` (the
+# golden tolerance); check_animation.py compares the screenshots (the fox's region changes
+# between the poses, scrubbing back gives the same image, paused frames are identical, none is
+# black). The log must say every screenshot's radiance had no NaN
+# or infinity, and that a paused viewer posed nothing more.
+#   cmake -DCANDELA=... -DSCENE=... -DSCRIPT=... -DOUT=... -DPYTHON3=... -DCHECK=... -P viewer_animation.cmake
+find_program(XVFB_RUN xvfb-run)
+if(NOT XVFB_RUN)
+  message(FATAL_ERROR "xvfb-run is needed for the viewer test (apt-get install xvfb xauth)")
+endif()
+set(size 200x150)
+set(dir ${OUT}/viewer_animation)
+file(REMOVE_RECURSE ${dir})
+file(MAKE_DIRECTORY ${dir})
+# gi.budget=0: any GI probes converge before each frame, so an image depends on the pose only.
+execute_process(COMMAND ${XVFB_RUN} -a -s "-screen 0 1024x768x24" ${CANDELA} view ${SCENE} --size ${size} --script ${SCRIPT}
+                        --set gi.budget=0 --no-vsync
+                WORKING_DIRECTORY ${dir}
+                RESULT_VARIABLE code OUTPUT_VARIABLE out ERROR_VARIABLE err TIMEOUT 300)
+message("view --script: exit ${code}\n${out}${err}")
+if(NOT code EQUAL 0)
+  message(FATAL_ERROR "the viewer failed")
+endif()
+foreach(line
+    "start: animation 'Survey' \\(0 of 3\\), 0.000 s of [0-9.]+ s, playing"
+    "frame 0: animation: animation 'Walk' \\(1 of 3\\), 0.000 s"
+    "frame 1: time: animation 'Walk' \\(1 of 3\\), 0.250 s of [0-9.]+ s, paused"
+    "frame 15: pause: animation 'Walk' \\(1 of 3\\), [0-9.]+ s of [0-9.]+ s, paused, speed 4.00x"
+    "reference restarts: new pose at 0.300 s"
+    "reference: motion blur, the tracer poses the scene over the shutter 0.29[0-9]+..0.30[0-9]+ s")
+  if(NOT err MATCHES "${line}")
+    message(FATAL_ERROR "the log does not say: ${line}")
+  endif()
+endforeach()
+string(REGEX MATCHALL "wrote anim_[a-z0-9_]+\\.png \\(animation 1 at [0-9.]+ s\\), 0 non-finite radiance values" clean "${err}")
+list(LENGTH clean n_clean)
+if(NOT n_clean EQUAL 7)
+  message(FATAL_ERROR "expected 7 screenshots of animation 1 with 0 non-finite radiance values, the log has ${n_clean}")
+endif()
+# Posed at frames 0 (Walk), 1, 4, 7 (scrubs), once per played frame (11..15, fewer when slow
+# frames reach the end first), 25 (scrub) and 27 (the shutter's motion): 7 to 11; never while
+# paused (frames 16..24, 26, 28..31).
+if(NOT err MATCHES "posed the scene ([0-9]+) times in 32 frames")
+  message(FATAL_ERROR "the viewer did not report its poses")
+endif()
+if(CMAKE_MATCH_1 GREATER 12)
+  message(FATAL_ERROR "the viewer posed the scene ${CMAKE_MATCH_1} times: more than once per change (paused frames posed again)")
+endif()
+if(CMAKE_MATCH_1 LESS 7)
+  message(FATAL_ERROR "the viewer posed the scene only ${CMAKE_MATCH_1} times: scrubs or played frames were not posed")
+endif()
+# The command line: posed like `render --animation Walk --time 0.5` (the set-up poses the scene
+# before framing and lighting it, so the camera is that of render, not of the script's run).
+execute_process(COMMAND ${XVFB_RUN} -a -s "-screen 0 1024x768x24" ${CANDELA} view ${SCENE} --size ${size} --animation Walk --time 0.5
+                        --frames 3 --screenshot ${dir}/anim_cli.png --set gi.budget=0 --no-vsync
+                RESULT_VARIABLE code OUTPUT_VARIABLE out ERROR_VARIABLE err TIMEOUT 300)
+message("view --animation Walk --time 0.5: exit ${code}\n${out}${err}")
+if(NOT code EQUAL 0 OR NOT err MATCHES "start: animation 'Walk' \\(1 of 3\\), 0.500 s of [0-9.]+ s, paused")
+  message(FATAL_ERROR "view --animation Walk --time 0.5 did not start paused at 0.5 s of the walk")
+endif()
+execute_process(COMMAND ${CANDELA} render ${SCENE} --size ${size} --animation Walk --time 0.5 -o ${dir}/anim_render.png
+                RESULT_VARIABLE code OUTPUT_VARIABLE out ERROR_VARIABLE err TIMEOUT 300)
+if(NOT code EQUAL 0)
+  message(FATAL_ERROR "candela render --animation Walk --time 0.5 failed:\n${out}${err}")
+endif()
+execute_process(COMMAND ${CANDELA} compare ${dir}/anim_cli.png ${dir}/anim_render.png --check --heatmap ${dir}/anim_cli_diff.png
+                RESULT_VARIABLE code OUTPUT_VARIABLE out ERROR_VARIABLE err)
+message("compare view --time 0.5 vs render --time 0.5:\n${out}${err}")
+if(NOT code EQUAL 0)
+  message(FATAL_ERROR "the viewer's --animation Walk --time 0.5 differs from candela render's (see ${dir}/anim_cli_diff.png)")
+endif()
+execute_process(COMMAND ${PYTHON3} ${CHECK} ${dir} RESULT_VARIABLE code OUTPUT_VARIABLE out ERROR_VARIABLE err)
+message("check_animation.py:\n${out}${err}")
+if(NOT code EQUAL 0)
+  message(FATAL_ERROR "the viewer's animation screenshots are wrong (see ${dir})")
+endif()
