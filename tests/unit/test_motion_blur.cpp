@@ -126,8 +126,10 @@ TEST_P(MotionBlurTest, NothingMovingChangesNothing) {
     EXPECT_EQ(forced.image.pixels, sharp.image.pixels);
 }
 
-// generated:motion at 160 x 120, shutter 1 at 30 fps (the slider moves about 15 pixels), against
+// generated:motion at 160 x 120, shutter 1 at 30 fps (the slider moves about 18 pixels), against
 // `direct` with every sample at its own time in the shutter (pixel centres, as the raster).
+// Measured (2026-12-03, llvmpipe): RMSE 0.0159 blurred (forward and deferred alike), 0.0286 for the
+// sharp frame. Bound: 0.7 x the sharp frame's error.
 TEST_P(MotionBlurTest, CloserToTheTracedBlurThanTheSharpFrame) {
     const int w = 160, h = 120;
     const RenderSettings s = with("shadows,motion_blur", {"camera.shutter=1"});
