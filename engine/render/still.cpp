@@ -62,6 +62,7 @@ double FrameLoop::measure_frame() {
 
 StillResult FrameLoop::finish() {
     result_.report = renderer_->last_frame();
+    result_.features = renderer_->features();  // as the frames planned (motion in view is counted per frame)
     for (auto& p : result_.report.passes) p.gpu_ms = gpu_ms_[p.name].empty() ? -1.0 : median(gpu_ms_[p.name]);
     const auto t0 = std::chrono::steady_clock::now();
     result_.radiance = renderer_->read_radiance();
