@@ -236,12 +236,15 @@ Pose evaluate_pose(const Scene& scene, int animation, float time) {
                 morphed_normals = morphed_normals || !mt.normal.empty() || !mt.tangent.empty();
             }
             if (morphed_normals)
-                for (Vertex& v : out) {
+                for (std::size_t i = 0; i < out.size(); ++i) {
+                    // Deltas that cancel a normal or tangent (or overflow): the rest one, so that
+                    // normals stay unit (a valid file can morph a normal to zero at weight 1).
+                    Vertex& v = out[i];
                     const float ln = glm::length(v.normal);
-                    if (ln > 1e-20f && std::isfinite(ln)) v.normal /= ln;
+                    v.normal = ln > 1e-20f && std::isfinite(ln) ? v.normal / ln : prim.rest[i].normal;
                     const glm::vec3 tan(v.tangent);
                     const float lt = glm::length(tan);
-                    if (lt > 1e-20f && std::isfinite(lt)) v.tangent = glm::vec4(tan / lt, v.tangent.w);
+                    v.tangent = glm::vec4(lt > 1e-20f && std::isfinite(lt) ? tan / lt : glm::vec3(prim.rest[i].tangent), v.tangent.w);
                 }
             // Skin: joint matrices in the node's space.
             if (!node || node->skin < 0 || static_cast<std::size_t>(node->skin) >= scene.skins.size() || !prim.skinned()) continue;

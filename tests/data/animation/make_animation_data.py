@@ -15,7 +15,8 @@ Valid:
                         mesh weights [0.25, 0], a second node with its own weights [0, 1], and
                         animation "pulse" on the first node's weights
 Rejected (reject_*.gltf), one problem each: see REJECTS below.
-Fuzz seeds: tests/fuzz/seeds/two_bone_bar (the shared-mesh bar) and morph_quad, .gltf and .glb.
+Fuzz seeds: tests/fuzz/seeds/two_bone_bar (the shared-mesh bar) and morph_quad, .gltf and .glb;
+a regression: tests/fuzz/regressions/morph_normal_cancelled.gltf.
 """
 import base64
 import json
@@ -134,7 +135,7 @@ def bar(shared=False, weights="normal", joints_ibm=2, joint_nodes=None, joint_va
 
 
 def morph_quad(targets_second_primitive=None, mesh_weights=(0.25, 0.0), node_weights=(0.0, 1.0), short_delta=False,
-               pulse_values=None):
+               pulse_values=None, normal_delta=(0, -0.5, 0)):
     g = Gltf()
     pos = [(-1, -1, 0), (1, -1, 0), (1, 1, 0), (-1, 1, 0)]
     nrm = [(0, 0, 1)] * 4
@@ -143,7 +144,7 @@ def morph_quad(targets_second_primitive=None, mesh_weights=(0.25, 0.0), node_wei
     ind = g.accessor("H", 5123, "SCALAR", [0, 1, 2, 0, 2, 3])
     lift = [(0, 0, 0), (0, 0, 0), (0, 0, 1), (0, 0, 1)][: 3 if short_delta else 4]
     t0 = {"POSITION": g.floats("VEC3", lift, minmax=True),
-          "NORMAL": g.floats("VEC3", [(0, 0, 0), (0, 0, 0), (0, -0.5, 0), (0, -0.5, 0)])}
+          "NORMAL": g.floats("VEC3", [(0, 0, 0), (0, 0, 0), normal_delta, normal_delta])}
     # Target 1 moves every vertex by +1 in x, as a sparse accessor over zeros.
     sparse_i = g.view(struct.pack("<4H", 0, 1, 2, 3))
     sparse_v = g.view(struct.pack("<12f", *([1, 0, 0] * 4)))
@@ -178,6 +179,12 @@ morph_quad().write("morph_quad.gltf")
 for name, make in [("two_bone_bar", lambda: bar(shared=True)), ("morph_quad", morph_quad)]:
     make().write(f"../../fuzz/seeds/{name}.gltf")
     make().write_glb(f"../../fuzz/seeds/{name}.glb")
+
+# A fuzz regression (valid file): at weight 1 target 0's NORMAL delta cancels the normal of
+# vertices 2 and 3; posing must keep unit normals (it falls back to the rest normal).
+g = morph_quad(mesh_weights=(1.0, 0.0), normal_delta=(0, 0, -1))
+g.doc["asset"]["generator"] += ": a morph target cancelling normals (fuzz regression)"
+g.write("../../fuzz/regressions/morph_normal_cancelled.gltf")
 
 # One problem each; the test checks the message names the file and this JSON path.
 REJECTS = {
