@@ -294,7 +294,9 @@ SceneSetup setup_scene(const Parsed& p, const std::string& scene_path, int defau
         s.time_last = colon == std::string::npos ? s.time_first : parse_float("--time", t.substr(colon + 1), 0.0f, 1e6f);
         if (s.time_last < s.time_first) throw bad_input("--time '" + t + "': the end is before the start");
     }
-    if (p.has("--animation")) s.options.animation = find_animation(s.scene, p.get("--animation"));
+    if (p.has("--animation") && p.get("--animation") == "none") {  // the rest pose, even with --time
+        s.options.animation = -1;
+    } else if (p.has("--animation")) s.options.animation = find_animation(s.scene, p.get("--animation"));
     else if (p.has("--time")) {
         if (s.scene.animations.empty()) throw bad_input(scene_path + ": --time needs an animation, and the scene has none");
         s.options.animation = 0;
