@@ -109,9 +109,36 @@ void append_world_triangles(const Scene& scene, int default_material, std::vecto
     }
 }
 
-// Everything but the BVH.
-RtGeometry build_primitives(const Scene& scene, int default_material) {
+// What append_world_triangles and the sphere loop below would produce, counted without building.
+std::size_t count_triangles(const Scene& scene) {
+    std::size_t count = 0;
+    std::vector<int> stack(scene.roots.begin(), scene.roots.end());
+    while (!stack.empty()) {
+        const Node& node = scene.nodes[static_cast<size_t>(stack.back())];
+        stack.pop_back();
+        stack.insert(stack.end(), node.children.begin(), node.children.end());
+        if (node.mesh < 0 || node.sphere_radius) continue;
+        for (const Primitive& prim : scene.meshes[static_cast<size_t>(node.mesh)].primitives) count += prim.indices.size() / 3;
+    }
+    return count;
+}
+std::size_t count_spheres(const Scene& scene) {
+    return static_cast<std::size_t>(
+        std::count_if(scene.nodes.begin(), scene.nodes.end(), [](const Node& n) { return n.sphere_radius && n.mesh >= 0; }));
+}
+
+// Everything but the BVH. `recycled`: a previous geometry whose vectors' storage is reused (a
+// posed scene rebuilds this per time slice; fresh allocations of this size cost page faults).
+RtGeometry build_primitives(const Scene& scene, int default_material, RtGeometry&& recycled = {}) {
     RtGeometry g;
+    g.triangles = std::move(recycled.triangles);
+    g.spheres = std::move(recycled.spheres);
+    g.emitters = std::move(recycled.emitters);
+    g.surfaces = std::move(recycled.surfaces);
+    g.triangles.clear();
+    g.spheres.clear();
+    g.emitters.clear();
+    g.surfaces.clear();
     append_world_triangles(scene, default_material, g.triangles);
     for (size_t i = 0; i < scene.nodes.size(); ++i) {
         const Node& node = scene.nodes[i];
@@ -194,22 +221,30 @@ RtGeometry build_rt_geometry(const Scene& scene, int default_material, const Bvh
 }
 
 double refit_rt_geometry(RtGeometry& geometry, const Scene& scene, int default_material, const BvhOptions& options) {
-    RtGeometry g = build_primitives(scene, default_material);
-    if (g.triangles.size() != geometry.triangles.size() || g.spheres.size() != geometry.spheres.size()) return -1.0;
-    g.bvh = std::move(geometry.bvh);
+    if (count_triangles(scene) != geometry.triangles.size() || count_spheres(scene) != geometry.spheres.size()) return -1.0;
+    Bvh bvh = std::move(geometry.bvh);
+    RtGeometry g = build_primitives(scene, default_material, std::move(geometry));
+    g.bvh = std::move(bvh);
     const double ms = refit_bvh(g.bvh, primitive_boxes(g), options);
     geometry = std::move(g);
     return ms;
 }
 
 TraversalLayout pack_traversal(const RtGeometry& g) {
+    TraversalLayout out;
+    pack_traversal(g, out);
+    return out;
+}
+
+void pack_traversal(const RtGeometry& g, TraversalLayout& out) {
     const Bvh& bvh = g.bvh;
     const std::size_t triangle_count = g.triangles.size();
     const std::size_t prim_count = triangle_count + g.spheres.size();
     if (prim_count > kTraversalMaxPrimitives)
         throw std::length_error("ray tracer: " + std::to_string(prim_count) + " primitives; the GPU BVH layout holds at most " +
                                 std::to_string(kTraversalMaxPrimitives));
-    TraversalLayout out;
+    out.nodes.clear();
+    out.prims.clear();
     out.prims.reserve(bvh.prim_indices.size() * 3);
     for (const std::uint32_t id : bvh.prim_indices) {
         const float id_bits = std::bit_cast<float>(static_cast<std::int32_t>(id));
@@ -247,7 +282,7 @@ TraversalLayout pack_traversal(const RtGeometry& g) {
         const BvhNode& root = bvh.nodes.at(0);
         child(root.bmin, root.bmax, root.leaf() ? ref(0) : kTraversalNoChild);
         child(glm::vec3(inf), glm::vec3(-inf), kTraversalNoChild);
-        return out;
+        return;
     }
     out.nodes.reserve(static_cast<std::size_t>(interior) * 4);
     for (std::size_t i = 0; i < bvh.nodes.size(); ++i) {
@@ -256,7 +291,6 @@ TraversalLayout pack_traversal(const RtGeometry& g) {
         child(bvh.nodes[left].bmin, bvh.nodes[left].bmax, ref(left));
         child(bvh.nodes[right].bmin, bvh.nodes[right].bmax, ref(right));
     }
-    return out;
 }
 
 namespace {

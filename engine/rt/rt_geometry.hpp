@@ -83,6 +83,8 @@ inline constexpr std::int32_t kTraversalNoChild = std::numeric_limits<std::int32
 inline constexpr std::size_t kTraversalMaxPrimitives = std::size_t{1} << 25;  // leaf refs hold first * 64
 // Throws std::length_error past kTraversalMaxPrimitives primitives.
 TraversalLayout pack_traversal(const RtGeometry& geometry);
+// The same into `out`, reusing its storage (posed geometry, packed again per time slice).
+void pack_traversal(const RtGeometry& geometry, TraversalLayout& out);
 // What the GPU traversal relies on, checked by walking `layout` from the root: refs in range, every
 // primitive record reached exactly once with its id and positions, each primitive inside the box
 // its leaf was reached through, children inside their parent's box. Empty if it holds, else the

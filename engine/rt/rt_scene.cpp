@@ -44,14 +44,14 @@ gl::Texture texel_view(const gl::Buffer& buffer, std::size_t texels, const char*
 RtScene::RtScene(const Scene& scene, int default_material)
     : default_material_(default_material), geometry_(build_rt_geometry(scene, default_material)) {
     RtUpdateStats unused;
-    upload_all(unused);
+    TraversalLayout layout;
+    upload_all(unused, layout);
 }
 
-void RtScene::upload_all(RtUpdateStats& stats) {
+void RtScene::upload_all(RtUpdateStats& stats, TraversalLayout& layout) {
     auto t0 = std::chrono::steady_clock::now();
-    TraversalLayout layout;
     try {
-        layout = pack_traversal(geometry_);
+        pack_traversal(geometry_, layout);
     } catch (const std::length_error& e) {
         throw Error(ExitCode::bad_input, e.what());
     }
@@ -84,7 +84,7 @@ RtUpdateStats RtScene::update(const Scene& scene, RtUpdate how) {
         stats.bvh_ms = geometry_.bvh.stats.build_ms;
         stats.geometry_ms = ms_since(t0) - stats.bvh_ms;
     }
-    upload_all(stats);
+    upload_all(stats, layout_);
     const auto t1 = std::chrono::steady_clock::now();
     glFinish();  // the upload is done when the GL has the data
     stats.upload_ms += ms_since(t1);

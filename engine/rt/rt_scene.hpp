@@ -33,7 +33,9 @@ public:
     RtUpdateStats update(const Scene& scene, RtUpdate how);
 
 private:
-    void upload_all(RtUpdateStats& stats);  // packs and uploads geometry_ (pack_ms, upload_ms)
+    // Packs geometry_ into `layout` and uploads it all (pack_ms, upload_ms).
+    void upload_all(RtUpdateStats& stats, TraversalLayout& layout);
+    TraversalLayout layout_;  // kept after the first update: its storage is reused by the next
     int default_material_ = -1;
     RtGeometry geometry_;
     gl::Buffer bvh_nodes_, bvh_prims_, triangles_, spheres_, emitters_, surfaces_;

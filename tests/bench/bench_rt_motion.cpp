@@ -9,8 +9,8 @@
 // T + h (the shutter's end, the farthest a slice's refit goes from the tree's pose) and
 //   rebuild: a new binned-SAH BVH there;  refit: the tree built at T, boxes recomputed.
 // For each: geometry (world triangles, emitters), BVH, pack (traversal layout) and upload ms, the
-// tree's SAH cost, and the camera-ray rate (primary mode, median of repeats) with the mean nodes
-// and primitives visited per ray. Then the same for a far pose (T + 0.25 s), where refit degrades,
+// tree's SAH cost, and the camera-ray rate (primary mode, the fastest of the repeats; the camera
+// close on the deforming mesh) with the mean nodes and primitives visited per ray. Then the same for a far pose (T + 0.25 s), where refit degrades,
 // and a full motion-blurred render (Options::pose_at, one slice per sample) with its time split.
 #include <algorithm>
 #include <chrono>
@@ -147,11 +147,25 @@ struct Measure {
 
 class Bench {
 public:
-    Bench(const Args& args, Scene& scene, int animation, float frame_time)
+    // The camera looks at the deforming mesh (node `subject`'s bounds at the frame's time), from the
+    // front (+z) or the side (+x), close enough that it fills most of the image: the rays measure
+    // the tree over the mesh rather than misses.
+    Bench(const Args& args, Scene& scene, int animation, float frame_time, int subject, bool side)
         : args_(args), scene_(scene), animation_(animation), frame_(frame_time) {
         pose_scene(scene_, animation_, frame_);
         gpu_ = std::make_unique<GpuScene>(scene_);
-        camera_ = scene_.select_camera("auto", static_cast<float>(args.width) / static_cast<float>(args.height));
+        Bounds b;
+        const Node& node = scene_.nodes[static_cast<std::size_t>(subject)];
+        for (const Primitive& p : scene_.meshes[static_cast<std::size_t>(node.mesh)].primitives)
+            for (int corner = 0; corner < 8; ++corner)
+                b.extend(glm::vec3(node.world * glm::vec4(corner & 1 ? p.bounds.max.x : p.bounds.min.x, corner & 2 ? p.bounds.max.y : p.bounds.min.y,
+                                                          corner & 4 ? p.bounds.max.z : p.bounds.min.z, 1.0f)));
+        camera_.yfov = 0.8f;
+        const float radius = 0.5f * glm::length(b.extent());
+        const float distance = 0.8f * radius / std::sin(camera_.yfov * 0.5f);
+        const glm::vec3 eye = b.center() + glm::normalize(side ? glm::vec3(1.0f, 0.2f, 0.0f) : glm::vec3(0.0f, 0.2f, 1.0f)) * distance;
+        camera_.znear = 0.01f * distance;
+        camera_.world = glm::inverse(glm::lookAt(eye, b.center(), glm::vec3(0, 1, 0)));
         rt::Options o;
         o.mode = rt::Mode::primary;
         o.spp = 1;
@@ -178,32 +192,25 @@ public:
         m.update = tracer_->update_geometry(how);
         counter_->update_geometry(how);
         m.sah = tracer_->scene().geometry().bvh.stats.sah_cost;
-        std::vector<double> ms;
-        for (int r = 0; r < args_.repeats; ++r) ms.push_back(tracer_->render(camera_, args_.width, args_.height).trace_ms);
-        std::sort(ms.begin(), ms.end());
-        m.mrays = static_cast<double>(args_.width) * args_.height * args_.spp / (ms[ms.size() / 2] * 1e3);
+        // The fastest of the repeats: other processes only ever slow a run down.
+        double fastest = 1e30;
+        for (int r = 0; r < args_.repeats; ++r) fastest = std::min(fastest, tracer_->render(camera_, args_.width, args_.height).trace_ms);
+        m.mrays = static_cast<double>(args_.width) * args_.height * args_.spp / (fastest * 1e3);
         const rt::Result counted = counter_->render(camera_, args_.width, args_.height);
         m.nodes = counted.nodes_per_ray;
         m.prims = counted.primitives_per_ray;
         return m;
     }
 
-    // A motion-blurred render: one slice per sample over [T - h, T + h]. `side`: the camera turned
-    // 90 degrees about the vertical through the scene's centre (a walk seen from the side).
-    rt::Result blurred(float half_shutter, int spp, rt::Mode mode, const std::string& image, bool side = false) {
+    // A motion-blurred render: one slice per sample over [T - h, T + h].
+    rt::Result blurred(float half_shutter, int spp, rt::Mode mode, const std::string& image) {
         rt::Options o;
         o.mode = mode;
         o.spp = spp;
         o.ao_radius = 0.1f * glm::length(scene_.world_bounds().extent());
         o.pose_at = [this, half_shutter](float u) { pose_scene(scene_, animation_, frame_ - half_shutter + 2.0f * half_shutter * u); };
         rt::RayTracer tracer(shaders_, scene_, *gpu_, o);
-        Camera camera = camera_;
-        if (side) {
-            const glm::vec3 c = scene_.world_bounds().center();
-            camera.world = glm::translate(glm::mat4(1.0f), c) * glm::rotate(glm::mat4(1.0f), 1.5707963f, glm::vec3(0, 1, 0)) *
-                           glm::translate(glm::mat4(1.0f), -c) * camera.world;
-        }
-        const rt::Result r = tracer.render(camera, args_.width, args_.height);
+        const rt::Result r = tracer.render(camera_, args_.width, args_.height);
         if (!image.empty()) write_image(image, r.image);
         return r;
     }
@@ -226,10 +233,10 @@ void print(const char* what, const Measure& m) {
                 m.update.upload_ms, m.update.total_ms(), m.sah, m.mrays, m.nodes, m.prims);
 }
 
-void run(const Args& args, const char* name, Scene& scene, int animation, float frame_time) {
+void run(const Args& args, const char* name, Scene& scene, int animation, float frame_time, int subject, bool side) {
     std::printf("%s: %zu triangles, animation '%s', frame at %.3f s, %dx%d, %d spp primary rays\n", name, scene.triangle_count(),
                 scene.animations[static_cast<std::size_t>(animation)].name.c_str(), frame_time, args.width, args.height, args.spp);
-    Bench bench(args, scene, animation, frame_time);
+    Bench bench(args, scene, animation, frame_time, subject, side);
     const float h = 0.5f * 0.5f / 30.0f;  // camera.shutter 0.5 at 30 fps
     double pose = 0.0;
     for (int r = 0; r < 3; ++r) pose += bench.pose_ms(frame_time + h) / 3.0;
@@ -247,10 +254,10 @@ void run(const Args& args, const char* name, Scene& scene, int animation, float 
                 spp, r.shutter_slices, r.trace_ms, r.pose_ms, r.geometry_ms, (r.pose_ms + r.geometry_ms) / std::max(1, r.shutter_slices + 1),
                 image.empty() ? "" : ", written to ", image.c_str());
     if (!image.empty() && args.image_shutter > 0.0f) {
-        // A long shutter to look at: shading normals from the side, 64 samples.
+        // A long shutter to look at: shading normals, 64 samples.
         const std::string looked = (args.image.parent_path() / (args.image.stem().string() + "_" + name + "_long" + args.image.extension().string())).string();
-        const rt::Result l = bench.blurred(0.5f * args.image_shutter, 64, rt::Mode::primary, looked, std::strcmp(name, "fox") == 0);
-        std::printf("  long shutter (%.3f s, primary, 64 spp%s): %.0f ms, written to %s\n", args.image_shutter, std::strcmp(name, "fox") == 0 ? ", side view" : "", l.trace_ms, looked.c_str());
+        const rt::Result l = bench.blurred(0.5f * args.image_shutter, 64, rt::Mode::primary, looked);
+        std::printf("  long shutter (%.3f s, primary, 64 spp): %.0f ms, written to %s\n", args.image_shutter, l.trace_ms, looked.c_str());
     }
 }
 
@@ -283,11 +290,13 @@ int main(int argc, char** argv) {
     }
     {
         Scene fox = load_gltf(args.fox);
-        run(args, "fox", fox, find_animation(fox, "Walk"), 0.5f);
+        int subject = 0;
+        while (fox.nodes[static_cast<std::size_t>(subject)].mesh < 0) ++subject;
+        run(args, "fox", fox, find_animation(fox, "Walk"), 0.5f, subject, true);
     }
     if (args.triangles > 0) {
         Scene tube = skinned_tube(args.triangles);
-        run(args, "tube", tube, 0, 0.5f);
+        run(args, "tube", tube, 0, 0.5f, 0, false);
     }
     return 0;
 }
