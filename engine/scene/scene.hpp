@@ -282,8 +282,8 @@ struct Scene {
     std::vector<Animation> animations;
     Environment environment;
     SanitizeReport sanitized;
-    // glTF features in the file that Candela does not implement, one phrase each, e.g. "1 skin",
-    // "3 animations", "KHR_materials_clearcoat on 4 materials". The loader also warns once each.
+    // glTF features in the file that Candela does not implement, one phrase each, e.g.
+    // "KHR_materials_clearcoat on 4 materials", "TEXCOORD morph targets on 1 mesh". The loader also warns once each.
     std::vector<std::string> ignored;
 
     const Material& material(int index) const;
