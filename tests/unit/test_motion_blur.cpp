@@ -76,7 +76,10 @@ protected:
         f.decision = renderer.features().decision("motion_blur").reason;
         return f;
     }
-    static bool has(const Frame& f, const char* pass) { return std::find(f.passes.begin(), f.passes.end(), pass) != f.passes.end(); }
+    // `pass` ran (as "pass", or "pass#k" in anti-aliasing sub-frame k).
+    static bool has(const Frame& f, const std::string& pass) {
+        return std::any_of(f.passes.begin(), f.passes.end(), [&](const std::string& p) { return p == pass || p.rfind(pass + "#", 0) == 0; });
+    }
 };
 
 double rmse(const ImageF& a, const ImageF& b) {
@@ -159,10 +162,14 @@ TEST_P(MotionBlurTest, NoNaNOrInfWithExtremeShuttersAndKnobs) {
          std::vector<std::vector<std::string>>{{"camera.shutter=1", "camera.fps=1", "motion_blur.max_radius=64", "motion_blur.samples=3"},
                                                {"camera.shutter=1e-6", "motion_blur.soft_z=1e-4"},
                                                {"camera.shutter=1", "camera.fps=1000", "motion_blur.max_radius=1", "motion_blur.samples=255",
-                                                "motion_blur.soft_z=10"}}) {
+                                                "motion_blur.soft_z=10"},
+                                               // after the anti-aliasing resolve (sub-frames where the device cannot multisample 8)
+                                               {"camera.shutter=1", "aa.mode=msaa", "aa.samples=8", "render.path=deferred"},
+                                               {"camera.shutter=1", "aa.mode=msaa", "aa.samples=4"}}) {
         const RenderSettings s = with("shadows,motion_blur", knobs);
         Posed p(s);
         const Frame f = render(p, s, 64, 48);  // render() counts non-finite pixels
+        EXPECT_TRUE(has(f, "motion_gather")) << f.decision;
         float peak = 0.0f;
         for (float v : f.image.pixels) peak = std::max(peak, v);
         EXPECT_GT(peak, 0.0f);
