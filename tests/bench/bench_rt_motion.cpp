@@ -20,6 +20,7 @@
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -170,8 +171,11 @@ public:
         o.mode = rt::Mode::primary;
         o.spp = 1;
         tracer_ = std::make_unique<rt::RayTracer>(shaders_, scene_, *gpu_, o);
-        tracer_->render(camera_, args.width, args.height);  // warm-up: llvmpipe compiles at the first dispatch
-        tracer_->set_spp(args.spp);
+        refit_ = std::make_unique<rt::RayTracer>(shaders_, scene_, *gpu_, o);
+        for (rt::RayTracer* t : {tracer_.get(), refit_.get()}) {
+            t->render(camera_, args.width, args.height);  // warm-up: llvmpipe compiles at the first dispatch
+            t->set_spp(args.spp);
+        }
         o.traversal_stats = true;
         counter_ = std::make_unique<rt::RayTracer>(shaders_, scene_, *gpu_, o);
     }
@@ -182,24 +186,37 @@ public:
         return ms_since(t0);
     }
 
-    // The geometry built at the frame's time, then posed at `time` and updated `how`.
-    Measure at(float time, rt::RtUpdate how) {
+    // Both trees built at the frame's time, then posed at `time`: one rebuilt, one refit. Their
+    // renders alternate (the fastest of each kept), so a change of load on a shared machine hits
+    // both alike; the traversal counts are exact.
+    std::pair<Measure, Measure> at(float time) {
         pose_scene(scene_, animation_, frame_);
         tracer_->update_geometry(rt::RtUpdate::rebuild);
-        counter_->update_geometry(rt::RtUpdate::rebuild);
+        refit_->update_geometry(rt::RtUpdate::rebuild);
         pose_scene(scene_, animation_, time);
-        Measure m;
-        m.update = tracer_->update_geometry(how);
-        counter_->update_geometry(how);
-        m.sah = tracer_->scene().geometry().bvh.stats.sah_cost;
-        // The fastest of the repeats: other processes only ever slow a run down.
-        double fastest = 1e30;
-        for (int r = 0; r < args_.repeats; ++r) fastest = std::min(fastest, tracer_->render(camera_, args_.width, args_.height).trace_ms);
-        m.mrays = static_cast<double>(args_.width) * args_.height * args_.spp / (fastest * 1e3);
-        const rt::Result counted = counter_->render(camera_, args_.width, args_.height);
-        m.nodes = counted.nodes_per_ray;
-        m.prims = counted.primitives_per_ray;
-        return m;
+        Measure rebuilt, refit;
+        rebuilt.update = tracer_->update_geometry(rt::RtUpdate::rebuild);
+        refit.update = refit_->update_geometry(rt::RtUpdate::refit);
+        rebuilt.sah = tracer_->scene().geometry().bvh.stats.sah_cost;
+        refit.sah = refit_->scene().geometry().bvh.stats.sah_cost;
+        double fastest[2] = {1e30, 1e30};
+        for (int r = 0; r < args_.repeats; ++r) {
+            fastest[0] = std::min(fastest[0], tracer_->render(camera_, args_.width, args_.height).trace_ms);
+            fastest[1] = std::min(fastest[1], refit_->render(camera_, args_.width, args_.height).trace_ms);
+        }
+        const double rays = static_cast<double>(args_.width) * args_.height * args_.spp;
+        rebuilt.mrays = rays / (fastest[0] * 1e3);
+        refit.mrays = rays / (fastest[1] * 1e3);
+        for (Measure* m : {&rebuilt, &refit}) {
+            pose_scene(scene_, animation_, frame_);
+            counter_->update_geometry(rt::RtUpdate::rebuild);
+            pose_scene(scene_, animation_, time);
+            counter_->update_geometry(m == &refit ? rt::RtUpdate::refit : rt::RtUpdate::rebuild);
+            const rt::Result counted = counter_->render(camera_, args_.width, args_.height);
+            m->nodes = counted.nodes_per_ray;
+            m->prims = counted.primitives_per_ray;
+        }
+        return {rebuilt, refit};
     }
 
     // A motion-blurred render: one slice per sample over [T - h, T + h].
@@ -223,7 +240,7 @@ private:
     ShaderLibrary shaders_{fs::path(CANDELA_SOURCE_DIR) / "shaders"};
     std::unique_ptr<GpuScene> gpu_;
     Camera camera_;
-    std::unique_ptr<rt::RayTracer> tracer_, counter_;
+    std::unique_ptr<rt::RayTracer> tracer_, refit_, counter_;
 };
 
 void print(const char* what, const Measure& m) {
@@ -241,10 +258,11 @@ void run(const Args& args, const char* name, Scene& scene, int animation, float 
     double pose = 0.0;
     for (int r = 0; r < 3; ++r) pose += bench.pose_ms(frame_time + h) / 3.0;
     std::printf("  pose (evaluate_pose + apply_pose, CPU skinning): %.1f ms\n", pose);
-    print("shutter end (T + 1/120 s)", bench.at(frame_time + h, rt::RtUpdate::rebuild));
-    print("shutter end (T + 1/120 s)", bench.at(frame_time + h, rt::RtUpdate::refit));
-    print("far pose (T + 0.25 s)", bench.at(frame_time + 0.25f, rt::RtUpdate::rebuild));
-    print("far pose (T + 0.25 s)", bench.at(frame_time + 0.25f, rt::RtUpdate::refit));
+    for (const auto& [what, time] : {std::pair<const char*, float>{"shutter end (T + 1/120 s)", frame_time + h}, {"far pose (T + 0.25 s)", frame_time + 0.25f}}) {
+        const auto [rebuilt, refit] = bench.at(time);
+        print(what, rebuilt);
+        print(what, refit);
+    }
     const int spp = 8;
     std::string image;
     if (!args.image.empty()) image = (args.image.parent_path() / (args.image.stem().string() + "_" + name + args.image.extension().string())).string();
