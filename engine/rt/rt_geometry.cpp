@@ -220,6 +220,13 @@ RtGeometry build_rt_geometry(const Scene& scene, int default_material, const Bvh
     return g;
 }
 
+void rebuild_rt_geometry(RtGeometry& geometry, const Scene& scene, int default_material, const BvhOptions& options) {
+    geometry.bvh = Bvh{};
+    RtGeometry g = build_primitives(scene, default_material, std::move(geometry));
+    g.bvh = build_bvh_binned_sah(primitive_boxes(g), options);
+    geometry = std::move(g);
+}
+
 double refit_rt_geometry(RtGeometry& geometry, const Scene& scene, int default_material, const BvhOptions& options) {
     if (count_triangles(scene) != geometry.triangles.size() || count_spheres(scene) != geometry.spheres.size()) return -1.0;
     Bvh bvh = std::move(geometry.bvh);

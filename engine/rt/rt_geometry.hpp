@@ -52,6 +52,9 @@ struct RtGeometry {
 // default material after the scene's).
 RtGeometry build_rt_geometry(const Scene& scene, int default_material, const BvhOptions& options = {});
 
+// build_rt_geometry into `geometry`, reusing its vectors' storage (a posed scene, built again).
+void rebuild_rt_geometry(RtGeometry& geometry, const Scene& scene, int default_material, const BvhOptions& options = {});
+
 // The scene's (posed) geometry again with `geometry`'s BVH topology, its boxes refit bottom-up
 // (refit_bvh): for posed scenes (issue 21), whose triangles move but keep their count and order.
 // Returns the refit's ms (the BVH part; the triangles are rebuilt in full), or -1 with `geometry`

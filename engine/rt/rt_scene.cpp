@@ -80,7 +80,7 @@ RtUpdateStats RtScene::update(const Scene& scene, RtUpdate how) {
     }
     if (!stats.refit) {
         t0 = std::chrono::steady_clock::now();
-        geometry_ = build_rt_geometry(scene, default_material_);
+        rebuild_rt_geometry(geometry_, scene, default_material_);
         stats.bvh_ms = geometry_.bvh.stats.build_ms;
         stats.geometry_ms = ms_since(t0) - stats.bvh_ms;
     }
