@@ -46,14 +46,7 @@ Scene make_bumpy_sphere_scene(std::size_t triangles) {
 
     Primitive ground;
     ground.material = 0;
-    const glm::vec3 corners[4] = {{-4, 0, 4}, {4, 0, 4}, {4, 0, -4}, {-4, 0, -4}};
-    for (const auto& c : corners) {
-        Vertex v;
-        v.position = c;
-        v.normal = glm::vec3(0, 1, 0);
-        ground.vertices.push_back(v);
-    }
-    ground.indices = {0, 1, 2, 0, 2, 3};
+    append_quad(ground, {-4, 0, 4}, {8, 0, 0}, {0, 0, -8});
     compute_bounds(ground);
 
     scene.meshes.push_back({"bumpy_sphere", {std::move(sphere)}});
@@ -86,6 +79,27 @@ Scene make_bumpy_sphere_scene(std::size_t triangles) {
     scene.cameras.push_back(camera);
     scene.update_world_transforms();
     return scene;
+}
+
+void append_quad(Primitive& p, glm::vec3 o, glm::vec3 eu, glm::vec3 ev) {
+    const glm::vec3 n = glm::normalize(glm::cross(eu, ev));
+    const auto base = static_cast<std::uint32_t>(p.vertices.size());
+    for (const glm::vec3& q : {o, o + eu, o + eu + ev, o + ev}) {
+        Vertex vert;
+        vert.position = q;
+        vert.normal = n;
+        p.vertices.push_back(vert);
+    }
+    p.indices.insert(p.indices.end(), {base, base + 1, base + 2, base, base + 2, base + 3});
+}
+
+Material lambert_material(const char* name, glm::vec3 colour) {
+    Material m;
+    m.name = name;
+    m.base_color = glm::vec4(colour, 1.0f);
+    m.metallic = 0.0f;
+    m.roughness = 0.9f;
+    return m;
 }
 
 void append_box(Primitive& p, glm::vec3 lo, glm::vec3 hi) {

@@ -8,6 +8,10 @@ namespace candela {
 
 // An axis-aligned box's six faces (flat normals, counter-clockwise seen from outside) added to `p`.
 void append_box(Primitive& p, glm::vec3 lo, glm::vec3 hi);
+// A quad with corner `o` and edges `eu`, `ev`, facing cross(eu, ev), added to `p`.
+void append_quad(Primitive& p, glm::vec3 o, glm::vec3 eu, glm::vec3 ev);
+// A rough (0.9) dielectric Lambert-like material of `colour`, for the generated scenes.
+Material lambert_material(const char* name, glm::vec3 colour);
 
 // A bumpy sphere (a UV sphere with a deterministic radial displacement) of about `triangles`
 // triangles on a ground quad, one white Lambert material, a directional light, a framing camera.

@@ -10,40 +10,14 @@
 #include "scene/mesh_utils.hpp"
 
 namespace candela {
-namespace {
-
-// A quad with corner `o` and edges `eu`, `ev`, facing cross(eu, ev).
-void add_quad(Primitive& p, glm::vec3 o, glm::vec3 eu, glm::vec3 ev) {
-    const glm::vec3 n = glm::normalize(glm::cross(eu, ev));
-    const auto base = static_cast<std::uint32_t>(p.vertices.size());
-    for (const glm::vec3& q : {o, o + eu, o + eu + ev, o + ev}) {
-        Vertex vert;
-        vert.position = q;
-        vert.normal = n;
-        p.vertices.push_back(vert);
-    }
-    p.indices.insert(p.indices.end(), {base, base + 1, base + 2, base, base + 2, base + 3});
-}
-
-Material lambert(const char* name, glm::vec3 colour) {
-    Material m;
-    m.name = name;
-    m.base_color = glm::vec4(colour, 1.0f);
-    m.metallic = 0.0f;
-    m.roughness = 0.9f;
-    return m;
-}
-
-}  // namespace
-
 Scene make_dof_scene() {
     Scene scene;
     scene.source = "generated:dof";
     enum { white, dark, red, cream, yellow, blue, green, pale };
-    scene.materials = {lambert("white", glm::vec3(0.8f)),         lambert("dark", glm::vec3(0.05f)),
-                       lambert("red", {0.8f, 0.08f, 0.05f}),      lambert("cream", {0.85f, 0.8f, 0.65f}),
-                       lambert("yellow", {0.9f, 0.75f, 0.1f}),    lambert("blue", {0.05f, 0.15f, 0.7f}),
-                       lambert("green", {0.1f, 0.6f, 0.15f}),     lambert("pale", {0.75f, 0.85f, 0.75f})};
+    scene.materials = {lambert_material("white", glm::vec3(0.8f)),         lambert_material("dark", glm::vec3(0.05f)),
+                       lambert_material("red", {0.8f, 0.08f, 0.05f}),      lambert_material("cream", {0.85f, 0.8f, 0.65f}),
+                       lambert_material("yellow", {0.9f, 0.75f, 0.1f}),    lambert_material("blue", {0.05f, 0.15f, 0.7f}),
+                       lambert_material("green", {0.1f, 0.6f, 0.15f}),     lambert_material("pale", {0.75f, 0.85f, 0.75f})};
     auto add_mesh = [&](const char* name, Primitive a, int ma, Primitive b, int mb) {
         a.material = ma;
         b.material = mb;
@@ -62,14 +36,14 @@ Scene make_dof_scene() {
         Primitive a, b;
         for (int i = -8; i < 8; ++i)
             for (int j = -3; j < 7; ++j)
-                add_quad((i + j) % 2 == 0 ? a : b, {static_cast<float>(i), static_cast<float>(j), -6.0f}, {1, 0, 0}, {0, 1, 0});
+                append_quad((i + j) % 2 == 0 ? a : b, {static_cast<float>(i), static_cast<float>(j), -6.0f}, {1, 0, 0}, {0, 1, 0});
         add_mesh("wall", std::move(a), white, std::move(b), dark);
     }
     {
         Primitive a, b;
         for (int i = -8; i < 8; ++i)
             for (int k = -6; k < 7; ++k)
-                add_quad((i + k) % 2 == 0 ? a : b, {static_cast<float>(i), 0.0f, static_cast<float>(k) + 1.0f}, {1, 0, 0}, {0, 0, -1});
+                append_quad((i + k) % 2 == 0 ? a : b, {static_cast<float>(i), 0.0f, static_cast<float>(k) + 1.0f}, {1, 0, 0}, {0, 0, -1});
         add_mesh("floor", std::move(a), pale, std::move(b), dark);
     }
     // The subject, in focus at z = 0: a column of red and cream bands of 0.2.

@@ -65,14 +65,7 @@ Scene make_skinned_scene(std::size_t triangles) {
 
     Primitive floor;
     floor.material = 1;
-    const glm::vec3 corners[4] = {{-4, 0, 4}, {4, 0, 4}, {4, 0, -4}, {-4, 0, -4}};
-    for (const auto& c : corners) {
-        Vertex v;
-        v.position = c;
-        v.normal = glm::vec3(0, 1, 0);
-        floor.vertices.push_back(v);
-    }
-    floor.indices = {0, 1, 2, 0, 2, 3};
+    append_quad(floor, {-4, 0, 4}, {8, 0, 0}, {0, 0, -8});
     compute_bounds(floor);
     scene.meshes.push_back({"tube", {std::move(tube)}, {}});
     scene.meshes.push_back({"floor", {std::move(floor)}, {}});

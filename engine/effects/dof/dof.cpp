@@ -54,14 +54,7 @@ private:
     void fullscreen(const PassEnv& env, FrameGraph::Context& ctx, GLuint fbo, int w, int h, GLuint program) const {
         glBindBufferBase(GL_UNIFORM_BUFFER, 0, env.frame_ubo.id());
         glBindBufferBase(GL_UNIFORM_BUFFER, DOF_BINDING, block_.id());
-        ctx.state.apply(gl::PipelineState{});
-        ctx.state.bind_framebuffer(fbo);
-        ctx.state.viewport(0, 0, w, h);
-        ctx.state.use_program(program);
-        ctx.state.bind_vertex_array(env.empty_vao.id());
-        glDrawArrays(GL_TRIANGLES, 0, 3);
-        ++ctx.counters.draw_calls;
-        ctx.counters.triangles += 1;
+        draw_fullscreen(env, ctx, fbo, w, h, program);
     }
 
     void add_coc(FrameGraph& graph, const PassEnv& env, const FrameTargets& targets) {

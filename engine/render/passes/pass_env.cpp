@@ -28,6 +28,17 @@ GLuint FramebufferCache::get(const std::vector<const gl::Texture*>& colors, cons
     return id;
 }
 
+void draw_fullscreen(const PassEnv& env, FrameGraph::Context& ctx, GLuint fbo, int w, int h, GLuint program) {
+    ctx.state.apply(gl::PipelineState{});
+    ctx.state.bind_framebuffer(fbo);
+    ctx.state.viewport(0, 0, w, h);
+    ctx.state.use_program(program);
+    ctx.state.bind_vertex_array(env.empty_vao.id());
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    ++ctx.counters.draw_calls;
+    ctx.counters.triangles += 1;
+}
+
 void bind_scene_buffers(const PassEnv& env) {
     glBindBufferBase(GL_UNIFORM_BUFFER, 0, env.frame_ubo.id());
     for (const EffectRuntime* e : env.effects) e->bind_shading_inputs(env, nullptr);  // their blocks

@@ -71,6 +71,9 @@ struct FrameTargets {
 // Binds the frame UBO, material and light SSBOs, the environment textures and what every effect
 // module gives the shading that is not a frame-graph resource (its uniform block, persistent maps).
 void bind_scene_buffers(const PassEnv& env);
+// One full-screen triangle (the vertex shader makes it from gl_VertexID) into `fbo` at w x h with
+// `program`, default pipeline state; counted as one draw call.
+void draw_fullscreen(const PassEnv& env, FrameGraph::Context& ctx, GLuint fbo, int w, int h, GLuint program);
 // Declares the reads of a shading pass: every effect module's shading inputs this frame.
 void read_lighting_inputs(FrameGraph::Builder& b, const PassEnv& env);
 // Binds every effect module's shading inputs, frame-graph textures included.
