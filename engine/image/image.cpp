@@ -6,6 +6,7 @@
 
 #include "core/error.hpp"
 #include "image/image_io.hpp"
+#include "image/png_write.hpp"
 
 namespace candela {
 namespace fs = std::filesystem;
@@ -70,6 +71,12 @@ void write_display_rgba8(const fs::path& path, const std::vector<unsigned char>&
     if (rgba.size() != static_cast<size_t>(width) * static_cast<size_t>(height) * 4)
         throw Error(ExitCode::internal, path.string() + ": display buffer size does not match " + std::to_string(width) +
                                             "x" + std::to_string(height));
+    // .png without OpenImageIO (png_write.hpp says why); the other display formats through it.
+    if (lower_ext(path) == ".png") {
+        if (const std::string e = write_png_rgb8(path.c_str(), rgba.data(), width, height); !e.empty())
+            throw bad_input(path.string() + ": " + e);
+        return;
+    }
     char error[1024] = "";
     if (image_io().write_rgba8_as_rgb(path.c_str(), rgba.data(), width, height, error, sizeof error) != 0)
         throw bad_input(path.string() + ": " + error);
