@@ -69,7 +69,22 @@ void load() {
 
 }  // namespace
 
+bool image_io_built() {
+#ifdef CANDELA_NO_IMAGE_IO
+    return false;
+#else
+    return true;
+#endif
+}
+
 const CandelaImageIoApi& image_io() {
+#ifdef CANDELA_NO_IMAGE_IO
+    // The render-only build (README's first command) does not install OpenImageIO: .png output
+    // goes through libpng, everything else needs the module.
+    throw Error(ExitCode::bad_input,
+                "this candela was built without OpenImageIO: writing .exr/.hdr and reading images need it "
+                "(install libopenimageio-dev, e.g. bash .ci/setup, then configure and build again)");
+#endif
     std::call_once(g_once, load);
     if (!g_api) throw Error(ExitCode::internal, g_error);
     return *g_api;

@@ -8,4 +8,8 @@ namespace candela {
 
 const CandelaImageIoApi& image_io();
 
+// False in a build without OpenImageIO (the README's render-only build): image_io() then throws
+// (bad input) saying what needs it; callers check first so that they fail before the work.
+bool image_io_built();
+
 }  // namespace candela

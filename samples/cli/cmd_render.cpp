@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/error.hpp"
+#include "image/image_io.hpp"
 #include "core/log.hpp"
 #include "image/image.hpp"
 #include "options.hpp"
@@ -121,6 +122,9 @@ int cmd_render(const Args& args) {
         std::string e = out_path.extension().string();
         for (auto& c : e) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
         if (e != ".png" && e != ".exr") throw bad_input(out + ": the output must be .png or .exr");
+        if (e == ".exr" && !image_io_built())
+            throw bad_input(out + ": writing .exr needs OpenImageIO, which this candela was built without "
+                                  "(install libopenimageio-dev, e.g. bash .ci/setup, then configure and build again)");
     }
     const float exposure = p.has("--exposure") ? parse_float("--exposure", p.get("--exposure"), -32, 32) : 0.0f;
     // Fail before rendering, not after: the output's directory must exist.
