@@ -24,8 +24,10 @@ namespace {
 constexpr int kEnvironmentSamples = 128;
 }  // namespace
 
-Renderer::Renderer(const ShaderLibrary& shaders, const Scene& scene, GpuScene& gpu, const RenderSettings& settings)
-    : shaders_(shaders), scene_(scene), gpu_(gpu), scene_bounds_(scene.world_bounds()), ibl_(shaders), programs_(shaders) {
+Renderer::Renderer(const ShaderLibrary& shaders, const Scene& scene, GpuScene& gpu, const RenderSettings& settings,
+                   ProgramCache* shared_programs)
+    : shaders_(shaders), scene_(scene), gpu_(gpu), scene_bounds_(scene.world_bounds()), ibl_(shaders), own_programs_(shaders),
+      programs_(shared_programs ? *shared_programs : own_programs_) {
     programs_.get("tonemap");
     frame_ubo_ = gl::Buffer(sizeof(FrameData), nullptr, GL_DYNAMIC_STORAGE_BIT);
     empty_vao_ = gl::VertexArray::create();

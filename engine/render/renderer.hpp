@@ -53,7 +53,10 @@ class Renderer {
 public:
     // Throws candela::Error (internal) if a shader does not build. `shaders` must outlive the
     // renderer (programs for newly planned passes are built from it on set_settings).
-    Renderer(const ShaderLibrary& shaders, const Scene& scene, GpuScene& gpu, const RenderSettings& settings);
+    // `shared_programs` (built from the same `shaders`, with the same context current): renderers
+    // made one after another share compiled programs (a batch of renders), else the renderer owns its own.
+    Renderer(const ShaderLibrary& shaders, const Scene& scene, GpuScene& gpu, const RenderSettings& settings,
+             ProgramCache* shared_programs = nullptr);
 
     Renderer(const Renderer&) = delete;
     Renderer& operator=(const Renderer&) = delete;
@@ -122,7 +125,8 @@ private:
     int env_cube_size_ = 0, env_cube_levels_ = 1;
     RenderSettings settings_;
     Features features_;
-    ProgramCache programs_;
+    ProgramCache own_programs_;
+    ProgramCache& programs_;  // own_programs_ or the shared cache
     // One runtime per registered effect (engine/effects/registry.cpp), in registry order.
     std::vector<std::unique_ptr<EffectRuntime>> effects_;
     std::vector<EffectRuntime*> effect_ptrs_;

@@ -27,6 +27,9 @@ struct StillOptions {
     // settings.camera.shutter > 0 the loop adds the motion over the shutter (raster motion blur).
     int animation = -1;
     float time = 0.0f;
+    // Programs shared by the renderers of a batch (built from the same ShaderLibrary in this
+    // context; must outlive the loop); nullptr: the renderer builds its own.
+    ProgramCache* programs = nullptr;
 };
 
 struct StillResult {
