@@ -33,6 +33,9 @@ RayRates measure_ray_rates(const ShaderLibrary& shaders, const Scene& scene, Gpu
     RayRates out;
     out.bvh = tracers[0]->scene().geometry().bvh.stats;
     out.triangles = tracers[0]->scene().geometry().triangles.size();
+    const TraversalLayout layout = pack_traversal(tracers[0]->scene().geometry());
+    out.node_bytes = layout.nodes.size() * sizeof(layout.nodes[0]);
+    out.prim_bytes = layout.prims.size() * sizeof(layout.prims[0]);
     const double rays = static_cast<double>(width) * height * spp;
     auto rate = [&](double ms) { return ms > 0.0 ? rays / (ms * 1e3) : 0.0; };
     out.primary_mrays = rate(median(primary_ms));

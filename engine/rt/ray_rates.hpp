@@ -20,6 +20,8 @@ struct RayRates {
     // Traversal work per camera ray (loop iterations: interior nodes and leaves), counted in a
     // separate run with RT_STATS.
     double nodes_per_ray = 0.0, primitives_per_ray = 0.0;
+    // Bytes of the traversal layout (rt::pack_traversal): node texels and primitive records.
+    std::size_t node_bytes = 0, prim_bytes = 0;
 };
 
 // Renders `spp` samples per pixel at w x h in the primary, AO (unbounded rays, as shadow rays to a

@@ -2,7 +2,14 @@
 // compute-shader tracer's rates (rt::measure_ray_rates, on llvmpipe through EGL or OSMesa) in the
 // same run on the same cores, with their ratio. Optional: built only when Debian's libembree-dev
 // is installed (it is not a dependency of Candela).
-//   bench_rays_embree SCENE|generated:N ... [--size WxH] [--spp N] [--threads N] [--repeat N]
+//   bench_rays_embree SCENE|generated:N ... [--size WxH] [--spp N] [--threads N] [--repeat N] [--tracer-only]
+//                     [--ab DIR [--ab-env NAME=VALUE]]
+// --tracer-only skips Embree. --ab DIR: an A/B of the tracer instead of Embree: the default shader
+// directory (A) against DIR (B), renders alternating ABBA in one process (load changes on a
+// shared machine hit both alike), medians, B/A and the largest pixel difference between A's and
+// B's images (0: the same hits). --ab-env sets an environment variable while B's tracers are
+// made (for switches read when the geometry is packed or uploaded). After the table: traversal
+// work per camera ray (RT_STATS) and the bytes of the traversal layout (nodes, primitive records).
 // Embree's rates are medians of --repeat runs of --spp samples; the tracer's of --repeat runs of
 // 4 x --spp samples (a dispatch's fixed cost is then small against its work).
 // Camera rays through pixel centres (the tracer's primary mode without jitter), and per hit one
@@ -12,7 +19,9 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <string>
 #include <thread>
@@ -22,6 +31,7 @@
 #include "render/gpu_scene.hpp"
 #include "render/still.hpp"
 #include "rt/ray_rates.hpp"
+#include "rt/ray_tracer.hpp"
 #include "rt/sampling.hpp"
 #include "scene/generate.hpp"
 #include "scene/gltf_loader.hpp"
@@ -115,10 +125,61 @@ Rates measure(const Scene& scene, int w, int h, int spp, int threads, int repeat
     return {rays / (p * 1e3), a > 0.0 ? rays / (a * 1e3) : 0.0};
 }
 
+// Primary and AO rates of the tracer with shaders A and B (B's tracers made with `ab_env` set),
+// renders alternating ABBA; the AO rate prices the second ray as measure_ray_rates does.
+void ab(const ShaderLibrary& a, const ShaderLibrary& b, const Scene& scene, const std::string& name, int w, int h, int spp,
+        int repeats, std::string& ab_env) {
+    GpuScene gpu(scene);
+    const Camera camera = scene.select_camera("", static_cast<float>(w) / static_cast<float>(h));
+    const rt::Mode modes[2] = {rt::Mode::primary, rt::Mode::ao};
+    std::vector<std::unique_ptr<rt::RayTracer>> tracers;  // A primary, A ao, B primary, B ao
+    for (const ShaderLibrary* lib : {&a, &b})
+        for (const rt::Mode m : modes) {
+            if (lib == &b && !ab_env.empty()) putenv(ab_env.data());
+            rt::Options o;
+            o.mode = m;
+            o.ao_radius = 1e30f;
+            o.spp = 1;
+            tracers.push_back(std::make_unique<rt::RayTracer>(*lib, scene, gpu, o));
+            tracers.back()->render(camera, w, h);
+            tracers.back()->set_spp(spp);
+        }
+    if (!ab_env.empty()) unsetenv(ab_env.substr(0, ab_env.find('=')).c_str());
+    std::vector<double> ms[4];
+    float diff[2] = {0.0f, 0.0f};
+    for (int r = 0; r < repeats; ++r)
+        for (int k = 0; k < 2; ++k) {
+            const int first = (r + k) % 2;  // ABBA...
+            for (int side : {first, 1 - first})
+                for (int m = 0; m < 2; ++m)
+                    ms[side * 2 + m].push_back(tracers[static_cast<std::size_t>(side * 2 + m)]->render(camera, w, h).trace_ms);
+        }
+    for (int m = 0; m < 2; ++m) {
+        const rt::Result ra = tracers[static_cast<std::size_t>(m)]->render(camera, w, h);
+        const rt::Result rb = tracers[static_cast<std::size_t>(2 + m)]->render(camera, w, h);
+        for (std::size_t i = 0; i < ra.image.pixels.size(); ++i)
+            diff[m] = std::max(diff[m], std::abs(ra.image.pixels[i] - rb.image.pixels[i]));
+    }
+    const double rays = static_cast<double>(w) * h * spp;
+    const double pa = median(ms[0]), pb = median(ms[2]);
+    std::vector<double> aoa, aob;
+    for (std::size_t i = 0; i < ms[0].size(); ++i) {
+        aoa.push_back(ms[1][i] - ms[0][i]);
+        aob.push_back(ms[3][i] - ms[2][i]);
+    }
+    const double xa = median(aoa), xb = median(aob);
+    std::printf("%-28s primary A %.2f B %.2f Mrays/s (B/A %.3f, max diff %g); AO A %.2f B %.2f (B/A %.3f, max diff %g)\n",
+                name.substr(name.size() > 28 ? name.size() - 28 : 0).c_str(), rays / (pa * 1e3), rays / (pb * 1e3), pa / pb, diff[0],
+                rays / (xa * 1e3), rays / (xb * 1e3), xa / xb, diff[1]);
+    std::fflush(stdout);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
     int w = 512, h = 512, spp = 4, threads = 2, repeats = 3;
+    bool tracer_only = false;
+    std::string ab_dir, ab_env;
     std::vector<std::string> scenes;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
@@ -126,6 +187,9 @@ int main(int argc, char** argv) {
         else if (a == "--spp" && i + 1 < argc) spp = std::max(1, std::atoi(argv[++i]));
         else if (a == "--threads" && i + 1 < argc) threads = std::max(1, std::atoi(argv[++i]));
         else if (a == "--repeat" && i + 1 < argc) repeats = std::max(1, std::atoi(argv[++i]));
+        else if (a == "--tracer-only") tracer_only = true;
+        else if (a == "--ab" && i + 1 < argc) ab_dir = argv[++i];
+        else if (a == "--ab-env" && i + 1 < argc) ab_env = argv[++i];
         else scenes.push_back(a);
     }
     ContextResult ctx = create_context(Backend::auto_select);
@@ -134,14 +198,25 @@ int main(int argc, char** argv) {
         return 3;
     }
     const ShaderLibrary shaders(ShaderLibrary::default_root());
+    if (!ab_dir.empty()) {
+        const ShaderLibrary b(ab_dir);
+        std::printf("A/B: A %s, B %s; %s, %d spp, %dx%d, medians of %d ABBA rounds\n", ShaderLibrary::default_root().c_str(),
+                    ab_dir.c_str(), ctx.context->device_string().c_str(), 4 * spp, w, h, 2 * repeats);
+        for (const std::string& name : scenes) {
+            const Scene scene = name.rfind("generated:", 0) == 0 ? make_bumpy_sphere_scene(std::stoul(name.substr(10))) : load_gltf(name);
+            ab(shaders, b, scene, name, w, h, 4 * spp, repeats, ab_env);
+        }
+        return 0;
+    }
     std::printf("Embree %d.%d.%d single-ray API, %d threads, %d spp; tracer: %s, %d spp; %dx%d, medians of %d runs\n",
                 RTC_VERSION_MAJOR, RTC_VERSION_MINOR, RTC_VERSION_PATCH, threads, spp, ctx.context->device_string().c_str(),
                 4 * spp, w, h, repeats);
     std::printf("%-28s %22s %22s\n", "", "primary Mrays/s", "AO Mrays/s");
     std::printf("%-28s %7s %7s %6s %7s %7s %6s\n", "scene", "tracer", "Embree", "ratio", "tracer", "Embree", "ratio");
+    std::vector<std::string> work_lines;
     for (const std::string& name : scenes) {
         const Scene scene = name.rfind("generated:", 0) == 0 ? make_bumpy_sphere_scene(std::stoul(name.substr(10))) : load_gltf(name);
-        const Rates e = measure(scene, w, h, spp, threads, repeats);
+        const Rates e = tracer_only ? Rates{} : measure(scene, w, h, spp, threads, repeats);
         GpuScene gpu(scene);
         const Camera camera = scene.select_camera("", static_cast<float>(w) / static_cast<float>(h));
         const rt::RayRates t = rt::measure_ray_rates(shaders, scene, gpu, camera, w, h, 4 * spp, repeats);
@@ -149,6 +224,12 @@ int main(int argc, char** argv) {
         std::printf("%-28s %7.2f %7.2f %5.0f%% %7.2f %7.2f %5.0f%%\n", name.substr(name.size() > 28 ? name.size() - 28 : 0).c_str(),
                     t.primary_mrays, e.primary_mrays, 100.0 * ratio(t.primary_mrays, e.primary_mrays), t.ao_mrays, e.ao_mrays,
                     100.0 * ratio(t.ao_mrays, e.ao_mrays));
+        char line[256];
+        std::snprintf(line, sizeof line, "%-28s %.1f nodes + %.1f primitives per camera ray; layout %.1f MB nodes + %.1f MB primitives\n",
+                      name.substr(name.size() > 28 ? name.size() - 28 : 0).c_str(), t.nodes_per_ray, t.primitives_per_ray,
+                      static_cast<double>(t.node_bytes) / 1e6, static_cast<double>(t.prim_bytes) / 1e6);
+        work_lines.push_back(line);
     }
+    for (const std::string& l : work_lines) std::fputs(l.c_str(), stdout);
     return 0;
 }
