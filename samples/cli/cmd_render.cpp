@@ -16,6 +16,7 @@
 #include "core/log.hpp"
 #include "image/image.hpp"
 #include "options.hpp"
+#include "render_job.hpp"
 #include "profile/stats.hpp"
 #include "render/still.hpp"
 #include "rt/ray_tracer.hpp"
@@ -107,7 +108,9 @@ std::vector<float> frame_times(const SceneSetup& s, float fps) {
 
 }  // namespace
 
-int cmd_render(const Args& args) {
+int cmd_render(const Args& args) { return run_render(args, nullptr); }
+
+int run_render(const Args& args, BatchSession* batch) {
     std::vector<std::string> with_value = kSceneSetupOptions;
     with_value.insert(with_value.end(), {"-o", "--output", "--exposure", "--stats", "--raytrace", "--spp", "--max-depth",
                                          "--seed", "--spp-shard", "--time-limit", "--fps"});
@@ -148,11 +151,23 @@ int cmd_render(const Args& args) {
     s.options.exposure_ev = exposure;
 
     auto t0 = std::chrono::steady_clock::now();
-    ContextResult ctx = open_context(s);
-    if (!ctx.context) return static_cast<int>(ExitCode::no_gl);
+    ContextResult ctx;
+    if (batch) {  // `candela batch`: the batch's context and programs
+        if (s.backend != Backend::auto_select && s.backend != batch->context->backend())
+            throw bad_input(std::string("--backend ") + to_string(s.backend) + ": the batch renders with " +
+                            to_string(batch->context->backend()) + " (one context per batch: give --backend to 'candela batch')");
+        s.debug = batch->debug;
+    } else {
+        ctx = open_context(s);
+        if (!ctx.context) return static_cast<int>(ExitCode::no_gl);
+    }
+    const Context& context = batch ? *batch->context : *ctx.context;
     const double context_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 
-    const ShaderLibrary shaders(s.shader_dir);
+    const ShaderLibrary own_shaders(s.shader_dir);
+    BatchSession::Programs* shared = batch && batch->share_programs ? &batch->programs_for(s.shader_dir) : nullptr;
+    const ShaderLibrary& shaders = shared ? *shared->shaders : own_shaders;
+    s.options.programs = shared ? shared->cache.get() : nullptr;
     const std::vector<float> times = frame_times(s, fps);
     if (p.has("--raytrace")) {
         for (size_t i = 0; i < times.size(); ++i) {
@@ -191,7 +206,7 @@ int cmd_render(const Args& args) {
     else write_image(out_path, result.radiance, exposure);
     const double write_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     if (p.has("--stats")) {
-        nlohmann::json j = stats_json({ctx.context->device_string(), to_string(ctx.context->backend()), p.positional[0]},
+        nlohmann::json j = stats_json({context.device_string(), to_string(context.backend()), p.positional[0]},
                                       s.options, result);
         j["setup_ms"]["load"] = s.load_ms;
         j["setup_ms"]["context"] = context_ms;

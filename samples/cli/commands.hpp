@@ -17,6 +17,7 @@ int cmd_bench(const Args& args);
 int cmd_merge(const Args& args);
 int cmd_shaders(const Args& args);
 int cmd_view(const Args& args);
+int cmd_batch(const Args& args);  // many render jobs in one process (cmd_batch.cpp)
 // The --help text (options.cpp).
 void print_usage();
 

@@ -34,6 +34,7 @@ void print_usage() {
         "                 [--path auto|forward|deferred] [--output-buffer radiance|visibility]\n"
         "                 [--raytrace whitted|path|direct|indirect|ao|primary|visibility] [--spp N] [--max-depth N] [--seed N]\n"
         "                 [--spp-shard K/N] [--time-limit S] [--shader-dir DIR]\n"
+        "  candela batch JOBS.json|JOBS.txt [--backend auto|egl|osmesa] [--debug-gl] [--timings] [--quiet]\n"
         "  candela merge OUT.exr SHARD.exr...\n"
         "  candela info SCENE [--effects ...] [--set ...] [--lighting L] [--environment E] [--camera C] [--strict]\n"
         "  candela compare A B [--heatmap OUT.png] [--tolerance T] [--max-failing F] [--check] [--blocks K]\n"
@@ -79,6 +80,16 @@ void print_usage() {
         "         changes (samples/viewer/script.hpp), --frames N quits after N frames,\n"
         "         --screenshot writes the last frame's image, --window-shot the window with its panel.\n"
         "         GI probes update over frames: gi.budget 16384 rays per frame unless --set gives it (0: all before each frame).\n"
+        "batch    many render jobs in one process: one GL context, programs compiled once (faster\n"
+        "         than one process per image). A job is render's arguments: a line of JOBS.txt, or in\n"
+        "         JSON [{\"args\": [\"a.gltf\", \"--size\", \"320x240\", \"-o\", \"a.png\"]}, ...] or named\n"
+        "         fields {\"scene\": ..., \"output\": ..., \"size\": ..., \"camera\": ..., \"path\": ...,\n"
+        "         \"set\": {\"ssao.enabled\": false}, \"raytrace\": ..., \"spp\": ..., \"seed\": ...,\n"
+        "         \"animation\": ..., \"time\": ...}; {\"args\": [...], \"jobs\": [...]} puts args before\n"
+        "         every job. A job's image equals `candela render` with its arguments. One backend\n"
+        "         per batch (--backend, else the first job's). A failed job is reported with its\n"
+        "         index and the batch goes on; exit 1 if a job failed internally, else 2 if one had\n"
+        "         bad input, else 0. --timings: each job's time and the process's memory.\n"
         "merge    the sample-weighted mean of --spp-shard outputs: equal to one run with all samples.\n"
         "info     counts, bounds, cameras, lights, the effects the scene calls for and the planned passes.\n"
         "compare  RMSE, relative MSE, PSNR, max difference and the pixels beyond --tolerance\n"
@@ -255,6 +266,7 @@ const std::vector<std::string> kSceneSetupFlags = {"--debug-gl", "--strict", "--
 
 SceneSetup setup_scene(const Parsed& p, const std::string& scene_path, int default_w, int default_h) {
     SceneSetup s;
+    s.gl_errors_before = gl::debug_error_count();
     if (p.flags.count("--quiet")) log::set_level(log::Level::warn);
     s.options.width = default_w;
     s.options.height = default_h;
@@ -321,8 +333,8 @@ ContextResult open_context(const SceneSetup& s) {
 }
 
 int check_gl_errors(const SceneSetup& s) {
-    if (s.debug && gl::debug_error_count() > 0) {
-        std::fprintf(stderr, "candela: error: %d GL error(s) (see above)\n", gl::debug_error_count());
+    if (const int errors = gl::debug_error_count() - s.gl_errors_before; s.debug && errors > 0) {
+        std::fprintf(stderr, "candela: error: %d GL error(s) (see above)\n", errors);
         return static_cast<int>(ExitCode::internal);
     }
     return 0;

@@ -71,6 +71,7 @@ struct SceneSetup {
     // --time T or A:B (seconds): the scene is posed at time_first (options.time) of
     // options.animation; render writes a sequence over [time_first, time_last].
     float time_first = 0.0f, time_last = 0.0f;
+    int gl_errors_before = 0;  // GL errors counted before this set-up (a batch's earlier jobs)
 };
 // Reads kSceneSetupOptions/kSceneSetupFlags from p and loads scene_path; the image is
 // default_w x default_h unless --size says otherwise.
