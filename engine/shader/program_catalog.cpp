@@ -1,5 +1,9 @@
 #include "shader/program_catalog.hpp"
 
+#include <algorithm>
+#include <map>
+#include <mutex>
+
 #include "core/error.hpp"
 #include "effects/registry.hpp"
 
@@ -35,6 +39,22 @@ const std::vector<ProgramDesc>& raster_programs() {
 const ProgramDesc& program_desc(const std::string& name) {
     for (const ProgramDesc& d : raster_programs())
         if (d.name == name) return d;
+    // "BASE#DEFINE,DEFINE VALUE,...": BASE built with more defines (a specialised variant, such as
+    // the forward program without the features a frame does not use: render/passes/pass_env.hpp).
+    if (const size_t hash = name.find('#'); hash != std::string::npos) {
+        static std::mutex mutex;
+        static std::map<std::string, ProgramDesc> variants;  // node-based: references stay valid
+        const std::lock_guard<std::mutex> lock(mutex);
+        if (auto it = variants.find(name); it != variants.end()) return it->second;
+        ProgramDesc d = program_desc(name.substr(0, hash));
+        d.name = name;
+        for (size_t i = hash + 1; i < name.size();) {
+            const size_t end = std::min(name.find(',', i), name.size());
+            if (end > i) d.defines.push_back(name.substr(i, end - i));
+            i = end + 1;
+        }
+        return variants.emplace(name, std::move(d)).first->second;
+    }
     throw Error(ExitCode::internal, "no shader program named '" + name + "'");
 }
 

@@ -15,17 +15,33 @@ layout(binding = 12) uniform sampler2D t_previous_layer;
 // 1: MASK materials output their coverage alpha (surface.glsl) with GL_SAMPLE_ALPHA_TO_COVERAGE on.
 layout(location = 9) uniform int u_alpha_to_coverage;
 
+// Specialisation (render/passes/pass_env.hpp, forward_program_name): FORWARD_NO_* leave out the
+// code of a feature whose uniforms say it is off this frame, so that the image is the same:
+// llvmpipe executes both sides of a branch under a lane mask, so dead features cost per pixel.
+// FORWARD_NO_PEEL (u_peel is 0), FORWARD_NO_DEBUG (frame.debug.x is 0), FORWARD_NO_REFRACTION
+// (reflections.refraction 0), FORWARD_NO_PROBES (reflections.probes 0), FORWARD_NO_AREA_LIGHTS,
+// FORWARD_NO_RSM (rsm.on 0), FORWARD_NO_GI (gi.origin.w < 0.5), FORWARD_NO_TEXTURES (no
+// material has a texture: lighting/surface.glsl).
+#ifdef FORWARD_NO_PEEL
+#define PEELING false
+#else
+#define PEELING (u_peel != 0)
+#endif
+
 void main() {
+#ifndef FORWARD_NO_PEEL
     if (u_peel != 0) {
         ivec2 px = ivec2(gl_FragCoord.xy);
         // Reversed-Z: a larger depth is nearer.
         if (gl_FragCoord.z <= texelFetch(t_opaque_depth, px, 0).r) discard;
         if (u_peel == 2 && gl_FragCoord.z >= texelFetch(t_previous_layer, px, 0).r) discard;
     }
+#endif
     g_alpha_to_coverage = u_alpha_to_coverage != 0;
     Surface s = fragment_surface();
     vec3 v = normalize(frame.camera_pos.xyz - v_world_pos);
     vec2 pixel = gl_FragCoord.xy;
+#ifndef FORWARD_NO_DEBUG
     if (frame.debug.x == 3) {
         out_radiance = vec4(rsm_indirect(s.brdf, pixel, v_world_pos) + shade_gi(s.brdf, v_world_pos, s.n, v, s.occlusion, 0.0), 1.0);
         return;
@@ -35,15 +51,26 @@ void main() {
         out_radiance = vec4(vec3(value), 1.0);
         return;
     }
+#endif
     vec3 color = s.emission;
     // Transmission needs the refraction lookup (reflections effect); without it the surface is
     // an opaque dielectric.
+#ifdef FORWARD_NO_REFRACTION
+    float transmission = 0.0;
+#else
     float transmission = reflections.refraction != 0 ? s.transmission : 0.0;
+#endif
     for (int i = 0; i < shaded_light_count(); ++i) color += shade_light(i, s.brdf, v_world_pos, s.n, v, pixel, transmission);
+#ifndef FORWARD_NO_AREA_LIGHTS
     color += shade_area_lights(s.brdf, v_world_pos, s.n, v, pixel, transmission);
+#endif
     color += shade_ambient(s.brdf, v_world_pos, s.n, v, s.occlusion * ssao_at(pixel), transmission, s.thin);
+#ifndef FORWARD_NO_RSM
     color += rsm_indirect(s.brdf, pixel, v_world_pos);
+#endif
+#ifndef FORWARD_NO_GI
     color += shade_gi(s.brdf, v_world_pos, s.n, v, s.occlusion, transmission);
+#endif
     float alpha = s.alpha_mode == 2 || (s.alpha_mode == 1 && g_alpha_to_coverage) ? s.alpha : 1.0;
-    out_radiance = u_peel != 0 ? vec4(color * alpha, alpha) : vec4(color, alpha);
+    out_radiance = PEELING ? vec4(color * alpha, alpha) : vec4(color, alpha);
 }

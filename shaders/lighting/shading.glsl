@@ -56,7 +56,11 @@ vec3 shade_light(int i, BrdfInput bi, vec3 p, vec3 n, vec3 v, vec2 pixel) { retu
 vec3 shade_ambient(BrdfInput bi, vec3 p, vec3 n, vec3 v, float occlusion, float transmission, bool thin) {
     float NdotV = saturate(dot(n, v));
     vec2 ab = env_brdf(bi.roughness, NdotV);
+#ifdef FORWARD_NO_PROBES
+    int probe = -1;  // probe_at's answer with reflections.probes 0 (forward/forward.frag)
+#else
     int probe = probe_at(p, bi, transmission);
+#endif
     vec3 specular = environment_specular(p, reflect(-v, n), bi.roughness, probe);
     vec3 transmitted = vec3(0.0);
     if (transmission > 0.0) {

@@ -35,7 +35,11 @@ struct Surface {
     bool thin;           // thin-walled (KHR_materials_volume thickness 0)
 };
 
+#ifdef FORWARD_NO_TEXTURES
+bool slot_textured(int slot) { return false; }  // no material has a texture (forward/forward.frag)
+#else
 bool slot_textured(int slot) { return (v_material_bits & (1 << slot)) != 0; }
+#endif
 
 // Texture reads use implicit derivatives, which are defined only in uniform control flow and
 // which the helper lanes of a quad take part in. So every read below happens before any branch

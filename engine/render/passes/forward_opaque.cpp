@@ -36,7 +36,8 @@ void add_forward_opaque_pass(FrameGraph& graph, const PassEnv& env, FrameTargets
             }
             bind_scene_buffers(env);
             bind_effect_inputs(env, ctx);
-            const GLuint forward = env.programs.get("forward").id();
+            // Specialised to this frame's features (pass_env.hpp): opaque geometry never peels.
+            const GLuint forward = env.programs.get(forward_program_name(env, false)).id();
             ctx.state.use_program(forward);
             ctx.state.bind_vertex_array(env.scene.vertex_array().id());
             // MASK materials with multisampling: alpha to coverage (forward.frag, u_alpha_to_coverage).
@@ -49,7 +50,7 @@ void add_forward_opaque_pass(FrameGraph& graph, const PassEnv& env, FrameTargets
                 // Without the transparency effect, blended materials are drawn as opaque ones
                 // (after a prepass that skipped them they would fail the EQUAL test, so skip).
                 if (d.alpha_mode == AlphaMode::blend && (!blend_as_opaque || (prepass && !targets.prepass_has_blend))) continue;
-                draw_item(env, ctx, d, !d.double_sided, GL_BACK);
+                draw_item(env, ctx, d, !d.double_sided, GL_BACK, forward);
             }
             if (a2c) {
                 glDisable(GL_SAMPLE_ALPHA_TO_COVERAGE);

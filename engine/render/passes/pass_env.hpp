@@ -2,6 +2,7 @@
 // What every pass of a frame shares: the scene on the GPU, the settings, the frame constants,
 // the programs and a framebuffer cache; plus the draw helper of the forward-style passes.
 #include <map>
+#include <string>
 #include <vector>
 
 #include "gl/handles.hpp"
@@ -82,6 +83,10 @@ void bind_effect_inputs(const PassEnv& env, FrameGraph::Context& ctx);
 // lighting input bound: the passes that draw after the opaque geometry.
 void begin_forward_shading(const PassEnv& env, FrameGraph::Context& ctx, const FrameTargets& targets,
                            const gl::PipelineState& ps);
+// The forward program specialised to the state bound for this pass (call after
+// bind_scene_buffers): the "forward" catalog program with FORWARD_NO_* defines for the features
+// whose blocks say they are off (forward/forward.frag); `may_peel` false: u_peel stays 0.
+std::string forward_program_name(const PassEnv& env, bool may_peel);
 // Draws one scene item with `program` (default: forward), which has the forward vertex layout and
 // per-draw uniforms (locations 0-3), textures and winding.
 // `depth_only`: a program with only the model matrix, the material and the base colour texture
