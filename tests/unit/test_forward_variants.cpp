@@ -1,0 +1,31 @@
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <string>
+
+#include "shader/program_catalog.hpp"
+#include "shader/shader_library.hpp"
+
+namespace candela {
+namespace {
+namespace fs = std::filesystem;
+
+// The forward program's specialised variants (render/passes/pass_env.hpp, forward_program_name)
+// are not in the catalog's list that `shaders check` compiles: the variant with every
+// FORWARD_NO_* define must still be valid GLSL, and program_desc must give it those defines.
+TEST(ForwardVariants, EverySpecialisationValidatesWithGlslang) {
+    const std::string all = "FORWARD_NO_PEEL,FORWARD_NO_DEBUG,FORWARD_NO_REFRACTION,FORWARD_NO_PROBES,"
+                            "FORWARD_NO_AREA_LIGHTS,FORWARD_NO_RSM,FORWARD_NO_GI,FORWARD_NO_TEXTURES";
+    const ProgramDesc& d = program_desc("forward#" + all);
+    EXPECT_EQ(d.name, "forward#" + all);
+    ASSERT_EQ(d.defines.size(), 8u);
+    EXPECT_EQ(d.defines.front(), "FORWARD_NO_PEEL");
+    EXPECT_EQ(d.defines.back(), "FORWARD_NO_TEXTURES");
+    EXPECT_EQ(&program_desc("forward#" + all), &d);  // built once, reference stays valid
+    const ShaderLibrary lib(fs::path(CANDELA_SOURCE_DIR) / "shaders");
+    for (const auto& [stage, file] : d.stages) EXPECT_EQ(validate_with_glslang(lib.preprocess(file, d.defines), stage), "") << file;
+    EXPECT_THROW(program_desc("no_such_program#FORWARD_NO_GI"), std::exception);
+}
+
+}  // namespace
+}  // namespace candela
