@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 
 #include "core/error.hpp"
 #include "core/log.hpp"
@@ -120,6 +121,10 @@ RayTracer::RayTracer(const ShaderLibrary& shaders, const Scene& scene, GpuScene&
     // Whitted has no roulette: its recursion is bounded by the depth alone.
     const int depth_limit = options_.mode == Mode::whitted ? 64 : kUnboundedDepth;
     if (options_.max_depth > depth_limit) throw bad_input("--max-depth must be in [0, " + std::to_string(depth_limit) + "] in this mode");
+    // CANDELA_RT_SAMPLES_PER_DISPATCH=N overrides Options::samples_per_dispatch (A/B timing,
+    // docs/raytracing.md "Path tracing speed"; 1 is the one-sample-per-dispatch schedule).
+    if (const char* env = std::getenv("CANDELA_RT_SAMPLES_PER_DISPATCH"); env && std::atoi(env) > 0)
+        options_.samples_per_dispatch = std::atoi(env);
     // A reference is the box-filtered pixel average: every mode jitters unless told not to.
     if (options_.jitter < 0) options_.jitter = 1;
     // One program per mode (shaders/rt/modes/), specialised: code for features the scene lacks
@@ -131,6 +136,13 @@ RayTracer::RayTracer(const ShaderLibrary& shaders, const Scene& scene, GpuScene&
     if (rt_scene_.geometry().has_blend) defines.push_back("HAS_BLEND");
     if (rt_scene_.geometry().has_mask) defines.push_back("HAS_MASK");
     if (options_.traversal_stats) defines.push_back("RT_STATS");
+    // What the scene lacks is compiled out too: llvmpipe executes both sides of a branch, masked.
+    const auto textured = [](const Material& m) {
+        return m.base_color_texture.present() || m.metallic_roughness_texture.present() || m.normal_texture.present() ||
+               m.occlusion_texture.present() || m.emissive_texture.present();
+    };
+    if (std::none_of(scene.materials.begin(), scene.materials.end(), textured)) defines.push_back("RT_NO_TEXTURES");
+    if (rt_scene_.geometry().spheres.empty()) defines.push_back("RT_NO_SPHERES");
     if (gpu_.has_environment_map() && options_.env_importance &&
         (options_.mode == Mode::path || options_.mode == Mode::direct)) {
         defines.push_back("HAS_ENV_MAP_SAMPLING");
@@ -374,22 +386,41 @@ Result RayTracer::render(const Camera& camera, int width, int height) {
     const auto t0 = start;
     auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
     const int rows = std::max(1, options_.tile_rows);
-    for (int s = 0; s < options_.spp; ++s) {
-        if (s % options_.shard_count != options_.shard) continue;
+    const int stride = options_.shard_count;
+    f.fparams2.y = static_cast<float>(stride);  // exact: spp <= 2^24
+    double sample_s = 0.0;  // measured seconds per sample (for --time-limit's chunk size)
+    // This run's samples are s = shard, shard + N, ...; a dispatch traces `count` of them from
+    // `s`, all in one motion-blur time slice.
+    for (int s = options_.shard; s < options_.spp;) {
         if (options_.time_limit_s > 0.0 && result.samples > 0 && elapsed() >= options_.time_limit_s) {
             result.stopped_early = true;
             break;
         }
+        int count = 1;
+        const int most = std::max(1, options_.samples_per_dispatch);
+        while (count < most && s + count * stride < options_.spp &&
+               (!motion || slice_of(s + count * stride) == slice_of(s)))
+            ++count;
+        if (options_.time_limit_s > 0.0) {
+            // Near the limit, fewer samples per dispatch: stop at about the limit, as one per dispatch did.
+            const double left = options_.time_limit_s - elapsed();
+            const int fit = sample_s > 0.0 ? static_cast<int>(left / sample_s) : 1;
+            count = std::clamp(fit, 1, count);
+        }
         if (motion && pose_slice(slice_of(s), f, &result)) bind(accum, diagnostics);
+        const double chunk_start = elapsed();
         for (int y0 = 0; y0 < height; y0 += rows) {
             f.image = glm::ivec4(width, height, s, static_cast<int>(options_.seed));
             f.params.w = y0;
+            f.counts2.w = count;
             frame_ubo_.update(0, sizeof(FrameGpu), &f);
             glDispatchCompute(static_cast<GLuint>((width + 7) / 8), static_cast<GLuint>((std::min(rows, height - y0) + 7) / 8), 1);
             glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_UNIFORM_BARRIER_BIT);
         }
         glFinish();  // a sample boundary: time limit and progress are checked here
-        ++result.samples;
+        sample_s = (elapsed() - chunk_start) / count;
+        result.samples += count;
+        s += count * stride;
         if (show_progress) progress_bar(result.samples, mine, elapsed());
     }
     if (show_progress && result.stopped_early) std::fprintf(stderr, "\n");

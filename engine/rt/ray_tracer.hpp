@@ -62,6 +62,11 @@ struct Options {
     int visibility_light = 0;
     bool progress = false;      // progress bar with ETA on stderr
     int tile_rows = 64;         // rows per dispatch: short dispatches never trip a GPU watchdog
+    // Samples per pixel in one dispatch (render(); the progressive mode traces one). Each lane of
+    // the path program starts its next sample when its path ends (shaders/rt/modes/path.comp),
+    // so more samples per dispatch keep more of llvmpipe's SIMD lanes busy. The samples are the
+    // same whatever the grouping. With --time-limit the tracer takes fewer near the limit.
+    int samples_per_dispatch = 16;
     bool traversal_stats = false;  // count BVH nodes and primitives per ray (slower; benchmarks)
     // Motion blur (issue 21). With `pose_at` set, the shutter is open: before each time slice the
     // tracer calls pose_at(u) with the slice's time u in [0, 1) within the shutter (stratified and

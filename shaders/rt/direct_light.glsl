@@ -81,7 +81,9 @@ vec3 direct_emitters(SurfaceHit s, BrdfInput m, vec3 v, inout Rng rng, bool use_
         if (emitters[mid].cdf < u) lo = mid + 1; else hi = mid;
     }
     Emitter e = emitters[lo];
+#ifndef RT_NO_SPHERES
     if (int(e.triangle) >= rt.counts.x) return direct_sphere(s, m, v, rng, use_mis, e);
+#endif
     RtTriangle tri = load_triangle(int(e.triangle));
     float su = sqrt(rng_next(rng));
     float u2 = rng_next(rng);
@@ -91,6 +93,7 @@ vec3 direct_emitters(SurfaceHit s, BrdfInput m, vec3 v, inout Rng rng, bool use_
     // The emission at the sampled point, with the emissive texture, as a BRDF ray would see it
     // (the emitter was chosen by its untextured power: still unbiased where the texture is > 0).
     vec3 Le = materials[mat].emission_metallic.rgb;
+#ifndef RT_NO_TEXTURES
     if (materials[mat].texcoord2.x >= 0) {
         vec2 b = vec2(su * (1.0 - u2), su * u2);
         float w0 = 1.0 - b.x - b.y;
@@ -99,6 +102,7 @@ vec3 direct_emitters(SurfaceHit s, BrdfInput m, vec3 v, inout Rng rng, bool use_
         MaterialData me = materials[mat];
         Le *= material_texture(me, 4, me.images2.x, me.texcoord2.x, uv0, uv1).rgb;
     }
+#endif
     vec3 d = q - s.p;
     float dist2 = dot(d, d);
     if (dist2 <= 0.0) return vec3(0.0);
@@ -118,6 +122,7 @@ vec3 direct_emitters(SurfaceHit s, BrdfInput m, vec3 v, inout Rng rng, bool use_
 
 // Solid-angle pdf with which direct_emitters would have chosen the point the BRDF ray hit.
 float emitter_pdf(Ray ray, Hit hit, SurfaceHit s) {
+#ifndef RT_NO_SPHERES
     if (hit.prim >= rt.counts.x) {
         RtSphere sp = spheres[hit.prim - rt.counts.x];
         float select = intBitsToFloat(sp.material_node.z);
@@ -126,6 +131,7 @@ float emitter_pdf(Ray ray, Hit hit, SurfaceHit s) {
         if (select <= 0.0 || d2 <= r * r) return 0.0;
         return select / (2.0 * PI * sphere_cone_one_minus_cos(r, d2));
     }
+#endif
     RtTriangle tri = load_triangle(hit.prim);
     float select_pdf = tri.n0.w;
     if (select_pdf <= 0.0) return 0.0;

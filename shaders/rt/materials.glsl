@@ -12,6 +12,7 @@ BrdfInput brdf_input(SurfaceHit s) {
     b.base_color = m.base_color.rgb;
     b.metallic = saturate(m.emission_metallic.a);
     b.roughness = saturate(m.params.x);
+#ifndef RT_NO_TEXTURES
     if (m.texcoord.x >= 0)
         b.base_color *= material_texture(m, 0, m.images.x, m.texcoord.x, s.uv0, s.uv1).rgb;
     if (m.texcoord.y >= 0) {
@@ -19,6 +20,7 @@ BrdfInput brdf_input(SurfaceHit s) {
         b.roughness *= mr.g;
         b.metallic *= mr.b;
     }
+#endif
     b.ior = m.params2.x;
     b.specular_factor = m.specular.a;
     b.specular_color = m.specular.rgb;
@@ -27,8 +29,10 @@ BrdfInput brdf_input(SurfaceHit s) {
 vec3 surface_emission(SurfaceHit s) {
     MaterialData m = materials[s.material];
     vec3 e = m.emission_metallic.rgb;
+#ifndef RT_NO_TEXTURES
     if (m.texcoord2.x >= 0)
         e *= material_texture(m, 4, m.images2.x, m.texcoord2.x, s.uv0, s.uv1).rgb;
+#endif
     return e;
 }
 bool material_double_sided(int mi) { return materials[mi].params.w > 0.5; }
@@ -41,7 +45,9 @@ float blend_alpha(SurfaceHit s) {
     MaterialData m = materials[s.material];
     if (int(m.params.z) != 2) return 1.0;
     float a = m.base_color.a;
+#ifndef RT_NO_TEXTURES
     if (m.texcoord.x >= 0) a *= material_texture(m, 0, m.images.x, m.texcoord.x, s.uv0, s.uv1).a;
+#endif
     return saturate(a);
 }
 float material_transmission(int mi) { return materials[mi].params2.y; }

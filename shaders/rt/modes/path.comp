@@ -1,4 +1,5 @@
 #version 450 core
+#define RT_OWN_MAIN  // main() below: samples scheduled per lane
 // Tracer modes `path` and `direct` (path with one bounce, rt.params.x = 1).
 #include "../trace_common.glsl"
 #include "../materials.glsl"
@@ -11,94 +12,137 @@ vec3 shadow_visibility(Ray ray, float tmax) { return opaque_visibility(ray, tmax
 
 // Unidirectional path tracing with next-event estimation (punctual lights always, emissive
 // triangles with MIS against BRDF sampling), Russian roulette after three bounces.
-vec3 radiance(Ray ray, inout Rng rng) {
-    vec3 sum = vec3(0.0);
-    vec3 throughput = vec3(1.0);
-    float last_brdf_pdf = 0.0;  // 0: the last bounce was specular-delta or the camera
+//
+// Scheduling (issue 23): each invocation traces its pixel's dispatch_samples() samples one after
+// the other, one bounce per iteration of one loop, and starts its next sample as soon as a path
+// ends. llvmpipe runs 8 invocations in the SIMD lanes of a thread, and a lane whose path the
+// roulette ended early used to idle until the longest path of its 8 was done; here it starts its
+// next camera ray instead. Every sample is the same as when traced alone (its random stream
+// depends on seed, pixel and sample index only), so the image does not change.
+struct PathState {
+    Ray ray;
+    Rng rng;
+    vec3 sum;
+    vec3 throughput;
+    float last_brdf_pdf;  // 0: the last bounce was specular-delta or the camera
+    int depth;
+#ifdef HAS_BLEND
+    int layers;
+#endif
+};
+
+PathState path_start(ivec2 pixel, uint index, uint sample_index) {
+    PathState p;
+    p.rng = rng_init(uint(rt.image.w), index, sample_index);
+    p.ray = camera_ray(pixel, index, sample_index, p.rng);
+    p.sum = vec3(0.0);
+    p.throughput = vec3(1.0);
+    p.last_brdf_pdf = 0.0;
+    p.depth = 0;
+#ifdef HAS_BLEND
+    p.layers = 0;
+#endif
+    return p;
+}
+
+// One vertex of the path: the closest hit along p.ray, its emission, direct light and the next
+// direction. Returns true when the path has ended (p.sum is then the sample's radiance).
+bool path_step(inout PathState p) {
     int max_depth = rt.params.x;
-#ifdef HAS_BLEND
-    int layers = 0;
-#endif
-    for (int depth = 0; depth <= max_depth; ++depth) {
-        Hit hit = trace_closest(ray, 3.0e38);
-        if (hit.prim < 0) {
-            float w = 1.0;
+    Hit hit = trace_closest(p.ray, 3.0e38);
+    if (hit.prim < 0) {
+        float w = 1.0;
 #ifdef HAS_ENV_MAP_SAMPLING
-            if (last_brdf_pdf > 0.0) w = power_heuristic(last_brdf_pdf, env_pdf(ray.dir));
+        if (p.last_brdf_pdf > 0.0) w = power_heuristic(p.last_brdf_pdf, env_pdf(p.ray.dir));
 #endif
-            sum += throughput * environment(ray.dir) * w;
-            break;
-        }
-        SurfaceHit s = surface_at(ray, hit);
-#ifdef HAS_BLEND
-        // Camera rays pass a blended layer with probability 1 - alpha: in expectation
-        // alpha * (the layer) + (1 - alpha) * (what is behind it), the OVER operator.
-        if (depth == 0 && layers < 32 && rng_next(rng) >= blend_alpha(s)) {
-            ray = make_ray(offset_ray(s.p, -s.ng, rt.fparams2.x), ray.dir);
-            ++layers;
-            --depth;
-            continue;
-        }
-#endif
-        vec3 Le = emitted(s);
-        if (max(Le.r, max(Le.g, Le.b)) > 0.0) {
-            float w = 1.0;
-#ifdef HAS_EMITTERS
-            if (last_brdf_pdf > 0.0) w = power_heuristic(last_brdf_pdf, emitter_pdf(ray, hit, s));
-#endif
-            sum += throughput * Le * w;
-        }
-        if (depth == max_depth) break;
-        vec3 v = -normalize(ray.dir);
-#ifdef HAS_TRANSMISSION
-        float transmission = material_transmission(s.material);
-        if (transmission > 0.0 && rng_next(rng) < transmission) {
-            // Smooth dielectric: reflect or refract by the exact Fresnel term.
-            BrdfInput m = brdf_input(s);
-            bool thin = material_thin(s.material);
-            float eta = thin ? 1.0 : (s.front ? 1.0 / m.ior : m.ior);
-            float cos_i = dot(v, s.ng);
-            // A thin wall reflects like the interface it stands for but does not bend the ray.
-            float F = fresnel_dielectric(cos_i, thin ? 1.0 / m.ior : eta);
-            if (rng_next(rng) < F) {
-                ray = make_ray(offset_ray(s.p, s.ng, rt.fparams2.x), reflect(-v, s.ng));
-            } else {
-                ray = make_ray(offset_ray(s.p, -s.ng, rt.fparams2.x), thin ? -v : refract(-v, s.ng, eta));
-                throughput *= m.base_color;
-            }
-            last_brdf_pdf = 0.0;
-            continue;
-        }
-#endif
-        BrdfInput m = brdf_input(s);
-        sum += throughput * direct_punctual(s, m, v);
-#ifdef HAS_EMITTERS
-        sum += throughput * direct_emitters(s, m, v, rng, true);
-#endif
-#ifdef HAS_ENV_MAP_SAMPLING
-        {
-            float pdf_env;
-            vec3 le = sample_env(rng, pdf_env);
-            vec3 fc = pdf_env > 0.0 ? brdf_cos_folded(m, s, le, v) : vec3(0.0);
-            if (max(fc.r, max(fc.g, fc.b)) > 0.0 &&
-                !trace_any(make_ray(offset_ray(s.p, s.ng, rt.fparams2.x), le), 3.0e38)) {
-                float w = power_heuristic(pdf_env, brdf_pdf_folded(m, s, v, le));
-                sum += throughput * fc * environment(le) * w / pdf_env;
-            }
-        }
-#endif
-        vec3 l;
-        if (!sample_brdf_folded(m, s, v, rng, l)) break;
-        float pdf = brdf_pdf_folded(m, s, v, l);
-        if (pdf <= 0.0) break;
-        throughput *= brdf_cos_folded(m, s, l, v) / pdf;
-        last_brdf_pdf = pdf;
-        if (depth >= 3) {
-            float survive = clamp(max(throughput.r, max(throughput.g, throughput.b)), 0.05, 0.95);
-            if (rng_next(rng) >= survive) break;
-            throughput /= survive;
-        }
-        ray = make_ray(offset_ray(s.p, s.ng, rt.fparams2.x), l);
+        p.sum += p.throughput * environment(p.ray.dir) * w;
+        return true;
     }
-    return sum;
+    SurfaceHit s = surface_at(p.ray, hit);
+#ifdef HAS_BLEND
+    // Camera rays pass a blended layer with probability 1 - alpha: in expectation
+    // alpha * (the layer) + (1 - alpha) * (what is behind it), the OVER operator.
+    if (p.depth == 0 && p.layers < 32 && rng_next(p.rng) >= blend_alpha(s)) {
+        p.ray = make_ray(offset_ray(s.p, -s.ng, rt.fparams2.x), p.ray.dir);
+        ++p.layers;
+        return false;
+    }
+#endif
+    vec3 Le = emitted(s);
+    if (max(Le.r, max(Le.g, Le.b)) > 0.0) {
+        float w = 1.0;
+#ifdef HAS_EMITTERS
+        if (p.last_brdf_pdf > 0.0) w = power_heuristic(p.last_brdf_pdf, emitter_pdf(p.ray, hit, s));
+#endif
+        p.sum += p.throughput * Le * w;
+    }
+    if (p.depth >= max_depth) return true;
+    vec3 v = -normalize(p.ray.dir);
+#ifdef HAS_TRANSMISSION
+    float transmission = material_transmission(s.material);
+    if (transmission > 0.0 && rng_next(p.rng) < transmission) {
+        // Smooth dielectric: reflect or refract by the exact Fresnel term.
+        BrdfInput m = brdf_input(s);
+        bool thin = material_thin(s.material);
+        float eta = thin ? 1.0 : (s.front ? 1.0 / m.ior : m.ior);
+        float cos_i = dot(v, s.ng);
+        // A thin wall reflects like the interface it stands for but does not bend the ray.
+        float F = fresnel_dielectric(cos_i, thin ? 1.0 / m.ior : eta);
+        if (rng_next(p.rng) < F) {
+            p.ray = make_ray(offset_ray(s.p, s.ng, rt.fparams2.x), reflect(-v, s.ng));
+        } else {
+            p.ray = make_ray(offset_ray(s.p, -s.ng, rt.fparams2.x), thin ? -v : refract(-v, s.ng, eta));
+            p.throughput *= m.base_color;
+        }
+        p.last_brdf_pdf = 0.0;
+        return ++p.depth > max_depth;
+    }
+#endif
+    BrdfInput m = brdf_input(s);
+    p.sum += p.throughput * direct_punctual(s, m, v);
+#ifdef HAS_EMITTERS
+    p.sum += p.throughput * direct_emitters(s, m, v, p.rng, true);
+#endif
+#ifdef HAS_ENV_MAP_SAMPLING
+    {
+        float pdf_env;
+        vec3 le = sample_env(p.rng, pdf_env);
+        vec3 fc = pdf_env > 0.0 ? brdf_cos_folded(m, s, le, v) : vec3(0.0);
+        if (max(fc.r, max(fc.g, fc.b)) > 0.0 &&
+            !trace_any(make_ray(offset_ray(s.p, s.ng, rt.fparams2.x), le), 3.0e38)) {
+            float w = power_heuristic(pdf_env, brdf_pdf_folded(m, s, v, le));
+            p.sum += p.throughput * fc * environment(le) * w / pdf_env;
+        }
+    }
+#endif
+    vec3 l;
+    if (!sample_brdf_folded(m, s, v, p.rng, l)) return true;
+    float pdf = brdf_pdf_folded(m, s, v, l);
+    if (pdf <= 0.0) return true;
+    p.throughput *= brdf_cos_folded(m, s, l, v) / pdf;
+    p.last_brdf_pdf = pdf;
+    if (p.depth >= 3) {
+        float survive = clamp(max(p.throughput.r, max(p.throughput.g, p.throughput.b)), 0.05, 0.95);
+        if (rng_next(p.rng) >= survive) return true;
+        p.throughput /= survive;
+    }
+    p.ray = make_ray(offset_ray(s.p, s.ng, rt.fparams2.x), l);
+    return ++p.depth > max_depth;
+}
+
+void main() {
+    ivec2 pixel = dispatch_pixel();
+    if (pixel.x >= rt.image.x || pixel.y >= rt.image.y) return;
+    uint index = uint(pixel.y * rt.image.x + pixel.x);
+    int count = dispatch_samples(), stride = dispatch_sample_stride();
+    vec3 total = vec3(0.0);
+    int k = 0;
+    PathState p = path_start(pixel, index, uint(rt.image.z));
+    while (true) {
+        if (!path_step(p)) continue;
+        total += checked_sample(p.sum);
+        if (++k == count) break;
+        p = path_start(pixel, index, uint(rt.image.z + k * stride));
+    }
+    accumulate(index, total, count);
 }
