@@ -105,12 +105,12 @@ TEST_P(RtModeReloadTest, EditsToASharedIncludeAndToAModeFileReachTheTracer) {
     EXPECT_EQ(ao_centre(&build), 1.0f);
     ASSERT_TRUE(build.ok()) << build.log;
 
-    // 1. The shared include: main() in trace_common.glsl accumulates half of each sample.
+    // 1. The shared include: accumulate() in trace_common.glsl adds half of each sample.
     const fs::path common = shaders / "rt" / "trace_common.glsl";
-    const std::string anchor = "accum[index] += vec4(L, 1.0);";
+    const std::string anchor = "accum[index] += vec4(sum, float(count));";
     std::string text = read_text(common);
     ASSERT_NE(text.find(anchor), std::string::npos) << "the test edits this line of trace_common.glsl";
-    text.replace(text.find(anchor), anchor.size(), "accum[index] += vec4(L * 0.5, 1.0);");
+    text.replace(text.find(anchor), anchor.size(), "accum[index] += vec4(sum * 0.5, float(count));");
     write_text(common, text);
     std::vector<fs::path> changed = watcher.poll();
     ASSERT_EQ(changed.size(), 1u);
