@@ -192,7 +192,9 @@ Hit trace(Ray ray, float tmax, bool any_hit) {
                 int prim = floatBitsToInt(a.w);
                 float t;
                 vec2 bary = vec2(0.0);
+#ifndef RT_NO_SPHERES
                 if (prim < rt.counts.x) {
+#endif
                     t = intersect_triangle(w, a.xyz, texelFetch(t_bvh_prims, r + 1).xyz, texelFetch(t_bvh_prims, r + 2).xyz, hit.t, bary);
 #ifdef HAS_MASK
                     // alphaMode MASK: texels below the cutoff are holes, for every kind of ray.
@@ -214,9 +216,11 @@ Hit trace(Ray ray, float tmax, bool any_hit) {
                         }
                     }
 #endif
+#ifndef RT_NO_SPHERES
                 } else {
                     t = intersect_sphere(ray, a.xyz, texelFetch(t_bvh_prims, r + 1).x, 0.0, hit.t);
                 }
+#endif
                 if (t > 0.0 && t < hit.t) {
                     hit.t = t;
                     hit.prim = prim;
@@ -259,7 +263,11 @@ struct SurfaceHit {
 SurfaceHit surface_at(Ray ray, Hit hit) {
     SurfaceHit s;
     s.p = ray.origin + ray.dir * hit.t;
+    // Compiled for what the scene has (ray_tracer.cpp's defines): llvmpipe runs both sides of a
+    // branch under a lane mask, so code the scene cannot reach still costs every hit.
+#ifndef RT_NO_SPHERES
     if (hit.prim < rt.counts.x) {
+#endif
         RtTriangle tri = load_triangle(hit.prim);
         vec3 ng = normalize(cross(tri.p1.xyz - tri.p0.xyz, tri.p2.xyz - tri.p0.xyz));
         float w0 = 1.0 - hit.bary.x - hit.bary.y;
@@ -276,6 +284,7 @@ SurfaceHit surface_at(Ray ray, Hit hit) {
         s.p = tri.p0.xyz * w0 + tri.p1.xyz * hit.bary.x + tri.p2.xyz * hit.bary.y;
         s.uv0 = tri.uv_a.xy * w0 + tri.uv_a.zw * hit.bary.x + tri.uv_b.xy * hit.bary.y;
         s.uv1 = tri.uv_b.zw * w0 + tri.uv_c.xy * hit.bary.x + tri.uv_c.zw * hit.bary.y;
+#ifndef RT_NO_TEXTURES
         // Normal map, as the forward pass applies it (tangent frame from the interpolated tangent).
         int mi = s.material;
         if (materials[mi].texcoord.z >= 0) {
@@ -296,6 +305,7 @@ SurfaceHit surface_at(Ray ray, Hit hit) {
                 if (side < 1e-4) s.ns = normalize(s.ns + s.ng * (1e-4 - side));
             }
         }
+#endif
         // Shading normals (interpolated or mapped) that face away from the viewer are bent back
         // to the horizon, exactly as the rasterizer does (shaders/lighting/surface.glsl), so
         // that the BRDF sees the same n.v in both. ns and v both lie above the geometric
@@ -304,6 +314,7 @@ SurfaceHit surface_at(Ray ray, Hit hit) {
         vec3 v = -normalize(ray.dir);
         float nv = dot(s.ns, v);
         if (nv < 1e-4) s.ns = normalize(s.ns + v * (1e-4 - nv));
+#ifndef RT_NO_SPHERES
     } else {
         RtSphere sp = spheres[hit.prim - rt.counts.x];
         vec3 n = normalize(s.p - sp.center_radius.xyz);
@@ -316,5 +327,6 @@ SurfaceHit surface_at(Ray ray, Hit hit) {
         s.uv0 = direction_to_equirect(n);  // spheres carry no mesh UVs here
         s.uv1 = s.uv0;
     }
+#endif
     return s;
 }
