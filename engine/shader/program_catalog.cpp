@@ -60,7 +60,8 @@ const ProgramDesc& program_desc(const std::string& name) {
 
 std::vector<ProgramDesc> ray_tracer_variants() {
     // One program per tracer mode (rt::mode_program: direct shares path's), each without and
-    // with every feature define.
+    // with every feature define, and as compiled for a scene without textures or spheres
+    // (RT_NO_TEXTURES, RT_NO_SPHERES: ray_tracer.cpp compiles that code out when unused).
     struct ModeFile {
         const char* name;
         const char* file;
@@ -74,10 +75,13 @@ std::vector<ProgramDesc> ray_tracer_variants() {
                                      {"MODE_BOUNCE", "rt/modes/bounce.comp"}};
     std::vector<ProgramDesc> out;
     for (const ModeFile& mode : modes)
-        for (bool features : {false, true}) {
+        for (int variant : {0, 1, 2}) {
+            const bool features = variant == 1;
             std::vector<std::string> defines;
             if (features)
                 for (const char* f : {"HAS_EMITTERS", "HAS_TRANSMISSION", "HAS_BLEND", "HAS_MASK", "RT_STATS"}) defines.push_back(f);
+            if (variant == 2)
+                for (const char* f : {"HAS_EMITTERS", "RT_NO_TEXTURES", "RT_NO_SPHERES"}) defines.push_back(f);
             if (features && std::string(mode.name) == "MODE_PATH") defines.push_back("HAS_ENV_MAP_SAMPLING");  // path/direct only
             std::string name = std::string("trace ") + mode.name;
             for (const auto& d : defines) name += " " + d;
