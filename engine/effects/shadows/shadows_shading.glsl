@@ -60,7 +60,13 @@ float shadow_linear_depth(ShadowView sv, float d) {
 
 // Fraction of the light reaching p (1 lit, 0 shadowed). n: the shading normal, l: towards the light.
 float shadow_factor(PunctualLight light, vec3 p, vec3 n, vec3 l, vec2 pixel) {
+    // SHADOW_FILTER_MODE: the mode as a constant (the forward program's variant, pass_env.cpp),
+    // so only its code is compiled; llvmpipe would run the other modes' code masked.
+#ifdef SHADOW_FILTER_MODE
+    const int mode = SHADOW_FILTER_MODE;
+#else
     int mode = shadows.filter_mode;
+#endif
     if (mode == SHADOW_OFF || light.cone.w < 0.5) return 1.0;
     ShadowView sv = shadow_views[shadow_view_index(light, p)];
     bool ortho = sv.params.x < 0.5;

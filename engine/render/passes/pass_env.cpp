@@ -10,6 +10,7 @@
 #include "effects/gi/gi_data.h"
 #include "effects/reflections/reflections_data.h"
 #include "effects/rsm/rsm_data.h"
+#include "effects/shadows/shadows_data.h"
 
 namespace candela {
 
@@ -132,6 +133,10 @@ std::string forward_program_name(const PassEnv& env, bool may_peel) {
     gpu::GiData gi{};
     if (read_bound_block(GI_BINDING, gi) && gi.origin.w < 0.5f) add("FORWARD_NO_GI");
     if (no_material_textures(env.scene)) add("FORWARD_NO_TEXTURES");
+    // The shadow filter (shadows_shading.glsl): only the selected mode's code is compiled.
+    gpu::ShadowsData shadows{};
+    if (read_bound_block(SHADOWS_BINDING, shadows) && shadows.filter_mode >= 0 && shadows.filter_mode <= 3)
+        add(("SHADOW_FILTER_MODE " + std::to_string(shadows.filter_mode)).c_str());
     return defines.empty() ? "forward" : "forward#" + defines;
 }
 
