@@ -98,10 +98,18 @@ vec3 shade_surface(vec3 color, BrdfInput bi, float occlusion, vec3 p, vec3 n, ve
             }
         }
     }
+    // FORWARD_NO_* (render/passes/pass_env.cpp, deferred_light_program_name): code of features
+    // whose blocks say they are off this frame is left out, as in forward/forward.frag.
+#ifndef FORWARD_NO_AREA_LIGHTS
     color += shade_area_lights(bi, p, n, v, pixel, 0.0);
+#endif
     color += shade_ambient(bi, p, n, v, occlusion * ssao_at(pixel));
+#ifndef FORWARD_NO_RSM
     color += rsm_indirect(bi, pixel, p);
+#endif
+#ifndef FORWARD_NO_GI
     color += shade_gi(bi, p, n, v, occlusion, 0.0);
+#endif
     return color;
 }
 
@@ -179,9 +187,12 @@ void shade_group(ivec2 q, uint m, int light_count, bool tiled, vec2 px_ndc) {
     vec3 n = oct_decode(normal_rm.xy);
     vec3 v = normalize(frame.camera_pos.xyz - p);
     vec3 lit;
+#ifndef FORWARD_NO_DEBUG
     if (frame.debug.x == 3) lit = rsm_indirect(bi, pixel, p) + shade_gi(bi, p, n, v, base_occlusion.a, 0.0);
     else if (frame.debug.x != 0) lit = vec3(frame.debug.x == 1 ? light_visibility(p, n, pixel) : ssao_at(pixel));
-    else lit = shade_surface(vec3(0.0), bi, base_occlusion.a, p, n, v, pixel, light_count, tiled);
+    else
+#endif
+    lit = shade_surface(vec3(0.0), bi, base_occlusion.a, p, n, v, pixel, light_count, tiled);
     for (int s = first; s < kMaxSamples; ++s)
         if ((m & (1u << uint(s))) != 0u) {
             vec3 emission = imageLoad(light_buffer, q, s).rgb;
@@ -323,6 +334,7 @@ void main() {
     vec3 p = world_point(ndc, depth);
     vec3 v = normalize(frame.camera_pos.xyz - p);
     vec2 pixel = vec2(gid) + 0.5;
+#ifndef FORWARD_NO_DEBUG
     if (frame.debug.x == 3) {
         imageStore(light_buffer, gid, vec4(rsm_indirect(bi, pixel, p) + shade_gi(bi, p, n, v, base_occlusion.a, 0.0), 1.0));
         return;
@@ -332,6 +344,7 @@ void main() {
         imageStore(light_buffer, gid, vec4(vec3(value), 1.0));
         return;
     }
+#endif
     vec3 color = shade_surface(imageLoad(light_buffer, gid).rgb, bi, base_occlusion.a, p, n, v, pixel, light_count, tiled);
     imageStore(light_buffer, gid, vec4(color, 1.0));
 #endif

@@ -75,7 +75,8 @@ void add_deferred_lighting_pass(FrameGraph& graph, const PassEnv& env, FrameTarg
             glBindSampler(3, 0);
             glBindImageTexture(0, ctx.texture(d.hdr).id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
             const bool ms = n > 1;
-            const GLuint program = env.programs.get(ms ? "deferred_light_ms" : "deferred_light").id();
+            const GLuint program =
+                env.programs.get(deferred_light_program_name(env, ms ? "deferred_light_ms" : "deferred_light")).id();
             ctx.state.use_program(program);
             GLuint stats = 0;
             if (ms) {
@@ -103,7 +104,7 @@ void add_deferred_lighting_pass(FrameGraph& graph, const PassEnv& env, FrameTarg
             if (ms) {
                 // The further sample groups of the edge pixels, one invocation each.
                 glMemoryBarrier(GL_COMMAND_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
-                const GLuint edges = env.programs.get("deferred_light_ms_edges").id();
+                const GLuint edges = env.programs.get(deferred_light_program_name(env, "deferred_light_ms_edges")).id();
                 ctx.state.use_program(edges);
                 glProgramUniform2fv(edges, 1, n, positions_for(n).data());
                 glProgramUniform1i(edges, 0, 0);

@@ -113,13 +113,12 @@ bool no_material_textures(const GpuScene& scene) {
 }
 }  // namespace
 
-std::string forward_program_name(const PassEnv& env, bool may_peel) {
-    // Each define removes code whose runtime condition is known false from the values the
-    // shaders will read: the bound blocks and the frame's constants. llvmpipe runs both sides of
-    // a branch under a lane mask, so dead features cost per pixel, not only at compile time.
-    std::string defines;
-    auto add = [&defines](const char* d) { defines += (defines.empty() ? "" : ",") + std::string(d); };
-    if (!may_peel) add("FORWARD_NO_PEEL");
+// The defines both lighting programs (forward.frag, deferred/light.comp) take from the bound
+// blocks: each removes code whose runtime condition is known false from the values the shaders
+// will read. llvmpipe runs both sides of a branch under a lane mask, so dead features cost per
+// pixel, not only at compile time.
+static std::string lighting_defines(const PassEnv& env, std::string defines) {
+    auto add = [&defines](const std::string& d) { defines += (defines.empty() ? "" : ",") + d; };
     if (env.frame.debug.x == 0) add("FORWARD_NO_DEBUG");
     gpu::ReflectionsData reflections{};
     if (read_bound_block(REFLECTIONS_BINDING, reflections)) {
@@ -132,12 +131,24 @@ std::string forward_program_name(const PassEnv& env, bool may_peel) {
     if (read_bound_block(RSM_BINDING, rsm) && rsm.on == 0) add("FORWARD_NO_RSM");
     gpu::GiData gi{};
     if (read_bound_block(GI_BINDING, gi) && gi.origin.w < 0.5f) add("FORWARD_NO_GI");
-    if (no_material_textures(env.scene)) add("FORWARD_NO_TEXTURES");
     // The shadow filter (shadows_shading.glsl): only the selected mode's code is compiled.
     gpu::ShadowsData shadows{};
     if (read_bound_block(SHADOWS_BINDING, shadows) && shadows.filter_mode >= 0 && shadows.filter_mode <= 3)
-        add(("SHADOW_FILTER_MODE " + std::to_string(shadows.filter_mode)).c_str());
+        add("SHADOW_FILTER_MODE " + std::to_string(shadows.filter_mode));
+    return defines;
+}
+
+std::string forward_program_name(const PassEnv& env, bool may_peel) {
+    std::string defines;
+    if (!may_peel) defines = "FORWARD_NO_PEEL";
+    if (no_material_textures(env.scene)) defines += (defines.empty() ? "" : ",") + std::string("FORWARD_NO_TEXTURES");
+    defines = lighting_defines(env, defines);
     return defines.empty() ? "forward" : "forward#" + defines;
+}
+
+std::string deferred_light_program_name(const PassEnv& env, const std::string& base) {
+    const std::string defines = lighting_defines(env, "");
+    return defines.empty() ? base : base + "#" + defines;
 }
 
 void draw_item(const PassEnv& env, FrameGraph::Context& ctx, const GpuScene::Draw& d, bool cull, GLenum cull_face,

@@ -87,6 +87,9 @@ void begin_forward_shading(const PassEnv& env, FrameGraph::Context& ctx, const F
 // bind_scene_buffers): the "forward" catalog program with FORWARD_NO_* defines for the features
 // whose blocks say they are off (forward/forward.frag); `may_peel` false: u_peel stays 0.
 std::string forward_program_name(const PassEnv& env, bool may_peel);
+// The deferred lighting program `base` (deferred_light, deferred_light_ms, ..._edges) with the
+// same defines from the bound blocks (deferred/light.comp honours the lighting ones).
+std::string deferred_light_program_name(const PassEnv& env, const std::string& base);
 // Draws one scene item with `program` (default: forward), which has the forward vertex layout and
 // per-draw uniforms (locations 0-3), textures and winding.
 // `depth_only`: a program with only the model matrix, the material and the base colour texture
