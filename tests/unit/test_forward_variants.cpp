@@ -27,5 +27,23 @@ TEST(ForwardVariants, EverySpecialisationValidatesWithGlslang) {
     EXPECT_THROW(program_desc("no_such_program#FORWARD_NO_GI"), std::exception);
 }
 
+// The deferred lighting programs take the same lighting defines (deferred_light_program_name),
+// with every shadow filter mode: each combination must still compile.
+TEST(ForwardVariants, DeferredSpecialisationsValidateWithGlslang) {
+    const ShaderLibrary lib(fs::path(CANDELA_SOURCE_DIR) / "shaders");
+    for (const char* base : {"deferred_light", "deferred_light_ms", "deferred_light_ms_edges"})
+        for (int mode = 0; mode <= 3; ++mode) {
+            const std::string name = std::string(base) +
+                                     "#FORWARD_NO_DEBUG,FORWARD_NO_REFRACTION,FORWARD_NO_PROBES,FORWARD_NO_AREA_LIGHTS,"
+                                     "FORWARD_NO_RSM,FORWARD_NO_GI,SHADOW_FILTER_MODE " +
+                                     std::to_string(mode);
+            const ProgramDesc& d = program_desc(name);
+            SCOPED_TRACE(name);
+            EXPECT_EQ(d.defines.back(), "SHADOW_FILTER_MODE " + std::to_string(mode));
+            for (const auto& [stage, file] : d.stages)
+                EXPECT_EQ(validate_with_glslang(lib.preprocess(file, d.defines), stage), "") << file;
+        }
+}
+
 }  // namespace
 }  // namespace candela
