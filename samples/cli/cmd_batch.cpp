@@ -21,6 +21,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/command_line.hpp"
 #include "core/error.hpp"
 #include "core/log.hpp"
 #include "gl/handles.hpp"
@@ -38,34 +39,10 @@ struct Job {
     int line = 0;       // text files: the line
 };
 
-// A command line split into arguments: whitespace separates, "double quotes" group (\" is a
-// quote inside them), '#' outside quotes starts a comment.
-Args split_command_line(const std::string& line) {
-    Args out;
-    std::string cur;
-    bool quoted = false, any = false;
-    for (size_t i = 0; i < line.size(); ++i) {
-        const char c = line[i];
-        if (quoted && c == '\\' && i + 1 < line.size() && line[i + 1] == '"') {
-            cur += '"';
-            ++i;
-        } else if (c == '"') {
-            quoted = !quoted;
-            any = true;
-        } else if (!quoted && c == '#') {
-            break;
-        } else if (!quoted && std::isspace(static_cast<unsigned char>(c))) {
-            if (any) out.push_back(cur);
-            cur.clear();
-            any = false;
-        } else {
-            cur += c;
-            any = true;
-        }
-    }
-    if (quoted) throw bad_input("unbalanced \" in: " + line);
-    if (any) out.push_back(cur);
-    if (!out.empty() && out[0] == "render") out.erase(out.begin());  // "render SCENE ..." is accepted too
+// A jobs-file line's arguments (core/command_line.hpp); "render SCENE ..." is accepted too.
+Args job_arguments(const std::string& line) {
+    Args out = split_command_line(line);
+    if (!out.empty() && out[0] == "render") out.erase(out.begin());
     return out;
 }
 
@@ -85,7 +62,7 @@ Args string_array(const nlohmann::json& v, const std::string& field) {
 
 // One JSON job as render arguments: the named fields first, then "args" (a later option wins).
 Args job_args(const nlohmann::json& j) {
-    if (j.is_string()) return split_command_line(j.get<std::string>());
+    if (j.is_string()) return job_arguments(j.get<std::string>());
     if (j.is_array()) return string_array(j, "args");
     if (!j.is_object()) throw bad_input("a job must be an object, an array of arguments or a command line (got " + j.dump() + ")");
     // Fields that are one option with one value.
@@ -171,7 +148,7 @@ std::vector<Job> read_jobs(const fs::path& file) {
             Job job;
             job.line = n;
             try {
-                job.args = split_command_line(line);
+                job.args = job_arguments(line);
                 if (job.args.empty()) continue;
             } catch (const Error& e) {
                 job.error = e.what();

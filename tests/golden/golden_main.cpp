@@ -25,6 +25,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "core/command_line.hpp"
 #include "core/error.hpp"
 #include "gl/debug.hpp"
 #include "image/image.hpp"
@@ -154,30 +155,6 @@ int run_job(GoldenJob& job, const ShaderLibrary& shaders, ProgramCache* programs
     }
 }
 
-// One line of a jobs file split into arguments: whitespace separates, "double quotes" group,
-// '#' outside quotes starts a comment.
-std::vector<std::string> split_line(const std::string& line) {
-    std::vector<std::string> out;
-    std::string cur;
-    bool quoted = false, any = false;
-    for (const char c : line) {
-        if (c == '"') {
-            quoted = !quoted;
-            any = true;
-        } else if (!quoted && c == '#') {
-            break;
-        } else if (!quoted && (c == ' ' || c == '\t' || c == '\r')) {
-            if (any) out.push_back(cur);
-            cur.clear();
-            any = false;
-        } else {
-            cur += c;
-            any = true;
-        }
-    }
-    if (any) out.push_back(cur);
-    return out;
-}
 
 ContextResult open_context(Backend backend) {
     ContextOptions ctx_options;
@@ -197,7 +174,13 @@ int run_jobs_file(const fs::path& file) {
     std::vector<GoldenJob> jobs;
     std::string line;
     for (int line_no = 1; std::getline(in, line); ++line_no) {
-        const std::vector<std::string> args = split_line(line);
+        std::vector<std::string> args;
+        try {
+            args = split_command_line(line);
+        } catch (const Error& e) {
+            std::fprintf(stderr, "candela_golden: %s:%d: %s\n", file.c_str(), line_no, e.what());
+            return 2;
+        }
         if (args.empty()) continue;
         GoldenJob job;
         if (const std::string error = parse_job(args, job); !error.empty()) {
