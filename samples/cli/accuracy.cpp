@@ -6,6 +6,8 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <ctime>
 #include <fstream>
 #include <functional>
@@ -13,6 +15,8 @@
 #include <map>
 #include <optional>
 #include <sstream>
+
+#include <nlohmann/json.hpp>
 
 #include "core/error.hpp"
 #include "core/log.hpp"
@@ -116,12 +120,12 @@ struct Run {
     Progress& progress;
 };
 
-Scene load(const Run& c, const std::string& name) {
+Scene load(const AccuracyOptions& o, const std::string& name) {
     if (name.rfind("generated:lights:", 0) == 0) return make_many_lights_scene(std::stoi(name.substr(17)));
     if (name == "generated:dof") return make_dof_scene();
     if (name == "generated:edges") return make_edges_scene();
     if (name == "generated:motion") return make_motion_scene();
-    const fs::path p = fs::path(name).has_parent_path() ? fs::path(name) : c.o.scene_dir / name;
+    const fs::path p = fs::path(name).has_parent_path() ? fs::path(name) : o.scene_dir / name;
     return load_gltf(p);
 }
 
@@ -453,183 +457,233 @@ std::string slug(std::string s) {
     return s;
 }
 
-}  // namespace
+// The image size and frame counts of a run, and the steps of the three sweeps that belong to no
+// effect.
+struct Sizes {
+    int width, height, warmup, frames;
+};
+Sizes sizes(bool quick) { return {quick ? 128 : 320, quick ? 96 : 240, quick ? 1 : 3, quick ? 3 : 10}; }
+std::vector<int> light_counts(bool quick) { return quick ? std::vector<int>{4, 16} : std::vector<int>{4, 16, 64}; }
+std::vector<int> spp_steps(bool quick) { return quick ? std::vector<int>{1, 4, 16} : std::vector<int>{1, 4, 16, 64}; }
+std::vector<int> depth_steps(bool quick) { return quick ? std::vector<int>{2, 8} : std::vector<int>{2, 4, 8, 16, 32}; }
 
-int run_accuracy(const AccuracyOptions& o) {
-    fs::create_directories(o.out);
-    ContextOptions co;
-    ContextResult ctx = create_context(o.backend, co);
-    if (!ctx.context) {
-        std::fprintf(stderr, "candela: %s\n", ctx.error.c_str());
-        return static_cast<int>(ExitCode::no_gl);
-    }
-    if (!ctx.notice.empty()) std::fprintf(stderr, "candela: warning: %s\n", ctx.notice.c_str());
-    const std::string device = ctx.context->device_string();
-    const ShaderLibrary shaders(o.shader_dir);
-    Progress progress;
-    Run c{o, shaders, o.quick ? 128 : 320, o.quick ? 96 : 240, o.quick ? 1 : 3, o.quick ? 3 : 10, progress};
-    std::vector<AccuracySweep> sweeps = make_sweeps(o.quick);
+// One section of the report: a sweep on one scene.
+struct Job {
+    size_t sweep = 0;   // index in Plan::sweeps
+    std::string scene;  // the sweep's own scene, or a given one that calls for the effect
+};
+
+struct Plan {
+    std::vector<AccuracySweep> sweeps;
+    std::vector<Job> jobs;
+    const AccuracySweep& sweep(const Job& j) const { return sweeps[j.sweep]; }
+};
+
+// The sections in report order. Given scenes are loaded and analysed on the CPU (no GL context):
+// a sweep runs on those that call for its effect.
+Plan make_plan(const AccuracyOptions& o) {
+    Plan plan;
+    plan.sweeps = make_sweeps(o.quick);
     if (!o.effects.empty()) {
         std::vector<AccuracySweep> kept;
-        for (AccuracySweep& s : sweeps)
+        for (AccuracySweep& s : plan.sweeps)
             if (std::find(o.effects.begin(), o.effects.end(), s.effect) != o.effects.end()) kept.push_back(std::move(s));
         if (kept.empty()) throw bad_input("bench accuracy: no section named by --effect");
-        sweeps = std::move(kept);
+        plan.sweeps = std::move(kept);
     }
-
-    // Which scenes each sweep runs on: its own, or those given that call for the effect.
-    struct Job {
-        const AccuracySweep* sweep;
-        std::string scene;
-    };
-    std::vector<Job> jobs;
-    for (const AccuracySweep& s : sweeps) {
+    std::vector<Features> features;  // of each given scene, loaded once
+    for (const std::string& name : o.scenes) features.push_back(analyze(load(o, name), RenderSettings{}));
+    for (size_t i = 0; i < plan.sweeps.size(); ++i) {
+        const AccuracySweep& s = plan.sweeps[i];
         if (s.effect == "forward_deferred" || s.effect == "ray_tracer" || s.effect == "ray_tracer_depth" || o.scenes.empty()) {
-            jobs.push_back({&s, s.scene});
+            plan.jobs.push_back({i, s.scene});
             continue;
         }
-        for (const std::string& name : o.scenes) {
-            const Scene scene = load(c, name);
-            if (s.needed(analyze(scene, RenderSettings{}))) jobs.push_back({&s, name});
-        }
+        for (size_t k = 0; k < o.scenes.size(); ++k)
+            if (s.needed(features[k])) plan.jobs.push_back({i, o.scenes[k]});
     }
-    const std::vector<int> light_counts = o.quick ? std::vector<int>{4, 16} : std::vector<int>{4, 16, 64};
-    const std::vector<int> spps = o.quick ? std::vector<int>{1, 4, 16} : std::vector<int>{1, 4, 16, 64};
-    const std::vector<int> depths = o.quick ? std::vector<int>{2, 8} : std::vector<int>{2, 4, 8, 16, 32};
-    for (const Job& j : jobs) {
-        if (j.sweep->effect == "forward_deferred") progress.total += 2 * static_cast<int>(light_counts.size());
-        else if (j.sweep->effect == "ray_tracer") progress.total += static_cast<int>(spps.size()) + 1;
-        else if (j.sweep->effect == "ray_tracer_depth") progress.total += static_cast<int>(depths.size()) + 1;
-        else progress.total += static_cast<int>(j.sweep->variants.size()) + 1 + (j.sweep->split ? 1 : 0);
-    }
+    return plan;
+}
 
-    struct Section {
-        const AccuracySweep* sweep;
-        std::string scene;
-        size_t first = 0, last = 0;  // rows
-        double noise = 0, rt_ms = 0;
-        int ref_spp = 0;
-        double occlusion_rmse = kNaN;  // a split sweep: RMSE of the reference with vs without occlusion
-        ImageF reference;
-        std::string knee_name;
-    };
-    std::vector<Section> sections;
-    std::vector<Row> rows;
+// The scene a section's heading names (forward_deferred runs on generated scenes of N lights).
+std::string section_scene(const AccuracySweep& s, const std::string& scene) {
+    return s.effect == "forward_deferred" ? "generated:lights:N" : scene;
+}
+std::string job_label(const Plan& plan, const Job& j) {
+    const AccuracySweep& s = plan.sweep(j);
+    return s.effect + " on " + section_scene(s, j.scene);
+}
+
+// The progress steps of a section (references and rows).
+int job_steps(const AccuracySweep& s, bool quick) {
+    if (s.effect == "forward_deferred") return 2 * static_cast<int>(light_counts(quick).size());
+    if (s.effect == "ray_tracer") return static_cast<int>(spp_steps(quick).size()) + 1;
+    if (s.effect == "ray_tracer_depth") return static_cast<int>(depth_steps(quick).size()) + 1;
+    return static_cast<int>(s.variants.size()) + 1 + (s.split ? 1 : 0);
+}
+
+// A section's result: its rows are rows[first, last) of the run's row list.
+struct Section {
+    const AccuracySweep* sweep = nullptr;
+    std::string scene;
+    size_t first = 0, last = 0;
+    double noise = 0, rt_ms = 0;
+    int ref_spp = 0;
+    double occlusion_rmse = kNaN;  // a split sweep: RMSE of the reference with vs without occlusion
+    ImageF reference;
+    std::string knee_name;         // the knee of the Pareto front (empty: none), for the saved section
+    std::string device, backend;   // where it ran
+    double seconds = 0;            // how long it took
+};
+
+// Runs one section, appending its rows to `rows`.
+Section run_job(const Run& c, const AccuracySweep& s, const std::string& job_scene, std::vector<Row>& rows) {
+    const AccuracyOptions& o = c.o;
+    Progress& progress = c.progress;
+    const auto start = Clock::now();
+    Section sec;
+    sec.sweep = &s;
+    sec.scene = section_scene(s, job_scene);
+    sec.first = rows.size();
+    if (s.effect == "forward_deferred") {
+        for (int n : light_counts(o.quick)) {
+            const std::string name = "generated:lights:" + std::to_string(n);
+            const Scene scene = load(o, name);
+            GpuScene gpu(scene);
+            AccuracySweep t = s;
+            t.scene = name;
+            // No effects: the shading itself (an effect's passes would cost the same on both paths).
+            t.variants = {{"forward " + std::to_string(n) + " lights", "none", {"render.path=forward"}},
+                          {"deferred " + std::to_string(n) + " lights", "none", {"render.path=deferred"}}};
+            raster_rows(c, t, scene, gpu, rows);
+        }
+    } else if (s.effect == "ray_tracer") {
+        const Scene scene = load(o, job_scene);
+        GpuScene gpu(scene);
+        const AccuracySweep::Reference path{rt::Mode::path, o.quick ? 32 : 256};
+        const Reference ref = make_reference(c, scene, gpu, path, RenderSettings{});
+        progress.step("ray_tracer: reference");
+        sec.noise = ref.noise;
+        sec.ref_spp = ref.spp;
+        sec.reference = ref.image;
+        for (int spp : spp_steps(o.quick)) {
+            const rt::Result r = trace(c, scene, gpu, path, spp, 7, RenderSettings{});
+            Row row;
+            row.effect = s.effect;
+            row.variant = std::to_string(spp) + " spp";
+            row.settings = "--raytrace path --spp " + std::to_string(spp);
+            row.scene = job_scene;
+            row.width = c.width;
+            row.height = c.height;
+            row.ms = r.trace_ms;
+            row.iqr = 0.0;
+            row.frame_ms = r.trace_ms;
+            row.image = r.image;
+            measure_errors(row, r.image, ref, Buffer::radiance);
+            rows.push_back(std::move(row));
+            progress.step("ray_tracer: " + std::to_string(spp) + " spp");
+        }
+    } else if (s.effect == "ray_tracer_depth") {
+        const Scene scene = load(o, job_scene);
+        GpuScene gpu(scene);
+        const int spp = o.quick ? 16 : 64;
+        auto row_for = [&](int depth) {
+            AccuracySweep::Reference r{rt::Mode::path, spp};
+            r.max_depth = depth;
+            const rt::Result res = trace(c, scene, gpu, r, spp, 7, RenderSettings{});
+            Row row;
+            row.effect = s.effect;
+            row.variant = depth < 0 ? std::string("no cap (default)") : "max depth " + std::to_string(depth);
+            row.settings = "--raytrace path --spp " + std::to_string(spp) + (depth < 0 ? "" : " --max-depth " + std::to_string(depth));
+            row.scene = job_scene;
+            row.width = c.width;
+            row.height = c.height;
+            row.ms = row.frame_ms = res.trace_ms;
+            row.iqr = 0.0;
+            row.image = res.image;
+            return row;
+        };
+        Row unbounded = row_for(-1);
+        progress.step("ray_tracer_depth: no cap");
+        // The same paths up to the cap: no noise between the rows, only the dropped light.
+        const Reference ref{unbounded.image, {}, 0.0, unbounded.ms, spp};
+        sec.noise = 0.0;
+        sec.ref_spp = spp;
+        sec.reference = ref.image;
+        for (int depth : depth_steps(o.quick)) {
+            Row row = row_for(depth);
+            measure_errors(row, row.image, ref, Buffer::radiance);
+            rows.push_back(std::move(row));
+            progress.step("ray_tracer_depth: max depth " + std::to_string(depth));
+        }
+        measure_errors(unbounded, unbounded.image, ref, Buffer::radiance);
+        rows.push_back(std::move(unbounded));
+    } else {
+        Scene scene = load(o, job_scene);
+        const RenderSettings base = variant_settings(s, s.variants.front());
+        const SceneTime when = pose_for_sweep(scene, base);  // animated: animation 0 at its midpoint
+        GpuScene gpu(scene);
+        set_sweep_motion(gpu, when);
+        const Reference ref = make_reference(c, scene, gpu, *s.reference, base, &when);
+        progress.step(s.effect + ": reference");
+        std::optional<Reference> split;
+        if (s.split) {
+            split = make_reference(c, scene, gpu, *s.split, base, &when);
+            sec.occlusion_rmse = compare(ref.image, split->image, 2.0 / 255.0).rmse;
+            progress.step(s.effect + ": reference without occlusion");
+        }
+        AccuracySweep t = s;
+        t.scene = job_scene;
+        raster_rows(c, t, scene, gpu, rows);
+        for (size_t i = sec.first; i < rows.size(); ++i) {
+            if (s.region == AccuracySweep::Region::edges) measure_edge_errors(rows[i], rows[i].image, ref);
+            else measure_errors(rows[i], rows[i].image, ref, s.buffer);
+            if (split) rows[i].rmse_no_occlusion = compare(rows[i].image, split->image, 2.0 / 255.0).rmse;
+        }
+        // On the edge pixels the noise is the reference's there (measure_edge_errors).
+        sec.noise = s.region == AccuracySweep::Region::edges && rows.size() > sec.first ? rows[sec.first].ref_noise : ref.noise;
+        sec.rt_ms = ref.ms;
+        sec.ref_spp = ref.spp;
+        sec.reference = ref.image;
+    }
+    sec.last = rows.size();
+    mark_pareto(rows, sec.first);
+    for (size_t i = sec.first; i < sec.last; ++i)
+        if (!std::isfinite(rows[i].rmse)) rows[i].pareto = false;
+    const int k = knee(rows, sec.first, sec.last);
+    if (k >= 0) sec.knee_name = rows[static_cast<size_t>(k)].variant;
+    sec.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+    return sec;
+}
+
+// OUT and the report's folder (made before a run, so that a bad path fails at once); the report.
+fs::path make_output_dirs(const AccuracyOptions& o) {
+    fs::create_directories(o.out);
     const fs::path report = o.report.empty() ? o.out / "report.md" : o.report;
     if (report.has_parent_path()) fs::create_directories(report.parent_path());
+    return report;
+}
+
+struct Device {
+    std::string device, backend;
+    bool operator==(const Device&) const = default;
+};
+
+// results.csv, the plots, the strips and report.md from the sections and their rows: the one
+// writer of `bench accuracy`, whether the sections ran in this process or were assembled from
+// saved ones (so the two outputs cannot drift apart). Needs no GL context.
+void write_outputs(const AccuracyOptions& o, const std::vector<Section>& sections, const std::vector<Row>& rows,
+                   const std::vector<Device>& devices, Clock::time_point start) {
+    const Sizes c = sizes(o.quick);
+    const fs::path report = make_output_dirs(o);
     // Links from the report to the plots and strips.
     const fs::path link_dir = fs::relative(fs::absolute(o.out), fs::absolute(report).parent_path());
     const auto link = [&](const std::string& file) { return (link_dir / file).generic_string(); };
-    for (const Job& j : jobs) {
-        const AccuracySweep& s = *j.sweep;
-        Section sec{&s, j.scene, rows.size(), rows.size(), 0, 0, 0, kNaN, {}, {}};
-        if (s.effect == "forward_deferred") {
-            for (int n : light_counts) {
-                const std::string name = "generated:lights:" + std::to_string(n);
-                const Scene scene = load(c, name);
-                GpuScene gpu(scene);
-                AccuracySweep t = s;
-                t.scene = name;
-                // No effects: the shading itself (an effect's passes would cost the same on both paths).
-                t.variants = {{"forward " + std::to_string(n) + " lights", "none", {"render.path=forward"}},
-                              {"deferred " + std::to_string(n) + " lights", "none", {"render.path=deferred"}}};
-                raster_rows(c, t, scene, gpu, rows);
-            }
-            sec.scene = "generated:lights:N";
-        } else if (s.effect == "ray_tracer") {
-            const Scene scene = load(c, j.scene);
-            GpuScene gpu(scene);
-            const AccuracySweep::Reference path{rt::Mode::path, o.quick ? 32 : 256};
-            const Reference ref = make_reference(c, scene, gpu, path, RenderSettings{});
-            progress.step("ray_tracer: reference");
-            sec.noise = ref.noise;
-            sec.ref_spp = ref.spp;
-            sec.reference = ref.image;
-            for (int spp : spps) {
-                const rt::Result r = trace(c, scene, gpu, path, spp, 7, RenderSettings{});
-                Row row;
-                row.effect = s.effect;
-                row.variant = std::to_string(spp) + " spp";
-                row.settings = "--raytrace path --spp " + std::to_string(spp);
-                row.scene = j.scene;
-                row.width = c.width;
-                row.height = c.height;
-                row.ms = r.trace_ms;
-                row.iqr = 0.0;
-                row.frame_ms = r.trace_ms;
-                row.image = r.image;
-                measure_errors(row, r.image, ref, Buffer::radiance);
-                rows.push_back(std::move(row));
-                progress.step("ray_tracer: " + std::to_string(spp) + " spp");
-            }
-        } else if (s.effect == "ray_tracer_depth") {
-            const Scene scene = load(c, j.scene);
-            GpuScene gpu(scene);
-            const int spp = o.quick ? 16 : 64;
-            auto row_for = [&](int depth) {
-                AccuracySweep::Reference r{rt::Mode::path, spp};
-                r.max_depth = depth;
-                const rt::Result res = trace(c, scene, gpu, r, spp, 7, RenderSettings{});
-                Row row;
-                row.effect = s.effect;
-                row.variant = depth < 0 ? std::string("no cap (default)") : "max depth " + std::to_string(depth);
-                row.settings = "--raytrace path --spp " + std::to_string(spp) + (depth < 0 ? "" : " --max-depth " + std::to_string(depth));
-                row.scene = j.scene;
-                row.width = c.width;
-                row.height = c.height;
-                row.ms = row.frame_ms = res.trace_ms;
-                row.iqr = 0.0;
-                row.image = res.image;
-                return row;
-            };
-            Row unbounded = row_for(-1);
-            progress.step("ray_tracer_depth: no cap");
-            // The same paths up to the cap: no noise between the rows, only the dropped light.
-            const Reference ref{unbounded.image, {}, 0.0, unbounded.ms, spp};
-            sec.noise = 0.0;
-            sec.ref_spp = spp;
-            sec.reference = ref.image;
-            for (int depth : depths) {
-                Row row = row_for(depth);
-                measure_errors(row, row.image, ref, Buffer::radiance);
-                rows.push_back(std::move(row));
-                progress.step("ray_tracer_depth: max depth " + std::to_string(depth));
-            }
-            measure_errors(unbounded, unbounded.image, ref, Buffer::radiance);
-            rows.push_back(std::move(unbounded));
-        } else {
-            Scene scene = load(c, j.scene);
-            const RenderSettings base = variant_settings(s, s.variants.front());
-            const SceneTime when = pose_for_sweep(scene, base);  // animated: animation 0 at its midpoint
-            GpuScene gpu(scene);
-            set_sweep_motion(gpu, when);
-            const Reference ref = make_reference(c, scene, gpu, *s.reference, base, &when);
-            progress.step(s.effect + ": reference");
-            std::optional<Reference> split;
-            if (s.split) {
-                split = make_reference(c, scene, gpu, *s.split, base, &when);
-                sec.occlusion_rmse = compare(ref.image, split->image, 2.0 / 255.0).rmse;
-                progress.step(s.effect + ": reference without occlusion");
-            }
-            AccuracySweep t = s;
-            t.scene = j.scene;
-            raster_rows(c, t, scene, gpu, rows);
-            for (size_t i = sec.first; i < rows.size(); ++i) {
-                if (s.region == AccuracySweep::Region::edges) measure_edge_errors(rows[i], rows[i].image, ref);
-                else measure_errors(rows[i], rows[i].image, ref, s.buffer);
-                if (split) rows[i].rmse_no_occlusion = compare(rows[i].image, split->image, 2.0 / 255.0).rmse;
-            }
-            // On the edge pixels the noise is the reference's there (measure_edge_errors).
-            sec.noise = s.region == AccuracySweep::Region::edges && rows.size() > sec.first ? rows[sec.first].ref_noise : ref.noise;
-            sec.rt_ms = ref.ms;
-            sec.ref_spp = ref.spp;
-            sec.reference = ref.image;
-        }
-        sec.last = rows.size();
-        mark_pareto(rows, sec.first);
-        for (size_t i = sec.first; i < sec.last; ++i)
-            if (!std::isfinite(rows[i].rmse)) rows[i].pareto = false;
-        sections.push_back(std::move(sec));
+    // One device, as a single run has; assembled sections may have run on several.
+    std::string device_md, device_text;
+    for (const Device& d : devices) {
+        device_md += (device_md.empty() ? "`" : ", `") + d.device + "` (" + d.backend + ")";
+        device_text += (device_text.empty() ? "" : "; ") + d.device;
     }
 
     // results.csv
@@ -650,7 +704,7 @@ int run_accuracy(const AccuracyOptions& o) {
     std::strftime(date, sizeof date, "%Y-%m-%d", std::gmtime(&now));
     md << "# What accuracy costs in time\n\n"
        << "Generated by `" << o.command_line << "` on " << date << ".\n\n"
-       << "- Device: `" << device << "` (" << to_string(ctx.context->backend()) << "). llvmpipe runs on the CPU: "
+       << "- Device: " << device_md << ". llvmpipe runs on the CPU: "
        << "compare times within this report, not with a GPU.\n"
        << "- Images " << c.width << "x" << c.height << "; time = median ms of the effect's own passes over " << c.frames
        << " frames after " << c.warmup << " warm-up (IQR beside it); the sample scenes' first camera. On llvmpipe the "
@@ -666,7 +720,7 @@ int run_accuracy(const AccuracyOptions& o) {
           "the reference traces every sample at its own time in the shutter on the scene posed then.\n"
        << "- Pareto rows (no other row is both faster and more accurate) are marked **P**; the plot's red line is the "
           "front, the dashed lines the reference noise and the ray tracer's time for the reference.\n\n";
-    for (Section& sec : sections) {
+    for (const Section& sec : sections) {
         const AccuracySweep& s = *sec.sweep;
         const std::vector<Row> part(rows.begin() + static_cast<std::ptrdiff_t>(sec.first), rows.begin() + static_cast<std::ptrdiff_t>(sec.last));
         const std::string base = slug(s.effect + "_" + fs::path(sec.scene).stem().string());
@@ -717,9 +771,368 @@ int run_accuracy(const AccuracyOptions& o) {
         }
     }
     std::ofstream(report) << md.str();
-    std::printf("device: %s\nwrote %s, %s and %zu sections (%zu rows) in %.0f s\n", device.c_str(),
+    std::printf("device: %s\nwrote %s, %s and %zu sections (%zu rows) in %.0f s\n", device_text.c_str(),
                 (o.out / "results.csv").string().c_str(), report.string().c_str(), sections.size(), rows.size(),
-                std::chrono::duration<double>(Clock::now() - progress.start).count());
+                std::chrono::duration<double>(Clock::now() - start).count());
+}
+
+// The GL context of a run (or of one section); prints why there is none.
+struct Gl {
+    ContextResult ctx;
+    Device device;
+};
+std::optional<Gl> open_gl(const AccuracyOptions& o) {
+    ContextOptions co;
+    Gl gl{create_context(o.backend, co), {}};
+    if (!gl.ctx.context) {
+        std::fprintf(stderr, "candela: %s\n", gl.ctx.error.c_str());
+        return std::nullopt;
+    }
+    if (!gl.ctx.notice.empty()) std::fprintf(stderr, "candela: warning: %s\n", gl.ctx.notice.c_str());
+    gl.device = {gl.ctx.context->device_string(), to_string(gl.ctx.context->backend())};
+    return gl;
+}
+
+// A saved section (run_accuracy_section, read by assemble_accuracy): DIR/section.json holds the
+// section's fields and its rows' (every double as "%.17g" text, which reads back to the same
+// bits, NaN included; JSON numbers have no NaN), DIR/reference.exr and DIR/row_NNN.exr the
+// images as float32 EXR (lossless). section.json is written last, by a rename: a task that died
+// leaves no section.json, and a directory with one is complete.
+constexpr const char* kSectionFormat = "candela bench accuracy section 1";
+constexpr const char* kSectionFile = "section.json";
+
+std::string exact(double v) {
+    char b[40];
+    std::snprintf(b, sizeof b, "%.17g", v);
+    return b;
+}
+
+double parse_exact(const nlohmann::json& j, const char* key) {
+    if (!j.contains(key) || !j.at(key).is_string()) throw std::runtime_error(std::string("no number '") + key + "'");
+    const std::string& t = j.at(key).get_ref<const std::string&>();
+    char* end = nullptr;
+    const double v = std::strtod(t.c_str(), &end);
+    if (t.empty() || *end != '\0') throw std::runtime_error(std::string("'") + key + "' is not a number: " + t);
+    return v;
+}
+
+std::string row_image_name(size_t i) {
+    char b[32];
+    std::snprintf(b, sizeof b, "row_%03zu.exr", i);
+    return b;
+}
+
+nlohmann::ordered_json section_json(int index, const std::string& label, const AccuracyOptions& o, const Section& sec, const std::vector<Row>& rows) {
+    const Sizes z = sizes(o.quick);
+    nlohmann::ordered_json j;  // in the order written, for a reader
+    j["format"] = kSectionFormat;
+    j["index"] = index;
+    j["label"] = label;
+    j["effect"] = sec.sweep->effect;
+    j["scene"] = sec.scene;
+    j["quick"] = o.quick;
+    j["width"] = z.width;
+    j["height"] = z.height;
+    j["device"] = sec.device;
+    j["backend"] = sec.backend;
+    j["seconds"] = exact(sec.seconds);
+    j["noise"] = exact(sec.noise);
+    j["rt_ms"] = exact(sec.rt_ms);
+    j["ref_spp"] = sec.ref_spp;
+    j["occlusion_rmse"] = exact(sec.occlusion_rmse);
+    j["knee"] = sec.knee_name;
+    j["reference"] = sec.reference.empty() ? nlohmann::ordered_json() : nlohmann::ordered_json{{"file", "reference.exr"}, {"channels", sec.reference.channels}};
+    nlohmann::ordered_json list = nlohmann::ordered_json::array();
+    for (size_t i = sec.first; i < sec.last; ++i) {
+        const Row& r = rows[i];
+        nlohmann::ordered_json row = {{"effect", r.effect}, {"variant", r.variant}, {"settings", r.settings}, {"scene", r.scene},
+                              {"width", r.width}, {"height", r.height}, {"ms", exact(r.ms)}, {"iqr", exact(r.iqr)},
+                              {"frame_ms", exact(r.frame_ms)}, {"rmse", exact(r.rmse)}, {"relmse", exact(r.relmse)},
+                              {"max_abs", exact(r.max_abs)}, {"pct_over", exact(r.pct_over)}, {"flip", exact(r.flip)},
+                              {"rmse_no_occlusion", exact(r.rmse_no_occlusion)}, {"ref_spp", r.ref_spp},
+                              {"ref_noise", exact(r.ref_noise)}, {"pareto", r.pareto}, {"at_noise_floor", r.at_noise_floor}};
+        row["image"] = r.image.empty() ? nlohmann::ordered_json()
+                                       : nlohmann::ordered_json{{"file", row_image_name(i - sec.first)}, {"channels", r.image.channels}};
+        list.push_back(std::move(row));
+    }
+    j["rows"] = std::move(list);
+    return j;
+}
+
+void save_section(const fs::path& dir, const nlohmann::ordered_json& j, const Section& sec, const std::vector<Row>& rows) {
+    fs::create_directories(dir);
+    // Temporary names of this process, renamed into place once all is written.
+    const std::string tmp = ".partial_" + std::to_string(::getpid()) + "_";
+    std::vector<std::pair<fs::path, fs::path>> renames;
+    const auto image = [&](const nlohmann::ordered_json& entry, const ImageF& img) {
+        if (entry.is_null()) return;
+        const std::string name = entry.at("file").get<std::string>();
+        write_image(dir / (tmp + name), img);
+        renames.emplace_back(dir / (tmp + name), dir / name);
+    };
+    image(j.at("reference"), sec.reference);
+    for (size_t i = sec.first; i < sec.last; ++i) image(j.at("rows").at(i - sec.first).at("image"), rows[i].image);
+    const fs::path json_tmp = dir / (tmp + kSectionFile);
+    {
+        std::ofstream f(json_tmp);
+        f << j.dump(1) << "\n";
+        if (!f.flush()) throw Error(ExitCode::internal, json_tmp.string() + ": cannot write");
+    }
+    for (const auto& [from, to] : renames) fs::rename(from, to);
+    fs::rename(json_tmp, dir / kSectionFile);  // last: its presence means the section is complete
+}
+
+// complete_section's checks of a parsed section.json.
+std::optional<nlohmann::json> check_section(const fs::path& dir, const nlohmann::json& j, const AccuracyOptions& o,
+                                            const AccuracySweep& s, const std::string& scene, std::string& problem) {
+    const fs::path file = dir / kSectionFile;
+    const Sizes z = sizes(o.quick);
+    const std::string expected = s.effect + " on " + section_scene(s, scene);
+    const auto text = [&](const char* key) { return j.contains(key) && j.at(key).is_string() ? j.at(key).get<std::string>() : std::string("?"); };
+    if (text("format") != kSectionFormat) problem = file.string() + ": not a '" + kSectionFormat + "' file";
+    else if (text("effect") != s.effect || text("scene") != section_scene(s, scene))
+        problem = file.string() + " holds '" + text("effect") + " on " + text("scene") + "', not '" + expected + "'";
+    else if (j.value("quick", !o.quick) != o.quick || j.value("width", 0) != z.width || j.value("height", 0) != z.height)
+        problem = file.string() + " was run " + (j.value("quick", false) ? "with" : "without") + " --quick, not as asked";
+    else if (!j.contains("rows") || !j.at("rows").is_array() || !j.contains("reference"))
+        problem = file.string() + ": no rows";
+    if (!problem.empty()) return std::nullopt;
+    std::vector<nlohmann::json> images = {j.at("reference")};
+    for (const auto& r : j.at("rows")) images.push_back(r.value("image", nlohmann::json()));
+    for (const auto& im : images)
+        if (!im.is_null() && !(im.is_object() && im.contains("file") && im.at("file").is_string() &&
+                               fs::is_regular_file(dir / im.at("file").get<std::string>()))) {
+            problem = file.string() + " names an image that is missing (" + im.dump() + ")";
+            return std::nullopt;
+        }
+    return j;
+}
+
+// DIR/section.json if DIR holds a complete result of this section; else why not (in `problem`).
+std::optional<nlohmann::json> complete_section(const fs::path& dir, const AccuracyOptions& o, const AccuracySweep& s,
+                                               const std::string& scene, std::string& problem) {
+    problem.clear();
+    const fs::path file = dir / kSectionFile;
+    if (!fs::is_regular_file(file)) {
+        problem = "no " + std::string(kSectionFile) + " (the section has not run, or did not finish)";
+        return std::nullopt;
+    }
+    nlohmann::json j;
+    try {
+        std::ifstream f(file);
+        j = nlohmann::json::parse(f);
+    } catch (const std::exception& e) {
+        problem = file.string() + " is not valid JSON (" + e.what() + ")";
+        return std::nullopt;
+    }
+    try {
+        return check_section(dir, j, o, s, scene, problem);
+    } catch (const std::exception& e) {  // a field of the wrong type
+        problem = file.string() + ": " + e.what();
+        return std::nullopt;
+    }
+}
+
+// write_image keeps 1-4 channels; read_image returns RGBA: back to the saved channel count.
+ImageF load_image(const fs::path& dir, const nlohmann::json& entry, int width, int height) {
+    if (entry.is_null()) return {};
+    const fs::path path = dir / entry.at("file").get<std::string>();
+    const int channels = entry.at("channels").get<int>();
+    const ImageF rgba = read_image(path);
+    if (rgba.width != width || rgba.height != height || channels < 1 || channels > 4)
+        throw std::runtime_error(path.string() + ": not a " + std::to_string(width) + "x" + std::to_string(height) + " image of " +
+                                 std::to_string(channels) + " channels");
+    if (channels == 4) return rgba;
+    ImageF img(width, height, channels);
+    static const int from[4][4] = {{0}, {0, 3}, {0, 1, 2}, {0, 1, 2, 3}};
+    for (size_t p = 0; p < static_cast<size_t>(width) * static_cast<size_t>(height); ++p)
+        for (int ch = 0; ch < channels; ++ch) img.pixels[p * static_cast<size_t>(channels) + static_cast<size_t>(ch)] = rgba.pixels[p * 4 + static_cast<size_t>(from[channels - 1][ch])];
+    return img;
+}
+
+// The section saved in DIR (its json from complete_section), its rows appended to `rows`.
+Section load_section(const fs::path& dir, const nlohmann::json& j, const AccuracySweep& s, std::vector<Row>& rows) {
+    const Sizes z = sizes(j.at("quick").get<bool>());
+    Section sec;
+    sec.sweep = &s;
+    sec.scene = j.at("scene").get<std::string>();
+    sec.noise = parse_exact(j, "noise");
+    sec.rt_ms = parse_exact(j, "rt_ms");
+    sec.ref_spp = j.at("ref_spp").get<int>();
+    sec.occlusion_rmse = parse_exact(j, "occlusion_rmse");
+    sec.knee_name = j.at("knee").get<std::string>();
+    sec.device = j.at("device").get<std::string>();
+    sec.backend = j.at("backend").get<std::string>();
+    sec.seconds = parse_exact(j, "seconds");
+    sec.reference = load_image(dir, j.at("reference"), z.width, z.height);
+    sec.first = rows.size();
+    for (const nlohmann::json& e : j.at("rows")) {
+        Row r;
+        r.effect = e.at("effect").get<std::string>();
+        r.variant = e.at("variant").get<std::string>();
+        r.settings = e.at("settings").get<std::string>();
+        r.scene = e.at("scene").get<std::string>();
+        r.width = e.at("width").get<int>();
+        r.height = e.at("height").get<int>();
+        r.ms = parse_exact(e, "ms");
+        r.iqr = parse_exact(e, "iqr");
+        r.frame_ms = parse_exact(e, "frame_ms");
+        r.rmse = parse_exact(e, "rmse");
+        r.relmse = parse_exact(e, "relmse");
+        r.max_abs = parse_exact(e, "max_abs");
+        r.pct_over = parse_exact(e, "pct_over");
+        r.flip = parse_exact(e, "flip");
+        r.rmse_no_occlusion = parse_exact(e, "rmse_no_occlusion");
+        r.ref_spp = e.at("ref_spp").get<int>();
+        r.ref_noise = parse_exact(e, "ref_noise");
+        r.pareto = e.at("pareto").get<bool>();
+        r.at_noise_floor = e.at("at_noise_floor").get<bool>();
+        r.image = load_image(dir, e.value("image", nlohmann::json()), r.width, r.height);
+        rows.push_back(std::move(r));
+    }
+    sec.last = rows.size();
+    return sec;
+}
+
+// Bitwise equality (NaN equals NaN of the same bits): what a saved section must read back as.
+bool same(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0 || (std::isnan(a) && std::isnan(b)); }
+bool same(const ImageF& a, const ImageF& b) {
+    return a.width == b.width && a.height == b.height && a.channels == b.channels && a.pixels.size() == b.pixels.size() &&
+           std::equal(a.pixels.begin(), a.pixels.end(), b.pixels.begin(), [](float x, float y) {
+               return std::memcmp(&x, &y, sizeof x) == 0 || (std::isnan(x) && std::isnan(y));
+           });
+}
+// What differs between a section and its reloaded copy ("" when nothing).
+std::string round_trip_difference(const Section& a, const std::vector<Row>& ar, const Section& b, const std::vector<Row>& br) {
+    if (a.scene != b.scene || !same(a.noise, b.noise) || !same(a.rt_ms, b.rt_ms) || a.ref_spp != b.ref_spp ||
+        !same(a.occlusion_rmse, b.occlusion_rmse) || a.knee_name != b.knee_name || a.device != b.device || a.backend != b.backend)
+        return "the section's fields";
+    if (!same(a.reference, b.reference)) return "the reference image";
+    if (a.last - a.first != b.last - b.first) return "the row count";
+    for (size_t i = 0; i < a.last - a.first; ++i) {
+        const Row &x = ar[a.first + i], &y = br[b.first + i];
+        const bool fields = x.effect == y.effect && x.variant == y.variant && x.settings == y.settings && x.scene == y.scene &&
+                            x.width == y.width && x.height == y.height && same(x.ms, y.ms) && same(x.iqr, y.iqr) &&
+                            same(x.frame_ms, y.frame_ms) && same(x.rmse, y.rmse) && same(x.relmse, y.relmse) &&
+                            same(x.max_abs, y.max_abs) && same(x.pct_over, y.pct_over) && same(x.flip, y.flip) &&
+                            same(x.rmse_no_occlusion, y.rmse_no_occlusion) && x.ref_spp == y.ref_spp &&
+                            same(x.ref_noise, y.ref_noise) && x.pareto == y.pareto && x.at_noise_floor == y.at_noise_floor;
+        if (!fields) return "row " + std::to_string(i) + " (" + x.variant + ")";
+        if (!same(x.image, y.image)) return "row " + std::to_string(i) + "'s image (" + x.variant + ")";
+    }
+    return "";
+}
+
+}  // namespace
+
+std::vector<AccuracyTask> plan_accuracy(const AccuracyOptions& o) {
+    const Plan plan = make_plan(o);
+    std::vector<AccuracyTask> tasks;
+    for (const Job& j : plan.jobs) tasks.push_back({plan.sweep(j).effect, section_scene(plan.sweep(j), j.scene), job_label(plan, j)});
+    return tasks;
+}
+
+int run_accuracy(const AccuracyOptions& o) {
+    const Plan plan = make_plan(o);
+    make_output_dirs(o);
+    std::optional<Gl> gl = open_gl(o);
+    if (!gl) return static_cast<int>(ExitCode::no_gl);
+    const ShaderLibrary shaders(o.shader_dir);
+    Progress progress;
+    const Sizes z = sizes(o.quick);
+    const Run c{o, shaders, z.width, z.height, z.warmup, z.frames, progress};
+    for (const Job& j : plan.jobs) progress.total += job_steps(plan.sweep(j), o.quick);
+    std::vector<Section> sections;
+    std::vector<Row> rows;
+    for (const Job& j : plan.jobs) {
+        sections.push_back(run_job(c, plan.sweep(j), j.scene, rows));
+        sections.back().device = gl->device.device;
+        sections.back().backend = gl->device.backend;
+    }
+    write_outputs(o, sections, rows, {gl->device}, progress.start);
+    return 0;
+}
+
+int run_accuracy_section(const AccuracyOptions& o, int index, const fs::path& section_dir) {
+    const Plan plan = make_plan(o);
+    const int count = static_cast<int>(plan.jobs.size());
+    if (index < 0 || index >= count)
+        throw bad_input("bench accuracy: --section " + std::to_string(index) + " is out of range: there are " + std::to_string(count) +
+                        " sections (0 to " + std::to_string(count - 1) + ", see --list-sections)");
+    const Job& j = plan.jobs[static_cast<size_t>(index)];
+    const AccuracySweep& s = plan.sweep(j);
+    const std::string label = job_label(plan, j);
+    std::string problem;
+    if (complete_section(section_dir, o, s, j.scene, problem)) {
+        std::printf("section %d (%s): %s is complete, skipped\n", index, label.c_str(), section_dir.string().c_str());
+        return 0;
+    }
+    // A stale result goes before any new file is written: a task that dies from here on leaves no
+    // section.json, so the directory never looks complete.
+    if (fs::exists(section_dir / kSectionFile)) {
+        std::fprintf(stderr, "candela: note: %s; running section %d (%s) again\n", problem.c_str(), index, label.c_str());
+        fs::remove(section_dir / kSectionFile);
+    }
+    std::optional<Gl> gl = open_gl(o);
+    if (!gl) return static_cast<int>(ExitCode::no_gl);
+    const ShaderLibrary shaders(o.shader_dir);
+    Progress progress;
+    progress.total = job_steps(s, o.quick);
+    const Sizes z = sizes(o.quick);
+    const Run c{o, shaders, z.width, z.height, z.warmup, z.frames, progress};
+    std::vector<Row> rows;
+    Section sec = run_job(c, s, j.scene, rows);
+    sec.device = gl->device.device;
+    sec.backend = gl->device.backend;
+    const nlohmann::ordered_json saved = section_json(index, label, o, sec, rows);
+    save_section(section_dir, saved, sec, rows);
+    // Read back what assemble_accuracy will read: the save must be exact (a full file system or a
+    // bad mount shows here, in the task that can be rerun, and not at assembly).
+    std::vector<Row> reread_rows;
+    const std::optional<nlohmann::json> reread = complete_section(section_dir, o, s, j.scene, problem);
+    if (!reread) throw Error(ExitCode::internal, section_dir.string() + ": the saved section does not read back: " + problem);
+    const Section copy = load_section(section_dir, *reread, s, reread_rows);
+    if (const std::string d = round_trip_difference(sec, rows, copy, reread_rows); !d.empty()) {
+        fs::remove(section_dir / kSectionFile);
+        throw Error(ExitCode::internal, section_dir.string() + ": the saved section reads back different (" + d + ")");
+    }
+    std::printf("device: %s\nsection %d (%s): wrote %s (%zu rows) in %.1f s\n", sec.device.c_str(), index, label.c_str(),
+                section_dir.string().c_str(), rows.size(), sec.seconds);
+    return 0;
+}
+
+int assemble_accuracy(const AccuracyOptions& o, const std::vector<fs::path>& section_dirs) {
+    const auto start = Clock::now();
+    const Plan plan = make_plan(o);
+    if (section_dirs.size() != plan.jobs.size())
+        throw bad_input("bench accuracy: " + std::to_string(section_dirs.size()) + " section directories given for " +
+                        std::to_string(plan.jobs.size()) + " sections (one per section, in --list-sections order)");
+    std::vector<Section> sections;
+    std::vector<Row> rows;
+    int missing = 0;
+    for (size_t i = 0; i < plan.jobs.size(); ++i) {
+        const Job& j = plan.jobs[i];
+        std::string problem;
+        try {
+            if (const std::optional<nlohmann::json> saved = complete_section(section_dirs[i], o, plan.sweep(j), j.scene, problem))
+                sections.push_back(load_section(section_dirs[i], *saved, plan.sweep(j), rows));
+        } catch (const std::exception& e) {
+            problem = e.what();
+        }
+        if (!problem.empty()) {
+            std::fprintf(stderr, "candela: %s: section %zu (%s) is missing or incomplete: %s\n", section_dirs[i].string().c_str(), i,
+                         job_label(plan, j).c_str(), problem.c_str());
+            ++missing;
+        }
+    }
+    if (missing > 0)
+        throw Error(ExitCode::internal, "bench accuracy: " + std::to_string(missing) + " of " + std::to_string(plan.jobs.size()) +
+                                            " sections missing or incomplete; nothing written");
+    std::vector<Device> devices;
+    for (const Section& sec : sections)
+        if (std::find(devices.begin(), devices.end(), Device{sec.device, sec.backend}) == devices.end())
+            devices.push_back({sec.device, sec.backend});
+    write_outputs(o, sections, rows, devices, start);
     return 0;
 }
 

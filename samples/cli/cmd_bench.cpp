@@ -29,6 +29,27 @@
 namespace candela::cli {
 namespace fs = std::filesystem;
 
+AccuracyOptions accuracy_options(const Parsed& p, const Args& args, const std::string& command) {
+    if (p.flags.count("--quiet")) log::set_level(log::Level::warn);
+    AccuracyOptions o;
+    o.scenes = p.positional;
+    for (const std::string& s : o.scenes)
+        if (!fs::is_regular_file(s)) throw bad_input(s + ": no such file");
+    if (p.has("-o")) o.out = p.get("-o");
+    if (p.has("--report")) o.report = p.get("--report");
+    o.quick = p.flags.count("--quick") > 0;
+    o.effects = p.all("--effect");
+    o.shader_dir = shader_dir_option(p);
+    // The sample scenes sit beside the built-in shaders in the source tree.
+    o.scene_dir = fs::path(ShaderLibrary::default_root()).parent_path() / "samples" / "scenes";
+    o.backend = backend_option(p, false);
+    o.command_line = command;
+    // Absolute paths are recorded by their file name only (the report names no machine's paths).
+    for (const std::string& a : args)
+        o.command_line += " " + (a.find('/') != std::string::npos && fs::path(a).is_absolute() ? fs::path(a).filename().string() : a);
+    return o;
+}
+
 namespace {
 
 // `candela bench rays SCENE...`: ray rates of the compute-shader tracer. SCENE may be a glTF
@@ -118,26 +139,28 @@ int bench_reload(const Args& args) {
 }
 
 // `candela bench accuracy [SCENE...] -o DIR`: the options of run_accuracy().
+// Hidden options (not in the usage text; `candela farm` calls the same functions): the steps of a
+// run split into one process per section, all given the same SCENE..., --effect and --quick:
+//   --list-sections                 the sections' labels, one a line, in index order
+//   --section K --section-dir DIR   runs section K alone into DIR (skips it if DIR already holds it)
+//   --assemble DIR (once per section, in index order) -o OUT   the outputs from the saved sections
 int bench_accuracy(const Args& args) {
-    const Parsed p = parse(args, {"-o", "--report", "--shader-dir", "--backend", "--effect"}, {"--quick", "--quiet"});
-    if (!p.has("-o")) throw bad_input("bench accuracy needs -o DIR");
-    if (p.flags.count("--quiet")) log::set_level(log::Level::warn);
-    AccuracyOptions o;
-    o.scenes = p.positional;
-    for (const std::string& s : o.scenes)
-        if (!fs::is_regular_file(s)) throw bad_input(s + ": no such file");
-    o.out = p.get("-o");
-    if (p.has("--report")) o.report = p.get("--report");
-    o.quick = p.flags.count("--quick") > 0;
-    o.effects = p.all("--effect");
-    o.shader_dir = shader_dir_option(p);
-    // The sample scenes sit beside the built-in shaders in the source tree.
-    o.scene_dir = fs::path(ShaderLibrary::default_root()).parent_path() / "samples" / "scenes";
-    o.backend = backend_option(p, false);
-    o.command_line = "candela bench accuracy";
-    // Absolute paths are recorded by their file name only (the report names no machine's paths).
-    for (const std::string& a : args)
-        o.command_line += " " + (a.find('/') != std::string::npos && fs::path(a).is_absolute() ? fs::path(a).filename().string() : a);
+    const Parsed p = parse(args, {"-o", "--report", "--shader-dir", "--backend", "--effect", "--section", "--section-dir", "--assemble"},
+                           {"--quick", "--quiet", "--list-sections"});
+    const bool list = p.flags.count("--list-sections") > 0, section = p.has("--section"), assemble = p.has("--assemble");
+    if (list + section + assemble > 1) throw bad_input("bench accuracy: --list-sections, --section and --assemble go alone");
+    if (section != p.has("--section-dir")) throw bad_input("bench accuracy: --section K goes with --section-dir DIR");
+    if (!p.has("-o") && !list && !section) throw bad_input("bench accuracy needs -o DIR");
+    const AccuracyOptions o = accuracy_options(p, args, "candela bench accuracy");
+    if (list) {
+        for (const AccuracyTask& t : plan_accuracy(o)) std::printf("%s\n", t.label.c_str());
+        return 0;
+    }
+    if (section) return run_accuracy_section(o, parse_int("--section", p.get("--section"), 0, 1000000), p.get("--section-dir"));
+    if (assemble) {
+        const std::vector<std::string> dirs = p.all("--assemble");
+        return assemble_accuracy(o, std::vector<fs::path>(dirs.begin(), dirs.end()));
+    }
     return run_accuracy(o);
 }
 
