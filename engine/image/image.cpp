@@ -30,11 +30,19 @@ ImageF read_image(const fs::path& path) {
     int w = 0, h = 0;
     float* pixels = nullptr;
     const CandelaImageIoApi& io = image_io();
-    if (io.read_rgba_float(path.c_str(), &w, &h, &pixels, error, sizeof error) != 0)
+    std::vector<char> tags(16384, '\0');
+    if (io.read_rgba_float(path.c_str(), &w, &h, &pixels, tags.data(), tags.size(), error, sizeof error) != 0)
         throw bad_input(path.string() + ": " + error);
     ImageF img(w, h, 4);
     std::copy(pixels, pixels + img.pixels.size(), img.pixels.begin());
     io.free_pixels(pixels);
+    for (std::string_view rest(tags.data()); !rest.empty();) {
+        const size_t eol = rest.find('\n');
+        const std::string_view line = rest.substr(0, eol);
+        rest = eol == std::string_view::npos ? std::string_view() : rest.substr(eol + 1);
+        if (const size_t tab = line.find('\t'); tab != std::string_view::npos)
+            img.tags[std::string(line.substr(0, tab))] = std::string(line.substr(tab + 1));
+    }
     return img;
 }
 
@@ -101,8 +109,15 @@ void write_image(const fs::path& path, const ImageF& image, float exposure_ev) {
     }
     if (e != ".exr" && e != ".hdr") throw bad_input(path.string() + ": unknown output format '" + e + "' (use .png or .exr)");
     char error[1024] = "";
-    if (image_io().write_float(path.c_str(), image.pixels.data(), image.width, image.height, image.channels, error,
-                               sizeof error) != 0)
+    std::vector<const char*> names, values;
+    for (const auto& [name, value] : image.tags) {
+        if (name.rfind("candela:", 0) != 0 || name.find_first_of("\t\n") != std::string::npos || value.find_first_of("\t\n") != std::string::npos)
+            throw Error(ExitCode::internal, path.string() + ": image tag '" + name + "' must be named candela:* and hold no tab or newline");
+        names.push_back(name.c_str());
+        values.push_back(value.c_str());
+    }
+    if (image_io().write_float(path.c_str(), image.pixels.data(), image.width, image.height, image.channels, names.data(), values.data(),
+                               names.size(), error, sizeof error) != 0)
         throw bad_input(path.string() + ": " + error);
 }
 

@@ -3,6 +3,7 @@
 // image comparison of the project (golden tests, `candela compare`, reference agreement).
 #include <cstddef>
 #include <filesystem>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -15,6 +16,9 @@ struct ImageF {
     int height = 0;
     int channels = 4;
     std::vector<float> pixels;  // row-major, top row first
+    // Named strings carried in an .exr's header ("candela:*" names): what a --spp-shard output
+    // is a shard of (scene, mode, seed, spp, shard), so that merges refuse shards that differ.
+    std::map<std::string, std::string> tags;
 
     ImageF() = default;
     ImageF(int w, int h, int c) : width(w), height(h), channels(c), pixels(static_cast<size_t>(w) * h * c, 0.0f) {}

@@ -11,17 +11,22 @@
 extern "C" {
 #endif
 
-#define CANDELA_IMAGE_IO_ABI 1
+#define CANDELA_IMAGE_IO_ABI 2
 
 typedef struct CandelaImageIoApi {
     int abi;  // CANDELA_IMAGE_IO_ABI
     // Reads RGBA float (1-4 channels expanded to 4). *pixels is allocated by the module and freed
-    // with free_pixels. Returns 0 on success, else writes a message into error.
-    int (*read_rgba_float)(const char* path, int* width, int* height, float** pixels, char* error, size_t error_size);
+    // with free_pixels. The image's string attributes named "candela:*" (the tags of write_float)
+    // go to `tags` as "name\tvalue\n" lines, NUL-terminated (empty if none or tags_size is 0).
+    // Returns 0 on success, else writes a message into error.
+    int (*read_rgba_float)(const char* path, int* width, int* height, float** pixels, char* tags, size_t tags_size, char* error,
+                           size_t error_size);
     void (*free_pixels)(float* pixels);
-    // Writes `channels` floats per pixel (.exr/.hdr), top row first.
-    int (*write_float)(const char* path, const float* pixels, int width, int height, int channels, char* error,
-                       size_t error_size);
+    // Writes `channels` floats per pixel (.exr/.hdr), top row first, with `tag_count` string
+    // attributes (names[i] = values[i], names "candela:*") in the file's header where the format
+    // has one (EXR).
+    int (*write_float)(const char* path, const float* pixels, int width, int height, int channels, const char* const* names,
+                       const char* const* values, size_t tag_count, char* error, size_t error_size);
     // Writes RGB of 8-bit RGBA pixels (.png), top row first.
     int (*write_rgba8_as_rgb)(const char* path, const unsigned char* rgba, int width, int height, char* error,
                               size_t error_size);

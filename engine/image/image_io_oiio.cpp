@@ -16,7 +16,8 @@ int fail(char* error, size_t size, const std::string& message) {
     return 1;
 }
 
-int read_rgba_float(const char* path, int* width, int* height, float** pixels, char* error, size_t error_size) {
+int read_rgba_float(const char* path, int* width, int* height, float** pixels, char* tags, size_t tags_size, char* error,
+                    size_t error_size) {
     auto in = OIIO::ImageInput::open(path);
     if (!in) return fail(error, error_size, "cannot read image (" + OIIO::geterror() + ")");
     const OIIO::ImageSpec& spec = in->spec();
@@ -35,6 +36,17 @@ int read_rgba_float(const char* path, int* width, int* height, float** pixels, c
         else d[0] = d[1] = d[2] = s[0];
         d[3] = spec.nchannels == 4 ? s[3] : spec.nchannels == 2 ? s[1] : 1.0f;
     }
+    if (tags_size > 0) {
+        std::string lines;
+        for (const OIIO::ParamValue& a : spec.extra_attribs)
+            if (a.type() == OIIO::TypeDesc::STRING && a.name().string().rfind("candela:", 0) == 0)
+                lines += a.name().string() + "\t" + a.get_string() + "\n";
+        if (lines.size() >= tags_size) {
+            std::free(out);
+            return fail(error, error_size, "the image's candela:* attributes are too long");
+        }
+        std::memcpy(tags, lines.c_str(), lines.size() + 1);
+    }
     *width = spec.width;
     *height = spec.height;
     *pixels = out;
@@ -43,11 +55,13 @@ int read_rgba_float(const char* path, int* width, int* height, float** pixels, c
 
 void free_pixels(float* pixels) { std::free(pixels); }
 
-int write_float(const char* path, const float* pixels, int width, int height, int channels, char* error, size_t error_size) {
+int write_float(const char* path, const float* pixels, int width, int height, int channels, const char* const* names,
+                const char* const* values, size_t tag_count, char* error, size_t error_size) {
     auto out = OIIO::ImageOutput::create(path);
     if (!out) return fail(error, error_size, "cannot write this format (" + OIIO::geterror() + ")");
     OIIO::ImageSpec spec(width, height, channels, OIIO::TypeDesc::FLOAT);
     spec.attribute("compression", "zip");
+    for (size_t i = 0; i < tag_count; ++i) spec.attribute(names[i], values[i]);
     if (!out->open(path, spec) || !out->write_image(OIIO::TypeDesc::FLOAT, pixels) || !out->close())
         return fail(error, error_size, "cannot write (" + out->geterror() + ")");
     return 0;

@@ -17,6 +17,7 @@
 #include "image/image.hpp"
 #include "options.hpp"
 #include "render_job.hpp"
+#include "shards.hpp"
 #include "profile/stats.hpp"
 #include "render/still.hpp"
 #include "rt/ray_tracer.hpp"
@@ -67,14 +68,16 @@ int raytrace(const Parsed& p, SceneSetup& s, const fs::path& out_path, float exp
     rt::RayTracer tracer(shaders, s.scene, gpu, o);
     const float aspect = static_cast<float>(s.options.width) / static_cast<float>(s.options.height);
     // The camera with --set camera.aperture / camera.focus_distance over its own lens.
-    const rt::Result r = tracer.render(with_lens(s.scene.select_camera(s.options.camera, aspect), s.options.settings), s.options.width,
-                                       s.options.height);
+    rt::Result r = tracer.render(with_lens(s.scene.select_camera(s.options.camera, aspect), s.options.settings), s.options.width,
+                                 s.options.height);
     const rt::BvhStats& b = tracer.scene().geometry().bvh.stats;
     log::info(std::string("ray traced '") + rt::to_string(o.mode) + "' [" + r.defines + "]: " + std::to_string(r.samples) +
               " spp in " + format_number("%.1f", r.trace_ms) + " ms; BVH " + std::to_string(b.node_count) + " nodes, depth " +
               std::to_string(b.max_depth) + ", SAH " + format_number("%.2f", b.sah_cost) + ", built in " + format_number("%.1f", b.build_ms) + " ms" +
               (r.stopped_early ? " (stopped by --time-limit)" : ""));
     if (r.nonfinite_samples) log::warn(std::to_string(r.nonfinite_samples) + " non-finite samples were replaced by 0");
+    // What the image is a shard of (.exr header): merges and `candela farm` check it (shards.hpp).
+    r.image.tags = shard_tags(p, rt::to_string(o.mode), o.seed, o.spp, o.shard, o.shard_count, s.options.width, s.options.height);
     write_image(out_path, r.image, exposure);
     return check_gl_errors(s);
 }
