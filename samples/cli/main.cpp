@@ -22,6 +22,7 @@ int main(int argc, char** argv) {
         if (command == "shaders") return cli::cmd_shaders(args);
         if (command == "view") return cli::cmd_view(args);
         if (command == "batch") return cli::cmd_batch(args);
+        if (command == "farm") return cli::cmd_farm(args);
         std::fprintf(stderr, "candela: unknown command '%s' (try 'candela --help')\n", command.c_str());
         return static_cast<int>(ExitCode::bad_input);
     } catch (const Error& e) {
