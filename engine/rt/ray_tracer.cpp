@@ -108,28 +108,48 @@ std::optional<Mode> parse_mode(const std::string& name) {
 }
 
 RayTracer::RayTracer(const ShaderLibrary& shaders, const Scene& scene, GpuScene& gpu, const Options& options)
-    : scene_(scene), gpu_(gpu), options_(options), rt_scene_(scene, static_cast<int>(scene.materials.size())) {
+    : shaders_(shaders), scene_(scene), gpu_(gpu), options_(options), requested_max_depth_(options.max_depth),
+      rt_scene_(scene, static_cast<int>(scene.materials.size())) {
     const Bounds b = scene.world_bounds();
     scene_diagonal_ = b.empty() ? 1.0f : glm::length(b.extent());
     if (options_.spp < 1 || options_.spp > (1 << 24)) throw bad_input("--spp must be in [1, 16777216]");
     if (options_.shard_count < 1 || options_.shard < 0 || options_.shard >= options_.shard_count)
         throw bad_input("--spp-shard K/N needs 0 <= K < N");
-    // Unbiased by default (issue 20): path has no depth cap, only Russian roulette; an explicit
-    // max_depth is a truncation the caller asked for.
-    if (options_.max_depth < 0) options_.max_depth = options_.mode == Mode::whitted ? 5 : options_.mode == Mode::direct ? 1 : kUnboundedDepth;
-    if (options_.mode == Mode::direct) options_.max_depth = 1;
-    // Whitted has no roulette: its recursion is bounded by the depth alone.
-    const int depth_limit = options_.mode == Mode::whitted ? 64 : kUnboundedDepth;
-    if (options_.max_depth > depth_limit) throw bad_input("--max-depth must be in [0, " + std::to_string(depth_limit) + "] in this mode");
     // CANDELA_RT_SAMPLES_PER_DISPATCH=N overrides Options::samples_per_dispatch (A/B timing,
     // docs/raytracing.md "Path tracing speed"; 1 is the one-sample-per-dispatch schedule).
     if (const char* env = std::getenv("CANDELA_RT_SAMPLES_PER_DISPATCH"); env && std::atoi(env) > 0)
         options_.samples_per_dispatch = std::atoi(env);
     // A reference is the box-filtered pixel average: every mode jitters unless told not to.
     if (options_.jitter < 0) options_.jitter = 1;
+    select_program(options_.mode);
+    frame_ubo_ = gl::Buffer(sizeof(FrameGpu), nullptr, GL_DYNAMIC_STORAGE_BIT);
+}
+
+void RayTracer::set_mode(Mode mode) {
+    select_program(mode);
+    // The accumulation in progress was traced with the old program: progressive_restart starts anew.
+    progressive_.frame.reset();
+    progressive_.sample = 0;
+    progressive_.row = 0;
+}
+
+void RayTracer::set_max_depth(int depth) {
+    requested_max_depth_ = depth;
+    options_.max_depth = depth;
+}
+
+void RayTracer::select_program(Mode mode) {
+    // Unbiased by default (issue 20): path has no depth cap, only Russian roulette; an explicit
+    // max_depth is a truncation the caller asked for.
+    int depth = requested_max_depth_;
+    if (depth < 0) depth = mode == Mode::whitted ? 5 : mode == Mode::direct ? 1 : kUnboundedDepth;
+    if (mode == Mode::direct) depth = 1;
+    // Whitted has no roulette: its recursion is bounded by the depth alone.
+    const int depth_limit = mode == Mode::whitted ? 64 : kUnboundedDepth;
+    if (depth > depth_limit) throw bad_input("--max-depth must be in [0, " + std::to_string(depth_limit) + "] in this mode");
     // One program per mode (shaders/rt/modes/), specialised: code for features the scene lacks
     // is never compiled or run.
-    const ModeProgram program = mode_program(options_.mode);
+    const ModeProgram program = mode_program(mode);
     std::vector<std::string> defines;
     if (!rt_scene_.geometry().emitters.empty()) defines.push_back("HAS_EMITTERS");
     if (rt_scene_.geometry().has_transmission) defines.push_back("HAS_TRANSMISSION");
@@ -141,21 +161,29 @@ RayTracer::RayTracer(const ShaderLibrary& shaders, const Scene& scene, GpuScene&
         return m.base_color_texture.present() || m.metallic_roughness_texture.present() || m.normal_texture.present() ||
                m.occlusion_texture.present() || m.emissive_texture.present();
     };
-    if (std::none_of(scene.materials.begin(), scene.materials.end(), textured)) defines.push_back("RT_NO_TEXTURES");
+    if (std::none_of(scene_.materials.begin(), scene_.materials.end(), textured)) defines.push_back("RT_NO_TEXTURES");
     if (rt_scene_.geometry().spheres.empty()) defines.push_back("RT_NO_SPHERES");
-    if (gpu_.has_environment_map() && options_.env_importance &&
-        (options_.mode == Mode::path || options_.mode == Mode::direct)) {
+    gl::Buffer env_distribution;
+    int env_width = 0, env_height = 0;
+    if (gpu_.has_environment_map() && options_.env_importance && (mode == Mode::path || mode == Mode::direct)) {
         defines.push_back("HAS_ENV_MAP_SAMPLING");
         const ImageF& map = gpu_.environment_image();
         const std::vector<float> dist = environment_distribution(map);
-        env_distribution_ = gl::Buffer(static_cast<GLsizeiptr>(dist.size() * sizeof(float)), dist.data());
-        env_width_ = map.width;
-        env_height_ = map.height;
+        env_distribution = gl::Buffer(static_cast<GLsizeiptr>(dist.size() * sizeof(float)), dist.data());
+        env_width = map.width;
+        env_height = map.height;
     }
-    defines_ = program.name;
-    for (const auto& d : defines) defines_ += " " + d;
-    program_ = shaders.build_or_throw({std::string("trace ") + defines_, {{ShaderStage::compute, program.file}}, defines});
-    frame_ubo_ = gl::Buffer(sizeof(FrameGpu), nullptr, GL_DYNAMIC_STORAGE_BIT);
+    std::string names = program.name;
+    for (const auto& d : defines) names += " " + d;
+    gl::Program built = shaders_.build_or_throw({std::string("trace ") + names, {{ShaderStage::compute, program.file}}, defines});
+    // Nothing changes unless the program built: a failed set_mode leaves the tracer as it was.
+    program_ = std::move(built);
+    defines_ = std::move(names);
+    env_distribution_ = std::move(env_distribution);
+    env_width_ = env_width;
+    env_height_ = env_height;
+    options_.mode = mode;
+    options_.max_depth = depth;
 }
 
 RayTracer::~RayTracer() = default;

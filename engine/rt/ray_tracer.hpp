@@ -129,7 +129,8 @@ struct Result {
 class RayTracer {
 public:
     // Builds the BVH, uploads the scene, compiles the program specialised to the mode and the
-    // scene's features. Throws candela::Error (internal) if the shader does not build.
+    // scene's features. Throws candela::Error (internal) if the shader does not build. `shaders`,
+    // `scene` and `gpu` must outlive the tracer (set_mode builds from `shaders`).
     RayTracer(const ShaderLibrary& shaders, const Scene& scene, GpuScene& gpu, const Options& options);
     ~RayTracer();
     Result render(const Camera& camera, int width, int height);
@@ -148,9 +149,18 @@ public:
     // Changes the seed for the next render: independent full renders from one tracer (the motion
     // blur test's batches, each a complete stratification of the shutter).
     void set_seed(std::uint32_t seed) { options_.seed = seed; }
-    // Changes the bounce limit of path mode for the next render (1: direct light only; the planner's
-    // indirect estimate renders path and direct with one program).
-    void set_max_depth(int depth) { options_.max_depth = depth; }
+    // Changes the bounce limit of path mode for the next render (1: direct light only); a later
+    // set_mode applies the mode's rules to it as the constructor does to Options::max_depth.
+    void set_max_depth(int depth);
+    // Switches the next renders to another mode over the same BVH and uploaded scene: the
+    // program (and the environment's sampling distribution) of a tracer constructed with that
+    // mode and these options, so the images are those of such a tracer, bit for bit. What it
+    // saves is the RtScene: the planner's indirect estimate traces `direct` then `indirect` with
+    // one tracer (the BVH of FlightHelmet, 95k triangles, is 60-200 ms of build and upload). A
+    // progressive accumulation in progress is dropped. Throws as the constructor does (a bad
+    // max depth for the mode, a shader that does not build), leaving the tracer unchanged.
+    void set_mode(Mode mode);
+    Mode mode() const { return options_.mode; }
     // The next render computes the samples s with s % count == shard (--spp-shard K/N): independent
     // batches from one tracer (the statistical tests). Throws bad_input unless 0 <= shard < count.
     void set_shard(int shard, int count);
@@ -162,9 +172,11 @@ public:
     RtUpdateStats update_geometry(RtUpdate how);
 
 private:
+    const ShaderLibrary& shaders_;
     const Scene& scene_;
     GpuScene& gpu_;
     Options options_;
+    int requested_max_depth_ = -1;  // Options::max_depth as asked (-1: the mode's default)
     RtScene rt_scene_;
     float scene_diagonal_ = 1.0f;  // of the world bounds: sets the smallest ray offset
     gl::Program program_;
@@ -179,6 +191,9 @@ private:
         int sample = 0, row = 0;  // the next tile
     } progressive_;
     FrameGpu make_frame(const Camera& camera, int width, int height) const;
+    // The mode's depth, program and environment distribution from requested_max_depth_ and the
+    // scene's features; commits only once the program built (constructor and set_mode).
+    void select_program(Mode mode);
     mutable bool warned_orthographic_lens_ = false;
     // Motion blur: the time slice the geometry holds (-1: the frame's time or unknown).
     int posed_slice_ = -1;

@@ -1,10 +1,12 @@
 // The tracer's programs: one compute-shader file per mode (shaders/rt/modes/) over shared
 // includes, with the scene features as the only defines; and hot reload of the tracer: an edit
 // to a shared include or to a mode file is seen by the watcher, is in the set of files the
-// library records for the program, and reaches the next tracer built.
+// library records for the program, and reaches the next tracer built; and set_mode, which
+// switches a tracer's program over the same BVH and renders what a fresh tracer of the mode does.
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstring>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -13,6 +15,7 @@
 #include "gltf_builder.hpp"
 #include "rt/ray_tracer.hpp"
 #include "scene/gltf_loader.hpp"
+#include "scene/lighting.hpp"
 #include "shader/file_watcher.hpp"
 #include "shader/program_catalog.hpp"
 
@@ -131,6 +134,90 @@ TEST_P(RtModeReloadTest, EditsToASharedIncludeAndToAModeFileReachTheTracer) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Backends, RtModeReloadTest, ::testing::Values(Backend::egl), test::backend_name);
+
+// A floor and a back wall (light bounces between them) with a small emitter, under the default
+// rig's sky map: what a mode switch has to redo is all there (the emitter define, environment-map
+// sampling in path and direct only, the depth of each mode).
+Scene lit_corner() {
+    test::GltfBuilder b;
+    nlohmann::json grey_material, glow_material;
+    grey_material["pbrMetallicRoughness"] = {{"baseColorFactor", {0.8, 0.8, 0.8, 1}}, {"metallicFactor", 0}};
+    glow_material["pbrMetallicRoughness"] = {{"baseColorFactor", {0, 0, 0, 1}}};
+    glow_material["emissiveFactor"] = {1, 0.5, 0.2};
+    b.json()["materials"] = nlohmann::json::array({grey_material, glow_material});
+    const int grey = b.add_quad_mesh(0), glow = b.add_quad_mesh(1);
+    b.add_node({{"mesh", grey}, {"scale", {2, 2, 1}}, {"rotation", {-0.70710678, 0, 0, 0.70710678}}});  // the floor, facing +Y
+    b.add_node({{"mesh", grey}, {"translation", {0, 2, -2}}, {"scale", {2, 2, 1}}});                     // the wall, facing +Z
+    b.add_node({{"mesh", glow}, {"translation", {0.8, 1.2, -1.9}}, {"scale", {0.3, 0.3, 1}}});
+    b.json()["cameras"] = {{{"type", "perspective"}, {"perspective", {{"yfov", 0.9}, {"aspectRatio", 1.5}, {"znear", 0.05}}}}};
+    b.add_node({{"camera", 0}, {"translation", {0, 1, 4}}});
+    Scene scene = load_gltf(b.write(test::test_dir("rt_set_mode_scene"), "corner"));
+    apply_lighting(scene, LightingMode::default_rig, scene.select_camera("", 1.5f));
+    return scene;
+}
+
+using RtSetModeTest = test::GlContextTest;
+
+// set_mode keeps the tracer's BVH and gives the images a tracer constructed with that mode gives,
+// bit for bit: the planner's indirect estimate (engine/effects/gi/estimate.cpp) traces direct and
+// indirect with one tracer and must plan what two tracers planned.
+TEST_P(RtSetModeTest, SwitchedTracerRendersWhatAFreshOneRenders) {
+    const Scene scene = lit_corner();
+    GpuScene gpu(scene);
+    ASSERT_TRUE(gpu.has_environment_map()) << "the default rig's sky, which direct and path importance-sample";
+    const ShaderLibrary lib(fs::path(CANDELA_SOURCE_DIR) / "shaders");
+    const int w = 24, h = 16;
+    const Camera cam = scene.select_camera("", static_cast<float>(w) / static_cast<float>(h));
+    rt::Options o;
+    o.mode = rt::Mode::direct;
+    o.spp = 4;
+    o.tile_rows = h;
+    rt::RayTracer tracer(lib, scene, gpu, o);
+    const rt::Mode sequence[] = {rt::Mode::direct, rt::Mode::indirect, rt::Mode::path, rt::Mode::direct};
+    std::vector<rt::Result> switched;
+    for (rt::Mode m : sequence) {
+        SCOPED_TRACE(rt::to_string(m));
+        if (m != tracer.mode()) tracer.set_mode(m);
+        EXPECT_EQ(tracer.mode(), m);
+        switched.push_back(tracer.render(cam, w, h));
+        rt::Options fresh_options = o;
+        fresh_options.mode = m;
+        const rt::Result fresh = rt::RayTracer(lib, scene, gpu, fresh_options).render(cam, w, h);
+        const rt::Result& r = switched.back();
+        EXPECT_EQ(r.defines, fresh.defines);
+        EXPECT_EQ(r.nonfinite_samples, 0u);
+        ASSERT_EQ(r.image.pixels.size(), fresh.image.pixels.size());
+        size_t differ = 0;
+        for (size_t i = 0; i < r.image.pixels.size(); ++i)
+            differ += std::memcmp(&r.image.pixels[i], &fresh.image.pixels[i], sizeof(float)) != 0;
+        EXPECT_EQ(differ, 0u) << "of " << r.image.pixels.size() << " floats";
+    }
+    // The comparisons above could fail: the scene has emitters and direct and path sample the sky
+    // map (indirect does not), the bounce is not black, and path (unbounded) differs from direct
+    // (one bounce), so a depth or distribution left over from the previous mode would show.
+    EXPECT_NE(switched[0].defines.find("HAS_EMITTERS"), std::string::npos) << switched[0].defines;
+    EXPECT_NE(switched[0].defines.find("HAS_ENV_MAP_SAMPLING"), std::string::npos) << switched[0].defines;
+    EXPECT_EQ(switched[1].defines.find("HAS_ENV_MAP_SAMPLING"), std::string::npos) << switched[1].defines;
+    EXPECT_NE(switched[2].defines.find("HAS_ENV_MAP_SAMPLING"), std::string::npos) << switched[2].defines;
+    double bounce = 0.0;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) bounce += switched[1].image.at(x, y)[0];
+    EXPECT_GT(bounce, 0.0);
+    EXPECT_NE(switched[2].image.pixels, switched[0].image.pixels);
+    EXPECT_EQ(switched[3].image.pixels, switched[0].image.pixels) << "direct again after path";
+
+    // A switch the options do not allow (whitted's depth is at most 64) throws and changes nothing.
+    rt::Options deep = o;
+    deep.mode = rt::Mode::path;
+    deep.max_depth = 100;
+    rt::RayTracer deep_tracer(lib, scene, gpu, deep);
+    const std::string defines = deep_tracer.render(cam, w, h).defines;
+    EXPECT_THROW(deep_tracer.set_mode(rt::Mode::whitted), Error);
+    EXPECT_EQ(deep_tracer.mode(), rt::Mode::path);
+    EXPECT_EQ(deep_tracer.render(cam, w, h).defines, defines);
+}
+
+INSTANTIATE_TEST_SUITE_P(Backends, RtSetModeTest, ::testing::Values(Backend::egl), test::backend_name);
 
 }  // namespace
 }  // namespace candela

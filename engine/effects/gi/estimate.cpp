@@ -25,12 +25,14 @@ IndirectEstimate estimate_indirect(const ShaderLibrary& shaders, const Scene& sc
     e.height = 32;
     e.spp = 8;
     const Camera camera = scene.select_camera("", static_cast<float>(e.width) / static_cast<float>(e.height));
-    auto render = [&](rt::Mode mode) {
-        rt::Options o;
-        o.mode = mode;
-        o.spp = e.spp;
-        o.tile_rows = e.height;
-        rt::RayTracer tracer(shaders, scene, gpu, o);
+    // One tracer for both renders: the BVH is built and uploaded once (set_mode keeps it and
+    // gives the images a fresh tracer of the mode would, same seed and program).
+    rt::Options o;
+    o.mode = rt::Mode::direct;
+    o.spp = e.spp;
+    o.tile_rows = e.height;
+    rt::RayTracer tracer(shaders, scene, gpu, o);
+    auto render = [&] {
         const ImageF img = tracer.render(camera, e.width, e.height).image;
         std::vector<double> lum(static_cast<size_t>(img.width) * static_cast<size_t>(img.height));
         for (size_t i = 0; i < lum.size(); ++i) {
@@ -42,8 +44,9 @@ IndirectEstimate estimate_indirect(const ShaderLibrary& shaders, const Scene& sc
     // What the probes would add is diffuse interreflection: the tracer's `indirect` mode (one
     // diffuse bounce) against `direct` (emission, sky and direct light, every BRDF lobe).
     // Specular paths (mirrors, glass) are the reflection effect's, not counted here.
-    const std::vector<double> direct = render(rt::Mode::direct);
-    const std::vector<double> bounce = render(rt::Mode::indirect);
+    const std::vector<double> direct = render();
+    tracer.set_mode(rt::Mode::indirect);
+    const std::vector<double> bounce = render();
     // Emitters seen by the camera are far brighter than what they light: pixels above 10x the
     // median of `direct` are left out, so that a ceiling light does not hide the room's share.
     std::vector<double> sorted = direct;
