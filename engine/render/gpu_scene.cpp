@@ -366,8 +366,9 @@ const gl::Texture& GpuScene::image_array() const {
     const int layers = std::max<int>(1, static_cast<int>(scene_.images.size()));
     GLuint id = 0;
     glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &id);
-    const int levels = 1 + static_cast<int>(std::floor(std::log2(static_cast<double>(side))));
-    glTextureStorage3D(id, levels, GL_RGBA8, side, side, layers);
+    // One level: the tracer reads level 0 only (texelFetch and textureLod 0 in shaders/rt/scene.glsl),
+    // and mipmaps cost 60-110 ms of FlightHelmet's load for nothing.
+    glTextureStorage3D(id, 1, GL_RGBA8, side, side, layers);
     std::vector<std::uint8_t> layer(static_cast<size_t>(side) * static_cast<size_t>(side) * 4, 255);
     for (size_t i = 0; i < scene_.images.size(); ++i) {
         const Image& img = scene_.images[i];
@@ -383,8 +384,7 @@ const gl::Texture& GpuScene::image_array() const {
         }
         glTextureSubImage3D(id, 0, 0, 0, static_cast<GLint>(i), side, side, 1, GL_RGBA, GL_UNSIGNED_BYTE, layer.data());
     }
-    glGenerateTextureMipmap(id);
-    glTextureParameteri(id, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+    glTextureParameteri(id, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
     glTextureParameteri(id, GL_TEXTURE_WRAP_S, GL_REPEAT);
     glTextureParameteri(id, GL_TEXTURE_WRAP_T, GL_REPEAT);
     image_array_ = gl::Texture::adopt(id, side, side, GL_RGBA8);
@@ -401,7 +401,7 @@ const gl::Texture& GpuScene::image_array_srgb() const {
     glGenTextures(1, &id);  // a view needs a name that has never been bound
     glTextureView(id, GL_TEXTURE_2D_ARRAY, linear.id(), GL_SRGB8_ALPHA8, 0, static_cast<GLuint>(levels), 0,
                   static_cast<GLuint>(layers));
-    glTextureParameteri(id, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+    glTextureParameteri(id, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
     glTextureParameteri(id, GL_TEXTURE_WRAP_S, GL_REPEAT);
     glTextureParameteri(id, GL_TEXTURE_WRAP_T, GL_REPEAT);
     image_array_srgb_ = gl::Texture::adopt(id, linear.width(), linear.height(), GL_SRGB8_ALPHA8);

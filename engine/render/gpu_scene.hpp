@@ -141,6 +141,7 @@ public:
 
     // Every scene image resized to one size, as layers of an RGBA8 array (layer = image index):
     // how compute shaders (the ray tracer) sample material textures without bindless textures.
+    // Level 0 only: the tracer reads no other.
     const gl::Texture& image_array() const;
     // The same storage as an sRGB view (colour textures decode before filtering).
     const gl::Texture& image_array_srgb() const;
