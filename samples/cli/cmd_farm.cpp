@@ -405,8 +405,39 @@ int run_program(const std::vector<std::string>& argv, std::string& out) {
     return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
 }
 
+// Waits for a Slurm job to end and returns its exit code (128 + signal if killed; 1 if it ended
+// otherwise, e.g. cancelled or timed out). Polls `scontrol show job` every half second: sbatch
+// --wait polls with growing intervals and returned up to 12 s after the job had ended here.
+int wait_for_job(const std::string& job) {
+    static const char* const kEnded[] = {"COMPLETED", "FAILED", "CANCELLED", "TIMEOUT", "NODE_FAIL", "PREEMPTED", "OUT_OF_MEMORY", "BOOT_FAIL", "DEADLINE"};
+    for (int misses = 0;;) {
+        std::string out;
+        const int rc = run_program({"scontrol", "show", "job", "-o", job}, out);
+        const auto field = [&](const std::string& name) {
+            const size_t at = out.find(" " + name + "=");
+            if (at == std::string::npos) return std::string();
+            const size_t from = at + name.size() + 2;
+            return out.substr(from, out.find_first_of(" \n", from) - from);
+        };
+        const std::string state = field("JobState");
+        if (rc != 0 || state.empty()) {
+            // The controller forgets a job MinJobAge (default 300 s) after it ended.
+            if (++misses > 10) throw Error(ExitCode::internal, "farm: Slurm no longer knows job " + job + " (scontrol show job: " + out + ")");
+        } else {
+            misses = 0;
+            for (const char* ended : kEnded)
+                if (state == ended) {
+                    int code = 0, signal = 0;
+                    std::sscanf(field("ExitCode").c_str(), "%d:%d", &code, &signal);
+                    return signal ? 128 + signal : state == "COMPLETED" || code ? code : 1;
+                }
+        }
+        usleep(500000);
+    }
+}
+
 // Submits the array, then the finishing job after it; with wait, blocks until the finishing job
-// ends (sbatch --wait) and returns its exit code.
+// ends and returns its exit code.
 int submit(const Farm& f, bool wait) {
     std::string out;
     const auto t0 = std::chrono::steady_clock::now();
@@ -414,18 +445,14 @@ int submit(const Farm& f, bool wait) {
     const std::string array = out.substr(0, out.find_first_of(";\n"));
     if (rc != 0 || array.empty()) throw Error(ExitCode::internal, "farm: sbatch of the array failed (exit " + std::to_string(rc) + "): " + out);
     std::printf("farm: submitted %d tasks as Slurm array job %s\n", f.tasks(), array.c_str());
-    std::vector<std::string> finish = {"sbatch", "--parsable", "--dependency=afterany:" + array};
-    if (wait) finish.push_back("--wait");
-    finish.push_back((f.dir / "slurm" / "finish.sbatch").string());
     out.clear();
-    if (wait) std::printf("farm: waiting for the finishing job (logs in %s)\n", (f.dir / "logs").string().c_str()), std::fflush(stdout);
-    rc = run_program(finish, out);
+    rc = run_program({"sbatch", "--parsable", "--dependency=afterany:" + array, (f.dir / "slurm" / "finish.sbatch").string()}, out);
     const std::string job = out.substr(0, out.find_first_of(";\n"));
-    if (!wait) {
-        if (rc != 0 || job.empty()) throw Error(ExitCode::internal, "farm: sbatch of the finishing job failed (exit " + std::to_string(rc) + "): " + out);
-        std::printf("farm: the finishing job %s runs after it: %s\n", job.c_str(), (f.dir / "logs" / "finish.log").string().c_str());
-        return 0;
-    }
+    if (rc != 0 || job.empty()) throw Error(ExitCode::internal, "farm: sbatch of the finishing job failed (exit " + std::to_string(rc) + "): " + out);
+    std::printf("farm: the finishing job %s runs after it: %s\n", job.c_str(), (f.dir / "logs" / "finish.log").string().c_str());
+    if (!wait) return 0;
+    std::fflush(stdout);
+    rc = wait_for_job(job);
     const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     std::printf("farm: finishing job %s ended with exit %d after %.1f s since submission; its log:\n%s", job.c_str(), rc, s,
                 log_tail(f.dir / "logs" / "finish.log", 20).c_str());
