@@ -2,6 +2,8 @@
 
 #include <tiny_gltf.h>
 
+#include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <cstdio>
@@ -10,6 +12,7 @@
 #include <functional>
 #include <map>
 #include <sstream>
+#include <thread>
 
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_ptr.hpp>
@@ -68,37 +71,75 @@ const Value* extension(const tinygltf::ExtensionMap& map, const char* name) {
     return it == map.end() || !it->second.IsObject() ? nullptr : &it->second;
 }
 
-// Decodes embedded or external images with stb_image; never fails the load: an undecodable image
-// stays empty and gets the fallback texture later.
+// Embedded or external images, decoded with stb_image after tinygltf has parsed the file: its
+// callback only keeps each image's bytes, and decode_images() decodes them on every core
+// (FlightHelmet's fifteen 2048x2048 PNGs were most of its load time, one after another). Never
+// fails the load: an undecodable image stays empty and gets the fallback texture later.
 struct ImageDecodeLog {
+    struct Entry {
+        std::vector<unsigned char> bytes;  // as read (PNG, JPEG)
+        int width = 0, height = 0;
+        std::vector<unsigned char> rgba8;  // decoded
+        std::string problem;               // why not
+    };
+    std::map<int, Entry> images;  // by glTF image index
     std::map<int, std::string> problems;
 };
 
-bool decode_image(tinygltf::Image* image, const int image_index, std::string*, std::string*, int, int,
-                  const unsigned char* bytes, int size, void* user) {
+bool keep_image_bytes(tinygltf::Image*, const int image_index, std::string*, std::string*, int, int, const unsigned char* bytes, int size,
+                      void* user) {
     auto* log = static_cast<ImageDecodeLog*>(user);
+    log->images[image_index].bytes.assign(bytes, bytes + std::max(size, 0));
+    return true;
+}
+
+// One image; `problem` empty on success. stb_image's failure reason is a global in some builds,
+// so the message of a failed decode is taken again on the calling thread (decode_images).
+void decode_one(ImageDecodeLog::Entry& e, bool with_reason) {
+    const auto reason = [&](const char* fallback) {
+        return std::string("cannot decode: ") + (with_reason && stbi_failure_reason() ? stbi_failure_reason() : fallback);
+    };
+    const int size = static_cast<int>(std::min<size_t>(e.bytes.size(), static_cast<size_t>(std::numeric_limits<int>::max())));
     int w = 0, h = 0, comp = 0;
-    if (!stbi_info_from_memory(bytes, size, &w, &h, &comp)) {
-        log->problems[image_index] = std::string("cannot decode: ") + (stbi_failure_reason() ? stbi_failure_reason() : "unknown format");
-        return true;
+    if (!stbi_info_from_memory(e.bytes.data(), size, &w, &h, &comp)) {
+        e.problem = reason("unknown format");
+        return;
     }
     if (w <= 0 || h <= 0 || w > kMaxImageSide || h > kMaxImageSide) {
-        log->problems[image_index] = "unsupported size " + std::to_string(w) + "x" + std::to_string(h);
-        return true;
+        e.problem = "unsupported size " + std::to_string(w) + "x" + std::to_string(h);
+        return;
     }
-    unsigned char* pixels = stbi_load_from_memory(bytes, size, &w, &h, &comp, 4);
+    unsigned char* pixels = stbi_load_from_memory(e.bytes.data(), size, &w, &h, &comp, 4);
     if (!pixels) {
-        log->problems[image_index] = std::string("cannot decode: ") + (stbi_failure_reason() ? stbi_failure_reason() : "?");
-        return true;
+        e.problem = reason("?");
+        return;
     }
-    image->width = w;
-    image->height = h;
-    image->component = 4;
-    image->bits = 8;
-    image->pixel_type = TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE;
-    image->image.assign(pixels, pixels + static_cast<size_t>(w) * static_cast<size_t>(h) * 4);
+    e.width = w;
+    e.height = h;
+    e.rgba8.assign(pixels, pixels + static_cast<size_t>(w) * static_cast<size_t>(h) * 4);
     stbi_image_free(pixels);
-    return true;
+}
+
+void decode_images(ImageDecodeLog& log) {
+    std::vector<ImageDecodeLog::Entry*> todo;
+    for (auto& [index, e] : log.images) todo.push_back(&e);
+    const size_t threads = std::min<size_t>(todo.size(), std::max(1u, std::thread::hardware_concurrency()));
+    std::atomic<size_t> next{0};
+    const auto work = [&] {
+        for (size_t k; (k = next.fetch_add(1)) < todo.size();) decode_one(*todo[k], false);
+    };
+    std::vector<std::thread> pool;
+    for (size_t t = 1; t < threads; ++t) pool.emplace_back(work);
+    work();
+    for (std::thread& t : pool) t.join();
+    for (auto& [index, e] : log.images) {
+        if (!e.problem.empty()) {
+            e.problem.clear();
+            decode_one(e, true);  // again, alone, for stb_image's reason
+            if (!e.problem.empty()) log.problems[index] = e.problem;
+        }
+        e.bytes = {};
+    }
 }
 
 class Loader {
@@ -457,11 +498,10 @@ void Loader::build_images(Scene& scene) {
         Image& img = scene.images[i];
         img.name = src.name;
         img.uri = src.uri.rfind("data:", 0) == 0 ? "(embedded)" : src.uri;
-        if (!src.image.empty() && src.width > 0 && src.height > 0 &&
-            src.image.size() == static_cast<size_t>(src.width) * static_cast<size_t>(src.height) * 4) {
-            img.width = src.width;
-            img.height = src.height;
-            img.rgba8 = src.image;
+        if (auto d = image_log_.images.find(static_cast<int>(i)); d != image_log_.images.end() && !d->second.rgba8.empty()) {
+            img.width = d->second.width;
+            img.height = d->second.height;
+            img.rgba8 = std::move(d->second.rgba8);
             img.valid = true;
             continue;
         }
@@ -1410,7 +1450,7 @@ Scene load_gltf_from_memory(const fs::path& path, std::string_view bytes) {
 
     tinygltf::TinyGLTF gltf;
     ImageDecodeLog image_log;
-    gltf.SetImageLoader(decode_image, &image_log);
+    gltf.SetImageLoader(keep_image_bytes, &image_log);
     tinygltf::Model model;
     std::string err, warn;
     const std::string base_dir = path.parent_path().string();
@@ -1419,6 +1459,7 @@ Scene load_gltf_from_memory(const fs::path& path, std::string_view bytes) {
                                     static_cast<unsigned>(bytes.size()), base_dir)
         : gltf.LoadASCIIFromString(&model, &err, &warn, bytes.data(), static_cast<unsigned>(bytes.size()), base_dir);
     if (!ok) throw bad_input(file + ": " + (err.empty() ? "not a valid glTF 2.0 file" : trim(err)));
+    decode_images(image_log);
     // tinygltf's image warnings are restated by the loader with the JSON path; pass on the rest.
     std::istringstream lines(warn);
     for (std::string line; std::getline(lines, line);)
