@@ -5,6 +5,8 @@
 // ray tracer.
 #include "effects/shadows/shadows.hpp"
 
+#include <cmath>
+
 #include <glm/gtc/type_ptr.hpp>
 
 #include "effects/shadows/shadows_data.h"
@@ -13,6 +15,30 @@
 #include "render/passes/pass_env.hpp"
 
 namespace candela {
+namespace {
+
+// Whether no point of the box can reach the view: all eight corners lie beyond one side plane of
+// the clip volume (x > w, x < -w, y > w or y < -w), by a relative margin far above the rounding of
+// the vertex shader's transform. The side distance (x - w, ...) is linear in the position, so every
+// point of the box, every vertex of the draw included, lies beyond that plane too: the draw covers
+// no texel of the view and skipping it changes no depth. The near and far planes are left alone.
+bool outside_view(const glm::mat4& view_proj, const Bounds& b) {
+    if (b.empty() || !std::isfinite(b.min.x + b.min.y + b.min.z + b.max.x + b.max.y + b.max.z)) return false;
+    constexpr float kMargin = 1e-4f;
+    bool out[4] = {true, true, true, true};  // beyond +x, -x, +y, -y
+    for (int corner = 0; corner < 8; ++corner) {
+        const glm::vec4 c = view_proj * glm::vec4(corner & 1 ? b.max.x : b.min.x, corner & 2 ? b.max.y : b.min.y,
+                                                  corner & 4 ? b.max.z : b.min.z, 1.0f);
+        const float ax = kMargin * (std::abs(c.x) + std::abs(c.w)), ay = kMargin * (std::abs(c.y) + std::abs(c.w));
+        out[0] = out[0] && c.x - c.w > ax;
+        out[1] = out[1] && -c.x - c.w > ax;
+        out[2] = out[2] && c.y - c.w > ay;
+        out[3] = out[3] && -c.y - c.w > ay;
+    }
+    return out[0] || out[1] || out[2] || out[3];
+}
+
+}  // namespace
 
 void ShadowsRuntime::prepare(const FramePrep& p) {
     options_ = p.settings.get<ShadowsOptions>();
@@ -102,20 +128,59 @@ void ShadowsRuntime::add_pass(const std::string&, FrameGraph& graph, const PassE
             ctx.state.apply(ps);
             ctx.state.viewport(0, 0, resolution_, resolution_);
             bind_scene_buffers(env);
-            const GLuint program = env.programs.get("shadow").id();
-            ctx.state.use_program(program);
             ctx.state.bind_vertex_array(env.scene.vertex_array().id());
             const auto& infos = env.scene.light_infos();
+            const auto& draws = env.scene.draws();
+            // Only MASK casters need a fragment shader (the alpha test); the others are drawn
+            // with the depth-only program, which writes the same depth: the depth test keeps the
+            // greatest depth whatever the order of the draws, so splitting them changes nothing.
+            bool any_masked = false;
+            for (const auto& d : draws) any_masked = any_masked || d.alpha_mode == AlphaMode::mask;
+            const GLuint depth_program = env.programs.get("shadow_depth").id();
+            const GLuint mask_program = any_masked ? env.programs.get("shadow").id() : 0;
+            // Draws whose bounds hold all their vertices: rigid ones (a deformed primitive's
+            // vertices are posed on the CPU; its bounds are not trusted here).
+            const Scene& scene = env.scene.scene();
+            std::vector<bool> cullable(draws.size());
+            for (size_t di = 0; di < draws.size(); ++di) {
+                const Node& node = scene.nodes[static_cast<size_t>(draws[di].node)];
+                const Mesh& mesh = scene.meshes[static_cast<size_t>(node.mesh)];
+                cullable[di] = !mesh.primitives[static_cast<size_t>(draws[di].primitive)].deformable();
+            }
+            const auto visible = [&](size_t di, const glm::mat4& view_proj) {
+                return !cullable[di] || !outside_view(view_proj, draws[di].world_bounds);
+            };
             for (size_t layer = 0; layer < cpu_.views.size(); ++layer) {
                 ctx.state.bind_framebuffer(layer_fbos_[layer].id());
                 const float clear_depth = 0.0f;  // reversed-Z far: lit
                 glClearBufferfv(GL_DEPTH, 0, &clear_depth);
                 if (cpu_.skip[layer]) continue;
-                glProgramUniformMatrix4fv(program, 4, 1, GL_FALSE, glm::value_ptr(cpu_.views[layer].view_proj));
                 const int own = infos[static_cast<size_t>(cpu_.light[layer])].own_draw;
-                const auto& draws = env.scene.draws();
+                const glm::mat4& view_proj = cpu_.views[layer].view_proj;
+                glProgramUniformMatrix4fv(depth_program, 4, 1, GL_FALSE, glm::value_ptr(view_proj));
+                ctx.state.use_program(depth_program);
+                for (size_t di = 0; di < draws.size(); ++di) {
+                    const GpuScene::Draw& d = draws[di];
+                    if (static_cast<int>(di) == own || d.alpha_mode == AlphaMode::mask || !visible(di, view_proj))
+                        continue;
+                    // draw_item without the material's uniforms and textures, which this program
+                    // does not have.
+                    ctx.state.set_cull(false, GL_BACK);
+                    ctx.state.set_front_face(d.mirrored ? GL_CW : GL_CCW);
+                    glProgramUniformMatrix4fv(depth_program, 0, 1, GL_FALSE, glm::value_ptr(d.model));
+                    glDrawElementsBaseVertex(GL_TRIANGLES, d.index_count, GL_UNSIGNED_INT,
+                                             reinterpret_cast<const void*>(d.first_index * sizeof(std::uint32_t)),
+                                             d.base_vertex);
+                    ++ctx.counters.draw_calls;
+                    ctx.counters.triangles += static_cast<std::size_t>(d.index_count / 3);
+                }
+                if (!mask_program) continue;
+                glProgramUniformMatrix4fv(mask_program, 4, 1, GL_FALSE, glm::value_ptr(view_proj));
+                ctx.state.use_program(mask_program);
                 for (size_t di = 0; di < draws.size(); ++di)
-                    if (static_cast<int>(di) != own) draw_item(env, ctx, draws[di], false, GL_BACK, program, true);
+                    if (static_cast<int>(di) != own && draws[di].alpha_mode == AlphaMode::mask &&
+                        visible(di, view_proj))
+                        draw_item(env, ctx, draws[di], false, GL_BACK, mask_program, true);
             }
         });
 }
@@ -150,7 +215,14 @@ public:
         return decide_effect(name(), s.on(name()), f.scene.shadows.needed, f.scene.shadows.reason, s.gating);
     }
     void plan(Stage stage, const Features& f, const RenderSettings&, std::vector<PlannedPass>& out) const override {
-        if (stage == Stage::light_views) out.push_back({"shadow_maps", f.decision(name()).reason.substr(4), this, {"shadow"}});
+        if (stage != Stage::light_views) return;
+        // The alpha-testing caster program only when some material is MASK (ShadowsRuntime::add_pass).
+        bool masked = f.source == nullptr;
+        if (f.source)
+            for (const Material& m : f.source->materials) masked = masked || m.alpha_mode == AlphaMode::mask;
+        std::vector<std::string> programs{"shadow_depth"};
+        if (masked) programs.push_back("shadow");
+        out.push_back({"shadow_maps", f.decision(name()).reason.substr(4), this, programs});
     }
     void light_setup(const RenderSettings& s, const EffectDecision& d, LightSetup& out) const override {
         const ShadowsOptions& o = s.get<ShadowsOptions>();
@@ -160,7 +232,12 @@ public:
     }
     std::vector<ProgramDesc> programs() const override {
         using S = ShaderStage;
-        return {{"shadow", {{S::vertex, "effects/shadows/caster.vert"}, {S::fragment, "effects/shadows/caster.frag"}}, {}}};
+        return {{"shadow",
+                 {{S::vertex, "effects/shadows/caster.vert"}, {S::fragment, "effects/shadows/caster.frag"}},
+                 {}},
+                {"shadow_depth",
+                 {{S::vertex, "effects/shadows/caster.vert"}, {S::fragment, "effects/shadows/caster.frag"}},
+                 {"CASTER_DEPTH_ONLY"}}};
     }
     std::vector<GpuBlockInfo> gpu_blocks() const override { return {{"ShadowsData", SHADOWS_BINDING, sizeof(gpu::ShadowsData), "forward"}}; }
     std::unique_ptr<EffectRuntime> create_runtime() const override { return std::make_unique<ShadowsRuntime>(); }
