@@ -7,6 +7,7 @@ Each file is a one-triangle scene with exactly one thing wrong (named by the fil
 import json
 import os
 import struct
+import zlib
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 
@@ -36,6 +37,16 @@ def base_gltf(bin_name, bin_len):
             {"bufferView": 1, "componentType": 5125, "count": 3, "type": "SCALAR"},
         ],
     }
+
+
+def write_png(name, rgb):
+    """A 1x1 RGB PNG of colour rgb (bytes), written with zlib: signature, IHDR, IDAT, IEND."""
+    def chunk(kind, body):
+        return struct.pack(">I", len(body)) + kind + body + struct.pack(">I", zlib.crc32(kind + body) & 0xFFFFFFFF)
+    png = b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", 1, 1, 8, 2, 0, 0, 0))
+    png += chunk(b"IDAT", zlib.compress(b"\x00" + rgb)) + chunk(b"IEND", b"")
+    with open(os.path.join(HERE, name), "wb") as f:
+        f.write(png)
 
 
 def write(name, gltf, bin_bytes=None, bin_name=None):
@@ -68,6 +79,18 @@ def main():
     g["textures"] = [{"source": 0}]
     g["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {"index": 0}
     write("missing_texture.gltf", g, data, "missing_texture.bin")
+
+    # 4b. A texture file that exists but is no image (the loader decodes images on several
+    # threads; a failed one is decoded again alone for stb_image's reason), and a valid one.
+    g = base_gltf("missing_texture.bin", len(data))
+    g["images"] = [{"uri": "not_an_image.png"}, {"uri": "one_pixel.png"}]
+    g["textures"] = [{"source": 0}, {"source": 1}]
+    g["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {"index": 0}
+    g["materials"][0]["emissiveTexture"] = {"index": 1}
+    write("undecodable_texture.gltf", g)
+    with open(os.path.join(HERE, "not_an_image.png"), "w") as f:
+        f.write("this is text, not a PNG\n")
+    write_png("one_pixel.png", bytes([255, 128, 0]))
 
     # 5. Not valid JSON (a missing comma).
     text = json.dumps(base_gltf("bad_json.bin", len(data)), indent=1)
