@@ -80,15 +80,26 @@ mat3 ltc_matrix(float roughness, float NdotV, out vec2 amplitude) {
 
 // The share of an emitter's light that reaches p: its pieces' shadowed over unshadowed Lambert
 // estimates (1 exactly where no piece is shadowed). Pieces all below p's horizon: their plain mean.
+// A piece with no Lambert weight adds nothing to either sum, so its shadow (the costly part: a
+// filtered shadow-map lookup) is only looked up when no piece has weight and the plain mean is
+// the answer; the sums, and so the ratio, are those of summing over every piece.
 float area_visibility(int first, int count, vec3 p, vec3 n, vec2 pixel) {
+    bool any_weight = false;
+    for (int k = first; k < first + count && !any_weight; ++k) {
+        vec3 l, E;
+        float dist;
+        light_incidence(lights[k], p, l, E, dist);
+        any_weight = max(dot(n, l), 0.0) * (E.r + E.g + E.b) > 0.0;
+    }
     float shadowed = 0.0, unshadowed = 0.0, plain = 0.0;
     for (int k = first; k < first + count; ++k) {
         PunctualLight light = lights[k];
         vec3 l, E;
         float dist;
         light_incidence(light, p, l, E, dist);
-        float s = shadow_factor(light, p, n, l, pixel);
         float w = max(dot(n, l), 0.0) * (E.r + E.g + E.b);
+        if (any_weight && !(w > 0.0)) continue;
+        float s = shadow_factor(light, p, n, l, pixel);
         shadowed += w * s;
         unshadowed += w;
         plain += s;
@@ -116,14 +127,20 @@ vec3 shade_area_lights(BrdfInput bi, vec3 p, vec3 n, vec3 v, vec2 pixel, float t
     vec3 sum = vec3(0.0);
     vec3 group_sum = vec3(0.0);
     int group = -1;
-    for (int i = 0; i < area_lights.polygon_count; ++i) {
-        PolygonLight pl = polygon_lights[i];
-        int first = int(pl.p1.w);
+    // One pass beyond the last polygon closes the last emitter, so that area_visibility (and the
+    // shadow lookups in it) has one call site. An emitter none of whose polygons adds light here
+    // (all facing away or clipped away) adds 0 whatever its visibility: that is not looked up.
+    int count = area_lights.polygon_count;
+    for (int i = 0; i <= count; ++i) {
+        int first = i < count ? int(polygon_lights[i].p1.w) : -2;
         if (first != group) {
-            if (group >= 0) sum += group_sum * area_visibility(group, int(polygon_lights[i - 1].p2.w), p, n, pixel);
+            if (group >= 0 && any(notEqual(group_sum, vec3(0.0))))
+                sum += group_sum * area_visibility(group, int(polygon_lights[i - 1].p2.w), p, n, pixel);
+            if (i == count) break;
             group = first;
             group_sum = vec3(0.0);
         }
+        PolygonLight pl = polygon_lights[i];
         vec3 a = pl.p0.xyz - p, b = pl.p1.xyz - p, c = pl.p2.xyz - p;
         // One-sided: only the side the winding's normal points to emits.
         float facing = dot(cross(b - a, c - a), -a);
@@ -148,6 +165,5 @@ vec3 shade_area_lights(BrdfInput bi, vec3 p, vec3 n, vec3 v, vec2 pixel, float t
         vec3 metal = spec_m * specular;
         group_sum += pl.radiance.rgb * mix(dielectric, metal, bi.metallic);
     }
-    if (group >= 0) sum += group_sum * area_visibility(group, int(polygon_lights[area_lights.polygon_count - 1].p2.w), p, n, pixel);
     return sum;
 }
