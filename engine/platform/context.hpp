@@ -25,6 +25,16 @@ struct ContextOptions {
     std::string title = "Candela";
 };
 
+// A context that shares a Context's objects (textures, buffers, programs, syncs), for one worker
+// thread (GlWorker). GL's entry points stay those loaded for the main context: the backends'
+// are dispatch stubs that follow the calling thread's current context.
+class SharedContext {
+public:
+    virtual ~SharedContext() = default;
+    virtual bool make_current() = 0;  // on the calling thread
+    virtual void release() = 0;       // current nowhere any more (call on the thread it is current on)
+};
+
 class Context {
 public:
     virtual ~Context() = default;
@@ -36,6 +46,9 @@ public:
     virtual bool make_current() = 0;
     virtual void swap_buffers() {}
     virtual GLFWwindow* window() { return nullptr; }
+    // A context sharing this one's objects, current nowhere yet; null where the backend has none
+    // (GLFW: a window's context is not made for this) or the driver refuses.
+    virtual std::unique_ptr<SharedContext> create_shared() { return nullptr; }
 
     const std::string& renderer() const { return renderer_; }
     const std::string& version() const { return version_; }

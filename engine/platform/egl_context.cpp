@@ -25,6 +25,21 @@ bool has_extension(const char* list, const char* name) {
     return false;
 }
 
+class EglShared final : public SharedContext {
+public:
+    EglShared(EGLDisplay display, EGLContext context) : display_(display), context_(context) {}
+    ~EglShared() override { eglDestroyContext(display_, context_); }
+    bool make_current() override { return eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, context_) == EGL_TRUE; }
+    void release() override {
+        eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+        eglReleaseThread();
+    }
+
+private:
+    EGLDisplay display_;
+    EGLContext context_;
+};
+
 class EglContext final : public Context {
 public:
     EglContext(EGLDisplay display, EGLContext context, bool debug, const char* platform)
@@ -42,6 +57,13 @@ public:
         return load_gl_and_check("egl", reinterpret_cast<GetProcAddress>(eglGetProcAddress), r, v,
                                  false)
             .empty();
+    }
+    std::unique_ptr<SharedContext> create_shared() override {
+        const EGLint attribs[] = {EGL_CONTEXT_MAJOR_VERSION, 4, EGL_CONTEXT_MINOR_VERSION, 5,
+                                  EGL_CONTEXT_OPENGL_PROFILE_MASK, EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
+        EGLContext shared = eglCreateContext(display_, EGL_NO_CONFIG_KHR, context_, attribs);
+        if (shared == EGL_NO_CONTEXT) return nullptr;
+        return std::make_unique<EglShared>(display_, shared);
     }
     std::string init() {
         if (!eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, context_))

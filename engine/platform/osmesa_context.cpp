@@ -8,6 +8,18 @@
 namespace candela::detail {
 namespace {
 
+class OsMesaShared final : public SharedContext {
+public:
+    explicit OsMesaShared(OSMesaContext context) : context_(context) {}
+    ~OsMesaShared() override { OSMesaDestroyContext(context_); }
+    bool make_current() override { return OSMesaMakeCurrent(context_, buffer_.data(), GL_UNSIGNED_BYTE, 1, 1) != 0; }
+    void release() override { OSMesaMakeCurrent(nullptr, nullptr, GL_UNSIGNED_BYTE, 0, 0); }
+
+private:
+    OSMesaContext context_;
+    std::array<unsigned char, 4> buffer_{};
+};
+
 class OsMesaContext final : public Context {
 public:
     OsMesaContext(OSMesaContext context, bool debug) : context_(context), debug_(debug) {}
@@ -19,6 +31,13 @@ public:
         return load_gl_and_check("osmesa", reinterpret_cast<GetProcAddress>(OSMesaGetProcAddress),
                                  r, v, false)
             .empty();
+    }
+    std::unique_ptr<SharedContext> create_shared() override {
+        const int attribs[] = {OSMESA_FORMAT, OSMESA_RGBA, OSMESA_PROFILE, OSMESA_CORE_PROFILE, OSMESA_CONTEXT_MAJOR_VERSION, 4,
+                               OSMESA_CONTEXT_MINOR_VERSION, 5, 0};
+        OSMesaContext shared = OSMesaCreateContextAttribs(attribs, context_);
+        if (!shared) return nullptr;
+        return std::make_unique<OsMesaShared>(shared);
     }
     std::string init() {
         if (!OSMesaMakeCurrent(context_, buffer_.data(), GL_UNSIGNED_BYTE, kSize, kSize))
