@@ -1,5 +1,7 @@
 #include "render/gpu_scene.hpp"
 
+#include "gl/mipmaps.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -180,7 +182,7 @@ std::vector<AreaPiece> area_light_pieces(const Scene& scene, const GpuScene& gpu
     return out;
 }
 
-GpuScene::GpuScene(const Scene& scene) : scene_(scene) {
+GpuScene::GpuScene(const Scene& scene, GlWorker* mips) : scene_(scene), mips_(mips && mips->running() ? mips : nullptr) {
     std::vector<Vertex> vertices;
     std::vector<std::uint32_t> indices;
     std::vector<std::vector<Range>>& ranges = ranges_;
@@ -283,15 +285,27 @@ GpuScene::GpuScene(const Scene& scene) : scene_(scene) {
                             std::to_string(map.width) + "x" + std::to_string(map.height));
         env_map_ = gl::Texture::create_2d(GL_RGBA32F, map.width, map.height, 0);
         glTextureSubImage2D(env_map_.id(), 0, 0, 0, map.width, map.height, GL_RGBA, GL_FLOAT, map.pixels.data());
-        glGenerateTextureMipmap(env_map_.id());
         glTextureParameteri(env_map_.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
         glTextureParameteri(env_map_.id(), GL_TEXTURE_WRAP_S, GL_REPEAT);
         glTextureParameteri(env_map_.id(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+        // On this thread even with a mip worker: the renderer needs the map first thing (the
+        // reflection cube, the GI estimate), while the material textures' mipmaps on the worker
+        // are needed only by the first frame.
+        glGenerateTextureMipmap(env_map_.id());
         env_mips_ = 1 + static_cast<int>(std::floor(std::log2(std::max(map.width, map.height))));
         env_sh_ = project_irradiance_sh(map);
         for (auto& c : env_sh_) c *= env.intensity;
         env_radiance_ = glm::vec3(env.intensity);
         env_image_ = map;
+    }
+    // Every texture a draw uses, uploaded now so that its mipmaps are made beside the main
+    // thread's work (program builds, the first frame's other passes) instead of at first use.
+    if (mips_) {
+        prefetching_ = true;
+        for (const Draw& d : draws_)
+            for (size_t s = 0; s < d.textures.size(); ++s)
+                if (d.textures[s] >= 0) texture(d.textures[s], d.srgb[s]);
+        prefetching_ = false;
     }
 }
 
@@ -412,12 +426,29 @@ const gl::Texture& GpuScene::texture(int image, bool srgb) {
     if (image < 0 || image >= static_cast<int>(scene_.images.size())) return white_;
     auto key = std::make_pair(image, srgb);
     auto it = textures_.find(key);
-    if (it != textures_.end()) return it->second;
+    if (it != textures_.end()) {
+        auto pending = prefetching_ ? pending_.textures.end() : pending_.textures.find(key);
+        if (pending != pending_.textures.end()) {
+            GlWorker::Ticket ticket = std::move(pending->second);
+            pending_.textures.erase(pending);
+            GlWorker::wait(ticket);
+        }
+        return it->second;
+    }
     const Image& img = scene_.images[static_cast<size_t>(image)];
     if (!img.valid) return white_;
     gl::Texture tex = gl::Texture::create_2d(srgb ? GL_SRGB8_ALPHA8 : GL_RGBA8, img.width, img.height, 0);
     glTextureSubImage2D(tex.id(), 0, 0, 0, img.width, img.height, GL_RGBA, GL_UNSIGNED_BYTE, img.rgba8.data());
-    glGenerateTextureMipmap(tex.id());
+    // From the constructor's prefetch: queued; texture() waits for it at the first draw.
+    // gl::blit_mipmaps, not glGenerateTextureMipmap: the same texels, without holding Mesa's
+    // texture mutex (which this thread's draws need) through the blit shader's compile.
+    if (prefetching_) {
+        const int levels = 1 + static_cast<int>(std::floor(std::log2(static_cast<double>(std::max(img.width, img.height)))));
+        pending_.textures[key] = mips_->submit([id = tex.id(), w = img.width, h = img.height, levels, srgb] {
+            gl::blit_mipmaps(id, w, h, levels, srgb);
+        });
+    }
+    else glGenerateTextureMipmap(tex.id());
     return textures_.emplace(key, std::move(tex)).first->second;
 }
 

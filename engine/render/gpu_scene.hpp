@@ -10,6 +10,7 @@
 
 #include "gl/handles.hpp"
 #include "image/image.hpp"
+#include "platform/gl_worker.hpp"
 #include "scene/animation.hpp"
 #include "scene/scene.hpp"
 
@@ -112,7 +113,11 @@ public:
     };
 
     // Throws candela::Error (bad_input) if the environment map cannot be read.
-    explicit GpuScene(const Scene& scene);
+    // With a running `mips` worker (it must outlive this GpuScene), every texture the draws use
+    // is uploaded here and its mipmaps generated on the worker's thread meanwhile; texture()
+    // waits for them at the first draw. The textures are the
+    // same as without (the same driver call on the same pixels), only made sooner.
+    explicit GpuScene(const Scene& scene, GlWorker* mips = nullptr);
 
     const std::vector<Draw>& draws() const { return draws_; }
     const Scene& scene() const { return scene_; }
@@ -194,6 +199,17 @@ private:
     glm::vec3 env_radiance_{0.0f};
     std::array<glm::vec3, 9> env_sh_{};
     std::size_t triangles_ = 0;
+    // Mipmap jobs on the worker (constructor). Last member: destroyed first, waiting for the
+    // jobs, before the textures they work on are deleted.
+    GlWorker* mips_ = nullptr;
+    bool prefetching_ = false;
+    struct PendingMips {
+        std::map<std::pair<int, bool>, GlWorker::Ticket> textures;
+        ~PendingMips() {
+            for (auto& [key, ticket] : textures) try { GlWorker::wait(ticket); } catch (...) {}
+        }
+    };
+    PendingMips pending_;
 };
 
 }  // namespace candela

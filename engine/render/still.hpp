@@ -30,6 +30,9 @@ struct StillOptions {
     // Programs shared by the renderers of a batch (built from the same ShaderLibrary in this
     // context; must outlive the loop); nullptr: the renderer builds its own.
     ProgramCache* programs = nullptr;
+    // A worker context that makes the textures' mipmaps beside the main thread (GpuScene); must
+    // outlive the loop. nullptr: made on the main thread at first use. The image is the same.
+    GlWorker* mip_worker = nullptr;
 };
 
 struct StillResult {

@@ -165,6 +165,13 @@ int run_render(const Args& args, BatchSession* batch) {
         if (!ctx.context) return static_cast<int>(ExitCode::no_gl);
     }
     const Context& context = batch ? *batch->context : *ctx.context;
+    // Texture mipmaps on a second context beside the main thread (GpuScene); the same images.
+    // CANDELA_MIP_WORKER=0 makes them on the main thread (to compare). Destroyed before ctx.
+    std::unique_ptr<GlWorker> mip_worker;
+    if (!batch && mip_worker_wanted()) {
+        mip_worker = std::make_unique<GlWorker>(ctx.context->create_shared());
+        s.options.mip_worker = mip_worker.get();
+    }
     const double context_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 
     const ShaderLibrary own_shaders(s.shader_dir);

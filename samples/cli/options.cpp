@@ -351,6 +351,11 @@ ContextResult open_context(const SceneSetup& s) {
     return ctx;
 }
 
+bool mip_worker_wanted() {
+    const char* v = std::getenv("CANDELA_MIP_WORKER");
+    return !(v && std::string(v) == "0");
+}
+
 int check_gl_errors(const SceneSetup& s) {
     if (const int errors = gl::debug_error_count() - s.gl_errors_before; s.debug && errors > 0) {
         std::fprintf(stderr, "candela: error: %d GL error(s) (see above)\n", errors);

@@ -79,6 +79,9 @@ SceneSetup setup_scene(const Parsed& p, const std::string& scene_path, int defau
 
 // Opens the GL context the set-up asks for; on failure prints why (the caller returns exit 3).
 ContextResult open_context(const SceneSetup& s);
+// Whether render makes texture mipmaps on a worker context (GlWorker): yes unless the
+// environment sets CANDELA_MIP_WORKER=0 (a switch for comparing; the images are the same).
+bool mip_worker_wanted();
 // With --debug-gl: exit 1 if the GL debug output reported errors, else 0.
 int check_gl_errors(const SceneSetup& s);
 
