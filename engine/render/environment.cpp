@@ -26,7 +26,7 @@ gl::Texture ImageBasedLighting::create_cube_array(int size, int cubes, int level
     return gl::Texture::adopt(id, size, size, GL_RGBA32F);
 }
 
-ImageBasedLighting::ImageBasedLighting(const ShaderLibrary& shaders) : shaders_(shaders) {
+ImageBasedLighting::ImageBasedLighting(const ShaderLibrary& shaders) : shaders_(shaders), mips_(shaders) {
     lut_program_ = shaders.build_or_throw(program_desc("brdf_lut"));
     lut_ = gl::Texture::create_2d(GL_RG32F, kLutSize, kLutSize, 1);
     glTextureParameteri(lut_.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
@@ -57,10 +57,41 @@ gl::Texture ImageBasedLighting::cube_from_equirect(const gl::Texture& equirect, 
     glDispatchCompute(static_cast<GLuint>((size + 7) / 8), static_cast<GLuint>((size + 7) / 8), 6);
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
     glUseProgram(0);
-    glGenerateTextureMipmap(source.id());
+    mips_.generate(source, GL_TEXTURE_CUBE_MAP_ARRAY, size, size, 6, 0);
     gl::Texture cube = create_cube_array(size, 1, levels);
     prefilter(source, cube, size, levels, 1, samples);
     return cube;
+}
+
+void FloatMipmaps::generate(const gl::Texture& texture, GLenum target, int width, int height, int layers, int levels) const {
+    if (levels <= 0) levels = 1 + static_cast<int>(std::floor(std::log2(static_cast<double>(std::max(width, height)))));
+    const auto pot = [](int v) { return v > 0 && (v & (v - 1)) == 0; };
+    const bool cube = target == GL_TEXTURE_CUBE_MAP_ARRAY;
+    if (!pot(width) || !pot(height) || (!cube && target != GL_TEXTURE_2D)) {
+        glGenerateTextureMipmap(texture.id());
+        return;
+    }
+    // Level 0 may have just been written by a shader's imageStore (equirect_to_cube).
+    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+    gl::Program& program = cube ? halve_cube_ : halve_2d_;
+    if (!program) program = shaders_.build_or_throw(program_desc(cube ? "mip_halve_cube_array" : "mip_halve_2d"));
+    glUseProgram(program.id());
+    int w = width, h = height;
+    for (int level = 1; level < levels; ++level) {
+        const int nw = std::max(w / 2, 1), nh = std::max(h / 2, 1);
+        glProgramUniform2i(program.id(), 0, w, h);
+        glProgramUniform2i(program.id(), 1, nw, nh);
+        glBindImageTexture(0, texture.id(), level - 1, cube ? GL_TRUE : GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+        glBindImageTexture(1, texture.id(), level, cube ? GL_TRUE : GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+        glDispatchCompute(static_cast<GLuint>((nw + 7) / 8), static_cast<GLuint>((nh + 7) / 8), static_cast<GLuint>(cube ? layers : 1));
+        glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+        w = nw;
+        h = nh;
+    }
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
+    glBindImageTexture(0, 0, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+    glBindImageTexture(1, 0, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    glUseProgram(0);
 }
 
 void ImageBasedLighting::prefilter(const gl::Texture& source, const gl::Texture& dst, int size, int levels, int cubes,

@@ -11,6 +11,24 @@ namespace candela {
 // Mip levels of a prefiltered cube of face size `size`: down to 4x4 faces (roughness 1 there).
 int prefiltered_levels(int size);
 
+// Levels 1.. of an RGBA32F texture (GL_TEXTURE_2D, or GL_TEXTURE_CUBE_MAP_ARRAY with `layers` =
+// 6 x cubes) whose level 0 is filled: the texels glGenerateTextureMipmap makes, by a compute
+// shader when both sides are powers of two (shaders/env/mip_halve.comp), else by
+// glGenerateTextureMipmap itself. The point is time: on llvmpipe glGenerateTextureMipmap
+// compiles a blit shader per format and target every run (about 0.1 s each, not in Mesa's disk
+// cache), where this program comes from the cache. tests/unit/test_gl_worker.cpp compares every
+// level bit for bit with glGenerateTextureMipmap's.
+class FloatMipmaps {
+public:
+    explicit FloatMipmaps(const ShaderLibrary& shaders) : shaders_(shaders) {}
+    // `levels` <= 0: the full chain. Throws candela::Error (internal) if the program does not build.
+    void generate(const gl::Texture& texture, GLenum target, int width, int height, int layers, int levels) const;
+
+private:
+    const ShaderLibrary& shaders_;
+    mutable gl::Program halve_2d_, halve_cube_;  // built on first use
+};
+
 class ImageBasedLighting {
 public:
     // Builds the LUT; throws candela::Error (internal) if a shader does not build.
@@ -27,6 +45,7 @@ public:
     // Fills levels 1.. of `dst` (a cube-map array with `cubes` cubes and `levels` levels) from
     // `source` (same size, a full mip chain whose level 0 is the capture); level 0 is copied.
     void prefilter(const gl::Texture& source, const gl::Texture& dst, int size, int levels, int cubes, int samples) const;
+    const FloatMipmaps& float_mipmaps() const { return mips_; }
     // An RGBA32F cube-map array of `cubes` cubes, `levels` levels (0: full chain), linear filtering.
     static gl::Texture create_cube_array(int size, int cubes, int levels);
 
@@ -34,6 +53,7 @@ private:
     const ShaderLibrary& shaders_;
     gl::Program lut_program_;
     mutable gl::Program to_cube_program_, prefilter_program_;  // built on first use
+    FloatMipmaps mips_;
     gl::Texture lut_;
 };
 

@@ -1,6 +1,7 @@
 #include "render/gpu_scene.hpp"
 
 #include "gl/mipmaps.hpp"
+#include "render/environment.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -182,7 +183,7 @@ std::vector<AreaPiece> area_light_pieces(const Scene& scene, const GpuScene& gpu
     return out;
 }
 
-GpuScene::GpuScene(const Scene& scene, GlWorker* mips) : scene_(scene), mips_(mips && mips->running() ? mips : nullptr) {
+GpuScene::GpuScene(const Scene& scene, GlWorker* mips, const ShaderLibrary* shaders) : scene_(scene), mips_(mips && mips->running() ? mips : nullptr) {
     std::vector<Vertex> vertices;
     std::vector<std::uint32_t> indices;
     std::vector<std::vector<Range>>& ranges = ranges_;
@@ -291,7 +292,8 @@ GpuScene::GpuScene(const Scene& scene, GlWorker* mips) : scene_(scene), mips_(mi
         // On this thread even with a mip worker: the renderer needs the map first thing (the
         // reflection cube, the GI estimate), while the material textures' mipmaps on the worker
         // are needed only by the first frame.
-        glGenerateTextureMipmap(env_map_.id());
+        if (shaders) FloatMipmaps(*shaders).generate(env_map_, GL_TEXTURE_2D, map.width, map.height, 1, 0);
+        else glGenerateTextureMipmap(env_map_.id());
         env_mips_ = 1 + static_cast<int>(std::floor(std::log2(std::max(map.width, map.height))));
         env_sh_ = project_irradiance_sh(map);
         for (auto& c : env_sh_) c *= env.intensity;

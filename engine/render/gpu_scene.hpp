@@ -13,6 +13,7 @@
 #include "platform/gl_worker.hpp"
 #include "scene/animation.hpp"
 #include "scene/scene.hpp"
+#include "shader/shader_library.hpp"
 
 namespace candela {
 
@@ -117,7 +118,9 @@ public:
     // is uploaded here and its mipmaps generated on the worker's thread meanwhile; texture()
     // waits for them at the first draw. The textures are the
     // same as without (the same driver call on the same pixels), only made sooner.
-    explicit GpuScene(const Scene& scene, GlWorker* mips = nullptr);
+    // With `shaders`, the environment map's mipmaps come from FloatMipmaps (render/environment.hpp:
+    // the same texels, no blit compile); without, from glGenerateTextureMipmap.
+    explicit GpuScene(const Scene& scene, GlWorker* mips = nullptr, const ShaderLibrary* shaders = nullptr);
 
     const std::vector<Draw>& draws() const { return draws_; }
     const Scene& scene() const { return scene_; }

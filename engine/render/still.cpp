@@ -33,7 +33,7 @@ FrameLoop::FrameLoop(const Scene& scene, const ShaderLibrary& shaders, const Sti
     if (options.warmup < 0 || options.warmup > 100000) throw bad_input("--warmup must be in [0, 100000]");
     camera_ = scene.select_camera(options.camera, static_cast<float>(options.width) / static_cast<float>(options.height));
     auto t0 = std::chrono::steady_clock::now();
-    gpu_ = std::make_unique<GpuScene>(scene, options.mip_worker);
+    gpu_ = std::make_unique<GpuScene>(scene, options.mip_worker, &shaders);
     result_.upload_ms = ms_since(t0);
     t0 = std::chrono::steady_clock::now();
     update_motion(scene, *gpu_, options.animation, options.time, options.settings);

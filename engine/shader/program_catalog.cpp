@@ -28,6 +28,8 @@ const std::vector<ProgramDesc>& raster_programs() {
         {"brdf_lut", {{S::compute, "env/brdf_lut.comp"}}, {}},
         {"equirect_to_cube", {{S::compute, "env/equirect_to_cube.comp"}}, {}},
         {"prefilter", {{S::compute, "env/prefilter.comp"}}, {}},
+        {"mip_halve_2d", {{S::compute, "env/mip_halve.comp"}}, {}},
+        {"mip_halve_cube_array", {{S::compute, "env/mip_halve.comp"}}, {"CUBE_ARRAY"}},
     };
     for (const Effect* e : effect_registry())
         for (ProgramDesc& d : e->programs()) v.push_back(std::move(d));

@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cmath>
+#include <cstring>
 #include <cstdint>
 #include <filesystem>
 #include <random>
@@ -19,6 +21,7 @@
 #include "gl/mipmaps.hpp"
 #include "gl_fixture.hpp"
 #include "platform/gl_worker.hpp"
+#include "render/environment.hpp"
 #include "render/still.hpp"
 #include "scene/gltf_loader.hpp"
 #include "scene/lighting.hpp"
@@ -68,6 +71,57 @@ TEST_P(GlWorkerTest, BlitMipmapsEqualGenerateMipmap) {
             EXPECT_TRUE(std::any_of(l1.begin(), l1.end(), [](std::uint8_t v) { return v != 0; })) << w << "x" << h;
         }
     EXPECT_FALSE(glIsEnabled(GL_FRAMEBUFFER_SRGB)) << "blit_mipmaps left GL_FRAMEBUFFER_SRGB on";
+}
+
+std::vector<float> float_level(GLuint tex, int level, size_t count) {
+    std::vector<float> out(count);
+    glGetTextureImage(tex, level, GL_RGBA, GL_FLOAT, static_cast<GLsizei>(out.size() * sizeof(float)), out.data());
+    return out;
+}
+
+// FloatMipmaps (the environment map's and the reflection cube's mipmaps by a
+// compute shader) against glGenerateTextureMipmap, bit for bit on every level: 2D and cube-map
+// arrays of power-of-two sizes, random radiance over nine decades, one or two cubes. Sizes
+// that are not powers of two take glGenerateTextureMipmap itself (checked too).
+TEST_P(GlWorkerTest, FloatMipmapsEqualGenerateMipmap) {
+    const ShaderLibrary shaders(ShaderLibrary::default_root());
+    const FloatMipmaps mips(shaders);
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<float> exponent(-6.0f, 3.0f), mantissa(1.0f, 10.0f);
+    const auto random_texels = [&](size_t n) {
+        std::vector<float> v(n);
+        for (size_t i = 0; i < n; ++i) v[i] = (i % 4 == 3) ? 1.0f : mantissa(rng) * std::pow(10.0f, exponent(rng));
+        return v;
+    };
+    struct Case { GLenum target; int w, h, layers; };
+    const Case cases[] = {{GL_TEXTURE_2D, 256, 128, 1}, {GL_TEXTURE_2D, 64, 64, 1}, {GL_TEXTURE_2D, 8, 2, 1},
+                          {GL_TEXTURE_2D, 1, 4, 1},     {GL_TEXTURE_2D, 96, 48, 1}, {GL_TEXTURE_CUBE_MAP_ARRAY, 128, 128, 6},
+                          {GL_TEXTURE_CUBE_MAP_ARRAY, 16, 16, 12}};
+    for (const Case& c : cases) {
+        const int levels = full_levels(c.w, c.h);
+        const std::vector<float> texels = random_texels(static_cast<size_t>(c.w * c.h * 4 * c.layers));
+        const auto make = [&] {
+            if (c.target == GL_TEXTURE_2D) {
+                gl::Texture t = gl::Texture::create_2d(GL_RGBA32F, c.w, c.h, levels);
+                glTextureSubImage2D(t.id(), 0, 0, 0, c.w, c.h, GL_RGBA, GL_FLOAT, texels.data());
+                return t;
+            }
+            gl::Texture t = ImageBasedLighting::create_cube_array(c.w, c.layers / 6, 0);
+            glTextureSubImage3D(t.id(), 0, 0, 0, 0, c.w, c.h, c.layers, GL_RGBA, GL_FLOAT, texels.data());
+            return t;
+        };
+        gl::Texture a = make(), b = make();
+        glGenerateTextureMipmap(a.id());
+        mips.generate(b, c.target, c.w, c.h, c.layers, levels);
+        glFinish();
+        for (int level = 1; level < levels; ++level) {
+            const size_t n = static_cast<size_t>(std::max(c.w >> level, 1) * std::max(c.h >> level, 1) * 4 * c.layers);
+            const std::vector<float> fa = float_level(a.id(), level, n), fb = float_level(b.id(), level, n);
+            size_t differing = 0;
+            for (size_t i = 0; i < n; ++i) differing += std::memcmp(&fa[i], &fb[i], sizeof(float)) != 0;
+            EXPECT_EQ(differing, 0u) << c.w << "x" << c.h << "x" << c.layers << " level " << level;
+        }
+    }
 }
 
 // The worker runs jobs in its own context, after what the main context issued before submit(),

@@ -207,7 +207,7 @@ void ReflectionsRuntime::add_capture(FrameGraph& graph, const PassEnv& env) {
                 }
                 glBindBufferBase(GL_UNIFORM_BUFFER, 0, env.frame_ubo.id());
                 glTextureBarrier();
-                glGenerateTextureMipmap(pr.capture.id());
+                env.ibl.float_mipmaps().generate(pr.capture, GL_TEXTURE_CUBE_MAP_ARRAY, pr.size, pr.size, 6 * pr.cubes, 0);
                 env.ibl.prefilter(pr.capture, pr.filtered, pr.size, pr.levels, pr.cubes, options_.probe_samples);
                 ctx.counters.dispatches += pr.levels;
                 // The prefilter changed programs and image bindings behind the state cache.
