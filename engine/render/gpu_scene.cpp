@@ -386,19 +386,27 @@ const gl::Texture& GpuScene::image_array() const {
     // and mipmaps cost 60-110 ms of FlightHelmet's load for nothing.
     glTextureStorage3D(id, 1, GL_RGBA8, side, side, layers);
     std::vector<std::uint8_t> layer(static_cast<size_t>(side) * static_cast<size_t>(side) * 4, 255);
+    std::vector<size_t> column(static_cast<size_t>(side));
     for (size_t i = 0; i < scene_.images.size(); ++i) {
         const Image& img = scene_.images[i];
-        if (img.valid) {
-            // Nearest-neighbour resampling to the common size (exact when sizes divide evenly).
-            for (int y = 0; y < side; ++y)
-                for (int x = 0; x < side; ++x) {
-                    const size_t sx = static_cast<size_t>(x) * static_cast<size_t>(img.width) / static_cast<size_t>(side);
-                    const size_t sy = static_cast<size_t>(y) * static_cast<size_t>(img.height) / static_cast<size_t>(side);
-                    std::memcpy(&layer[(static_cast<size_t>(y) * static_cast<size_t>(side) + static_cast<size_t>(x)) * 4],
-                                &img.rgba8[(sy * static_cast<size_t>(img.width) + sx) * 4], 4);
-                }
+        const std::uint8_t* pixels = layer.data();
+        if (img.valid && img.width == side && img.height == side) {
+            pixels = img.rgba8.data();  // already the common size (FlightHelmet: every image): as it is
+        } else if (img.valid) {
+            // Nearest-neighbour resampling to the common size (exact when sizes divide evenly):
+            // texel (x, y) takes source texel (x w / side, y h / side).
+            for (int x = 0; x < side; ++x)
+                column[static_cast<size_t>(x)] = static_cast<size_t>(x) * static_cast<size_t>(img.width) / static_cast<size_t>(side);
+            for (int y = 0; y < side; ++y) {
+                const size_t sy = static_cast<size_t>(y) * static_cast<size_t>(img.height) / static_cast<size_t>(side);
+                const std::uint8_t* src = &img.rgba8[sy * static_cast<size_t>(img.width) * 4];
+                std::uint8_t* dst = &layer[static_cast<size_t>(y) * static_cast<size_t>(side) * 4];
+                for (int x = 0; x < side; ++x) std::memcpy(dst + static_cast<size_t>(x) * 4, src + column[static_cast<size_t>(x)] * 4, 4);
+            }
+        } else {
+            std::fill(layer.begin(), layer.end(), std::uint8_t{255});  // missing: white, as before
         }
-        glTextureSubImage3D(id, 0, 0, 0, static_cast<GLint>(i), side, side, 1, GL_RGBA, GL_UNSIGNED_BYTE, layer.data());
+        glTextureSubImage3D(id, 0, 0, 0, static_cast<GLint>(i), side, side, 1, GL_RGBA, GL_UNSIGNED_BYTE, pixels);
     }
     glTextureParameteri(id, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
     glTextureParameteri(id, GL_TEXTURE_WRAP_S, GL_REPEAT);
