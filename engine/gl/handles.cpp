@@ -1,5 +1,6 @@
 #include "gl/handles.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/error.hpp"
@@ -17,9 +18,12 @@ void Buffer::update(GLintptr offset, GLsizeiptr size, const void* data) {
     glNamedBufferSubData(id(), offset, size, data);
 }
 
+int full_mip_levels(int width, int height) {
+    return 1 + static_cast<int>(std::floor(std::log2(static_cast<double>(std::max({width, height, 1})))));
+}
+
 Texture Texture::create_2d(GLenum internal_format, int width, int height, int levels) {
-    if (levels <= 0)
-        levels = 1 + static_cast<int>(std::floor(std::log2(static_cast<double>(std::max(width, height)))));
+    if (levels <= 0) levels = full_mip_levels(width, height);
     GLuint id = 0;
     glCreateTextures(GL_TEXTURE_2D, 1, &id);
     glTextureStorage2D(id, levels, internal_format, width, height);

@@ -67,10 +67,14 @@ private:
     GLsizeiptr size_ = 0;
 };
 
+// Levels of a full mip chain down to 1x1: 1 + floor(log2(max(width, height))).
+int full_mip_levels(int width, int height);
+
 class Texture : public Handle<detail::delete_texture> {
 public:
     Texture() = default;
     // A 2D texture with `levels` mip levels (0: a full chain).
+    // `levels` <= 0: the full chain, full_mip_levels(width, height).
     static Texture create_2d(GLenum internal_format, int width, int height, int levels = 1);
     // A multisampled 2D texture (GL_TEXTURE_2D_MULTISAMPLE, fixed sample locations), `samples` > 1.
     static Texture create_2d_multisample(GLenum internal_format, int width, int height, int samples);

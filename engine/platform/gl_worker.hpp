@@ -1,11 +1,10 @@
 #pragma once
 // A second OpenGL context on its own thread, sharing the main context's objects, for GL work
-// that can run beside the main thread's: today glGenerateTextureMipmap, which on llvmpipe
-// compiles a blit shader for each texture format (about 0.1 s each, not in Mesa's disk cache)
-// while the main thread compiles Candela's programs. The second core does it.
+// that can run beside the main thread's: today material textures' mipmaps (gl::blit_mipmaps),
+// whose blit shader llvmpipe compiles for each texture format every run (about 0.1 s each, not
+// in Mesa's disk cache) while the main thread builds Candela's programs. The second core does it.
 //
-// The result is the same texture the main context would have made: the same driver call on the
-// same pixels. GL's rules for objects shared between contexts (4.5 core, appendix D.3) are
+// GL's rules for objects shared between contexts (4.5 core, appendix D.3) are
 // kept: a fence after the main context's upload that the worker waits for before it starts,
 // glFinish in the worker before the job counts as done, and the main context binds the object
 // again after it has waited (every draw binds its textures).

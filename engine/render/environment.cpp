@@ -14,7 +14,7 @@ int prefiltered_levels(int size) {
 }
 
 gl::Texture ImageBasedLighting::create_cube_array(int size, int cubes, int levels) {
-    if (levels <= 0) levels = 1 + static_cast<int>(std::floor(std::log2(static_cast<double>(size))));
+    if (levels <= 0) levels = gl::full_mip_levels(size, size);
     GLuint id = 0;
     glCreateTextures(GL_TEXTURE_CUBE_MAP_ARRAY, 1, &id);
     glTextureStorage3D(id, levels, GL_RGBA32F, size, size, 6 * cubes);
@@ -64,7 +64,7 @@ gl::Texture ImageBasedLighting::cube_from_equirect(const gl::Texture& equirect, 
 }
 
 void FloatMipmaps::generate(const gl::Texture& texture, GLenum target, int width, int height, int layers, int levels) const {
-    if (levels <= 0) levels = 1 + static_cast<int>(std::floor(std::log2(static_cast<double>(std::max(width, height)))));
+    if (levels <= 0) levels = gl::full_mip_levels(width, height);
     const auto pot = [](int v) { return v > 0 && (v & (v - 1)) == 0; };
     const bool cube = target == GL_TEXTURE_CUBE_MAP_ARRAY;
     if (!pot(width) || !pot(height) || (!cube && target != GL_TEXTURE_2D)) {

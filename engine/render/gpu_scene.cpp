@@ -294,7 +294,7 @@ GpuScene::GpuScene(const Scene& scene, GlWorker* mips, const ShaderLibrary* shad
         // are needed only by the first frame.
         if (shaders) FloatMipmaps(*shaders).generate(env_map_, GL_TEXTURE_2D, map.width, map.height, 1, 0);
         else glGenerateTextureMipmap(env_map_.id());
-        env_mips_ = 1 + static_cast<int>(std::floor(std::log2(std::max(map.width, map.height))));
+        env_mips_ = gl::full_mip_levels(map.width, map.height);
         env_sh_ = project_irradiance_sh(map);
         for (auto& c : env_sh_) c *= env.intensity;
         env_radiance_ = glm::vec3(env.intensity);
@@ -453,7 +453,7 @@ const gl::Texture& GpuScene::texture(int image, bool srgb) {
     // gl::blit_mipmaps, not glGenerateTextureMipmap: the same texels, without holding Mesa's
     // texture mutex (which this thread's draws need) through the blit shader's compile.
     if (prefetching_) {
-        const int levels = 1 + static_cast<int>(std::floor(std::log2(static_cast<double>(std::max(img.width, img.height)))));
+        const int levels = gl::full_mip_levels(img.width, img.height);
         pending_.textures[key] = mips_->submit([id = tex.id(), w = img.width, h = img.height, levels, srgb] {
             gl::blit_mipmaps(id, w, h, levels, srgb);
         });

@@ -116,8 +116,8 @@ public:
     // Throws candela::Error (bad_input) if the environment map cannot be read.
     // With a running `mips` worker (it must outlive this GpuScene), every texture the draws use
     // is uploaded here and its mipmaps generated on the worker's thread meanwhile; texture()
-    // waits for them at the first draw. The textures are the
-    // same as without (the same driver call on the same pixels), only made sooner.
+    // waits for them at the first draw. The texels are the same as without (gl::blit_mipmaps
+    // equals glGenerateTextureMipmap's), only made sooner.
     // With `shaders`, the environment map's mipmaps come from FloatMipmaps (render/environment.hpp:
     // the same texels, no blit compile); without, from glGenerateTextureMipmap.
     explicit GpuScene(const Scene& scene, GlWorker* mips = nullptr, const ShaderLibrary* shaders = nullptr);

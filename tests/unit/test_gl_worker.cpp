@@ -32,6 +32,7 @@ namespace fs = std::filesystem;
 
 using GlWorkerTest = test::GlContextTest;
 
+// Counted independently of gl::full_mip_levels, which the code under test uses.
 int full_levels(int w, int h) {
     int levels = 1;
     while ((std::max(w, h) >> levels) > 0) ++levels;
