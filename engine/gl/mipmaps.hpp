@@ -1,20 +1,26 @@
 #pragma once
-// Mipmaps of a 2D texture by one linear blit per level (glBlitNamedFramebuffer, level L-1 to L,
-// whole levels, sRGB-correct). On Mesa this is the operation glGenerateTextureMipmap performs
-// (st_generate_mipmap blits level to level with a linear filter), and the texels come out the
-// same (tests/unit/test_gl_worker.cpp compares every level, byte for byte, for linear and sRGB
-// RGBA8 of power-of-two and other sizes). What differs is the locking: glGenerateTextureMipmap
-// holds Mesa's texture mutex, which every context sharing the texture needs for its own texture
-// calls and state updates, for the whole call, and on llvmpipe the call includes compiling the
-// blit shader (about 0.1 s); a blit holds it only briefly. So a worker context
-// (platform/gl_worker.hpp) makes mipmaps this way while the main context keeps working.
+// Mipmaps of an RGBA8 or sRGB8_ALPHA8 2D texture by one draw per level: level L-1, seen through a
+// single-level view with a linear filter and clamp to edge, drawn over all of level L as a
+// rectangle with texture coordinates 0 to 1 (shaders/post/mip_downsample.*).
+//
+// On Mesa this is what glGenerateTextureMipmap does: st_generate_mipmap blits level to level with
+// a linear filter, and the blitter draws that rectangle with that sampler. The texels come out the
+// same, byte for byte (tests/unit/test_gl_worker.cpp compares every level, linear and sRGB,
+// power-of-two and other sizes). Two things differ:
+// - glGenerateTextureMipmap holds Mesa's texture mutex, which every context sharing the texture
+//   needs for its own texture calls, for the whole call; a draw holds it only briefly. So a worker
+//   context (platform/gl_worker.hpp) can make mipmaps while the main context keeps drawing.
+// - On llvmpipe the blitter's shaders are compiled again in every process (about 0.1 s per
+//   format); this program is an ordinary one, which Mesa's shader cache keeps between runs.
 #include <glad/gl.h>
 
 namespace candela::gl {
 
-// `texture`: immutable 2D storage of `levels` levels, level 0 filled; `srgb`: its format is sRGB
-// (the blit then filters decoded values, as mipmap generation does). Leaves GL_FRAMEBUFFER_SRGB
-// as it found it and binds no framebuffer.
-void blit_mipmaps(GLuint texture, int width, int height, int levels, bool srgb);
+// `texture`: immutable 2D storage of `levels` levels in `format` (GL_RGBA8 or GL_SRGB8_ALPHA8),
+// level 0 filled. `program`: the "mip_downsample" program. Call in a context whose draw state is
+// GL's default (no blending, depth or stencil test, scissor, culling or colour mask), such as a
+// worker context's; the bindings it changes (program, vertex array, draw framebuffer, viewport,
+// texture unit 0's 2D texture and sampler, GL_FRAMEBUFFER_SRGB) are restored.
+void draw_mipmaps(GLuint program, GLuint texture, GLenum format, int width, int height, int levels);
 
 }  // namespace candela::gl

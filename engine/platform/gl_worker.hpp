@@ -1,8 +1,8 @@
 #pragma once
 // A second OpenGL context on its own thread, sharing the main context's objects, for GL work
-// that can run beside the main thread's: today material textures' mipmaps (gl::blit_mipmaps),
-// whose blit shader llvmpipe compiles for each texture format every run (about 0.1 s each, not
-// in Mesa's disk cache) while the main thread builds Candela's programs. The second core does it.
+// that can run beside the main thread's: today material textures' mipmaps (gl::draw_mipmaps),
+// drawn while the main thread builds Candela's programs and lights the environment. The second
+// core does it.
 //
 // GL's rules for objects shared between contexts (4.5 core, appendix D.3) are
 // kept: a fence after the main context's upload that the worker waits for before it starts,

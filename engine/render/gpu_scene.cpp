@@ -2,6 +2,7 @@
 
 #include "gl/mipmaps.hpp"
 #include "render/environment.hpp"
+#include "shader/program_catalog.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -302,7 +303,8 @@ GpuScene::GpuScene(const Scene& scene, GlWorker* mips, const ShaderLibrary* shad
     }
     // Every texture a draw uses, uploaded now so that its mipmaps are made beside the main
     // thread's work (program builds, the first frame's other passes) instead of at first use.
-    if (mips_) {
+    if (mips_ && shaders) {
+        mip_program_ = shaders->build_or_throw(program_desc("mip_downsample"));
         prefetching_ = true;
         for (const Draw& d : draws_)
             for (size_t s = 0; s < d.textures.size(); ++s)
@@ -450,12 +452,13 @@ const gl::Texture& GpuScene::texture(int image, bool srgb) {
     gl::Texture tex = gl::Texture::create_2d(srgb ? GL_SRGB8_ALPHA8 : GL_RGBA8, img.width, img.height, 0);
     glTextureSubImage2D(tex.id(), 0, 0, 0, img.width, img.height, GL_RGBA, GL_UNSIGNED_BYTE, img.rgba8.data());
     // From the constructor's prefetch: queued; texture() waits for it at the first draw.
-    // gl::blit_mipmaps, not glGenerateTextureMipmap: the same texels, without holding Mesa's
-    // texture mutex (which this thread's draws need) through the blit shader's compile.
+    // gl::draw_mipmaps, not glGenerateTextureMipmap: the same texels, without holding Mesa's
+    // texture mutex (which this thread's draws need), and without a blit shader compiled anew.
     if (prefetching_) {
         const int levels = gl::full_mip_levels(img.width, img.height);
-        pending_.textures[key] = mips_->submit([id = tex.id(), w = img.width, h = img.height, levels, srgb] {
-            gl::blit_mipmaps(id, w, h, levels, srgb);
+        const GLenum format = srgb ? GL_SRGB8_ALPHA8 : GL_RGBA8;
+        pending_.textures[key] = mips_->submit([program = mip_program_.id(), id = tex.id(), format, w = img.width, h = img.height, levels] {
+            gl::draw_mipmaps(program, id, format, w, h, levels);
         });
     }
     else glGenerateTextureMipmap(tex.id());

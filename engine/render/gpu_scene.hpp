@@ -116,8 +116,8 @@ public:
     // Throws candela::Error (bad_input) if the environment map cannot be read.
     // With a running `mips` worker (it must outlive this GpuScene), every texture the draws use
     // is uploaded here and its mipmaps generated on the worker's thread meanwhile; texture()
-    // waits for them at the first draw. The texels are the same as without (gl::blit_mipmaps
-    // equals glGenerateTextureMipmap's), only made sooner.
+    // waits for them at the first draw. The texels are the same as without (gl::draw_mipmaps
+    // equals glGenerateTextureMipmap's), only made sooner. The worker needs `shaders` for this.
     // With `shaders`, the environment map's mipmaps come from FloatMipmaps (render/environment.hpp:
     // the same texels, no blit compile); without, from glGenerateTextureMipmap.
     explicit GpuScene(const Scene& scene, GlWorker* mips = nullptr, const ShaderLibrary* shaders = nullptr);
@@ -205,6 +205,7 @@ private:
     // Mipmap jobs on the worker (constructor). Last member: destroyed first, waiting for the
     // jobs, before the textures they work on are deleted.
     GlWorker* mips_ = nullptr;
+    gl::Program mip_program_;  // "mip_downsample", for the worker's jobs
     bool prefetching_ = false;
     struct PendingMips {
         std::map<std::pair<int, bool>, GlWorker::Ticket> textures;

@@ -1,6 +1,6 @@
 // Texture mipmaps on a worker context (issue 23): platform/gl_worker.hpp, gl/mipmaps.hpp and
 // GpuScene's prefetch. The promise is that the images are the same as without the worker, so
-// the tests compare bytes: blit mipmaps against glGenerateTextureMipmap level by level, and
+// the tests compare bytes: drawn mipmaps against glGenerateTextureMipmap level by level, and
 // renders of textured Khronos models with and without the worker.
 #include <gtest/gtest.h>
 
@@ -25,6 +25,7 @@
 #include "render/still.hpp"
 #include "scene/gltf_loader.hpp"
 #include "scene/lighting.hpp"
+#include "shader/program_catalog.hpp"
 
 namespace candela {
 namespace {
@@ -45,10 +46,19 @@ std::vector<std::uint8_t> level_bytes(GLuint tex, int level, int w, int h) {
     return out;
 }
 
-// Every level of blit_mipmaps equals glGenerateTextureMipmap's, byte for byte: linear and sRGB,
+// Every level of draw_mipmaps equals glGenerateTextureMipmap's, byte for byte: linear and sRGB,
 // power-of-two, non-power-of-two, odd and one-texel-wide sizes, random texels (so any filter
-// weight or rounding difference shows).
-TEST_P(GlWorkerTest, BlitMipmapsEqualGenerateMipmap) {
+// weight or rounding difference shows). It can fail: with texture coordinates computed from
+// gl_FragCoord instead of interpolated over the blitter's rectangle, three sRGB sizes differ.
+TEST_P(GlWorkerTest, DrawMipmapsEqualGenerateMipmap) {
+    const ShaderLibrary shaders(ShaderLibrary::default_root());
+    const gl::Program program = shaders.build_or_throw(program_desc("mip_downsample"));
+    // The caller's bindings, which draw_mipmaps restores.
+    const gl::VertexArray vao = gl::VertexArray::create();
+    const gl::Texture bound = gl::Texture::create_2d(GL_RGBA8, 4, 4, 1);
+    glBindVertexArray(vao.id());
+    glBindTextureUnit(0, bound.id());
+    glViewport(1, 2, 3, 4);
     std::mt19937 rng(23);
     const int sizes[][2] = {{64, 64}, {256, 128}, {100, 60}, {333, 17}, {1, 7}, {5, 1}, {128, 96}};
     for (const bool srgb : {false, true})
@@ -62,7 +72,7 @@ TEST_P(GlWorkerTest, BlitMipmapsEqualGenerateMipmap) {
             glTextureSubImage2D(a.id(), 0, 0, 0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, texels.data());
             glTextureSubImage2D(b.id(), 0, 0, 0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, texels.data());
             glGenerateTextureMipmap(a.id());
-            gl::blit_mipmaps(b.id(), w, h, levels, srgb);
+            gl::draw_mipmaps(program.id(), b.id(), format, w, h, levels);
             int differing_levels = 0;
             for (int level = 1; level < levels; ++level)
                 if (level_bytes(a.id(), level, w, h) != level_bytes(b.id(), level, w, h)) ++differing_levels;
@@ -71,7 +81,21 @@ TEST_P(GlWorkerTest, BlitMipmapsEqualGenerateMipmap) {
             const std::vector<std::uint8_t> l1 = level_bytes(b.id(), 1, w, h);
             EXPECT_TRUE(std::any_of(l1.begin(), l1.end(), [](std::uint8_t v) { return v != 0; })) << w << "x" << h;
         }
-    EXPECT_FALSE(glIsEnabled(GL_FRAMEBUFFER_SRGB)) << "blit_mipmaps left GL_FRAMEBUFFER_SRGB on";
+    EXPECT_FALSE(glIsEnabled(GL_FRAMEBUFFER_SRGB)) << "draw_mipmaps left GL_FRAMEBUFFER_SRGB on";
+    GLint binding = 0, viewport[4] = {0, 0, 0, 0};
+    glGetIntegerv(GL_VERTEX_ARRAY_BINDING, &binding);
+    EXPECT_EQ(static_cast<GLuint>(binding), vao.id());
+    glGetIntegerv(GL_TEXTURE_BINDING_2D, &binding);
+    EXPECT_EQ(static_cast<GLuint>(binding), bound.id());
+    glGetIntegerv(GL_CURRENT_PROGRAM, &binding);
+    EXPECT_EQ(binding, 0);
+    glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &binding);
+    EXPECT_EQ(binding, 0);
+    glGetIntegerv(GL_VIEWPORT, viewport);
+    EXPECT_EQ(viewport[2], 3);
+    EXPECT_EQ(viewport[3], 4);
+    glBindVertexArray(0);
+    glBindTextureUnit(0, 0);
 }
 
 std::vector<float> float_level(GLuint tex, int level, size_t count) {
@@ -130,6 +154,8 @@ TEST_P(GlWorkerTest, FloatMipmapsEqualGenerateMipmap) {
 TEST_P(GlWorkerTest, JobsSeeTheMainContextsUploadsAndReportErrors) {
     GlWorker worker(context_->create_shared());
     ASSERT_TRUE(worker.running()) << "the backend made no shared context";
+    const ShaderLibrary shaders(ShaderLibrary::default_root());
+    const gl::Program program = shaders.build_or_throw(program_desc("mip_downsample"));
     const int w = 64, h = 32, levels = full_levels(w, h);
     std::vector<std::uint8_t> texels(static_cast<size_t>(w * h * 4));
     for (size_t i = 0; i < texels.size(); ++i) texels[i] = static_cast<std::uint8_t>((i * 37) & 0xff);
@@ -141,7 +167,7 @@ TEST_P(GlWorkerTest, JobsSeeTheMainContextsUploadsAndReportErrors) {
     const std::thread::id main_thread = std::this_thread::get_id();
     GlWorker::Ticket t = worker.submit([&] {
         other_thread = std::this_thread::get_id() != main_thread;
-        gl::blit_mipmaps(theirs.id(), w, h, levels, true);
+        gl::draw_mipmaps(program.id(), theirs.id(), GL_SRGB8_ALPHA8, w, h, levels);
     });
     glGenerateTextureMipmap(mine.id());
     GlWorker::wait(t);
