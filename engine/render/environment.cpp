@@ -26,7 +26,8 @@ gl::Texture ImageBasedLighting::create_cube_array(int size, int cubes, int level
     return gl::Texture::adopt(id, size, size, GL_RGBA32F);
 }
 
-ImageBasedLighting::ImageBasedLighting(const ShaderLibrary& shaders) : shaders_(shaders), mips_(shaders) {
+ImageBasedLighting::ImageBasedLighting(const ShaderLibrary& shaders, DerivedCache cache)
+    : shaders_(shaders), cache_(std::move(cache)), mips_(shaders) {
     lut_program_ = shaders.build_or_throw(program_desc("brdf_lut"));
     lut_ = gl::Texture::create_2d(GL_RG32F, kLutSize, kLutSize, 1);
     glTextureParameteri(lut_.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
@@ -43,11 +44,57 @@ ImageBasedLighting::ImageBasedLighting(const ShaderLibrary& shaders) : shaders_(
     glFinish();
 }
 
-gl::Texture ImageBasedLighting::cube_from_equirect(const gl::Texture& equirect, int size, int samples) const {
+namespace {
+// Bump when cube_from_equirect's procedure changes in C++ (the shaders' sources are in the key).
+constexpr int kCubeCacheVersion = 1;
+
+std::size_t cube_bytes(int size, int levels) {
+    std::size_t n = 0;
+    for (int level = 0; level < levels; ++level) {
+        const std::size_t s = static_cast<std::size_t>(std::max(size >> level, 1));
+        n += s * s * 6 * 4 * sizeof(float);
+    }
+    return n;
+}
+}  // namespace
+
+std::uint64_t ImageBasedLighting::cube_key(const ImageF& texels, int size, int samples, int levels) const {
+    Hasher h;
+    h.text("environment cube").integer(kCubeCacheVersion).integer(size).integer(samples).integer(levels);
+    for (const GLenum name : {GL_VENDOR, GL_RENDERER, GL_VERSION})
+        if (const auto* s = reinterpret_cast<const char*>(glGetString(name))) h.text(s);
+    // Every program whose output reaches the cube: the map's own mipmaps (gpu_scene.cpp), the
+    // conversion to a cube, the cube's mipmaps and the prefilter, as compiled (after #include).
+    for (const char* program : {"mip_halve_2d", "equirect_to_cube", "mip_halve_cube_array", "prefilter"}) {
+        const ProgramDesc& d = program_desc(program);
+        for (const auto& [stage, file] : d.stages) h.text(shaders_.preprocess(file, d.defines).text);
+    }
+    h.integer(texels.width).integer(texels.height).integer(texels.channels);
+    h.bytes(texels.pixels.data(), texels.pixels.size() * sizeof(float));
+    return h.value();
+}
+
+gl::Texture ImageBasedLighting::cube_from_equirect(const gl::Texture& equirect, const ImageF* texels, int size, int samples) const {
+    const int levels = prefiltered_levels(size);
+    const std::size_t bytes = cube_bytes(size, levels);
+    const bool cached = texels != nullptr;
+    const std::uint64_t key = cached ? cube_key(*texels, size, samples, levels) : 0;
+    last_cube_cached_ = false;
+    if (cached)
+        if (const auto data = cache_.load("envcube", key, bytes)) {
+            gl::Texture cube = create_cube_array(size, 1, levels);
+            std::size_t at = 0;
+            for (int level = 0; level < levels; ++level) {
+                const int s = std::max(size >> level, 1);
+                glTextureSubImage3D(cube.id(), level, 0, 0, 0, s, s, 6, GL_RGBA, GL_FLOAT, data->data() + at);
+                at += static_cast<std::size_t>(s) * s * 6 * 4 * sizeof(float);
+            }
+            last_cube_cached_ = true;
+            return cube;
+        }
     // Built on first use: scenes without an environment map never compile it.
     if (!to_cube_program_)
         to_cube_program_ = shaders_.build_or_throw(program_desc("equirect_to_cube"));
-    const int levels = prefiltered_levels(size);
     gl::Texture source = create_cube_array(size, 1, 0);
     glUseProgram(to_cube_program_.id());
     glProgramUniform1i(to_cube_program_.id(), 0, size);
@@ -60,6 +107,17 @@ gl::Texture ImageBasedLighting::cube_from_equirect(const gl::Texture& equirect, 
     mips_.generate(source, GL_TEXTURE_CUBE_MAP_ARRAY, size, size, 6, 0);
     gl::Texture cube = create_cube_array(size, 1, levels);
     prefilter(source, cube, size, levels, 1, samples);
+    if (cached) {
+        std::vector<std::uint8_t> data(bytes);
+        std::size_t at = 0;
+        for (int level = 0; level < levels; ++level) {
+            const int s = std::max(size >> level, 1);
+            const std::size_t n = static_cast<std::size_t>(s) * s * 6 * 4 * sizeof(float);
+            glGetTextureImage(cube.id(), level, GL_RGBA, GL_FLOAT, static_cast<GLsizei>(n), data.data() + at);
+            at += n;
+        }
+        cache_.store("envcube", key, data);
+    }
     return cube;
 }
 

@@ -3,7 +3,12 @@
 // split-sum BRDF LUT, and the static environment map as a cube map whose mip levels are
 // GGX-prefiltered for rising roughness. The same prefilter turns captured reflection probes
 // into rough reflections (effects/reflections/).
+#include <cstdint>
+#include <optional>
+
+#include "core/derived_cache.hpp"
 #include "gl/handles.hpp"
+#include "image/image.hpp"
 #include "shader/shader_library.hpp"
 
 namespace candela {
@@ -31,8 +36,9 @@ private:
 
 class ImageBasedLighting {
 public:
-    // Builds the LUT; throws candela::Error (internal) if a shader does not build.
-    explicit ImageBasedLighting(const ShaderLibrary& shaders);
+    // Builds the LUT; throws candela::Error (internal) if a shader does not build. `cache`: where
+    // cube_from_equirect keeps prefiltered cubes between runs (core/derived_cache.hpp).
+    explicit ImageBasedLighting(const ShaderLibrary& shaders, DerivedCache cache = DerivedCache());
 
     // size x size RG32F: x = NdotV, y = roughness, texel i at i / (size - 1); r = A, g = B.
     const gl::Texture& brdf_lut() const { return lut_; }
@@ -41,7 +47,12 @@ public:
 
     // A cube-map array (1 cube) with prefiltered_levels(size) levels from an equirectangular
     // map (a texture with a full mip chain), prefiltered with `samples` GGX samples per texel.
-    gl::Texture cube_from_equirect(const gl::Texture& equirect, int size, int samples) const;
+    // `texels`: the map's level 0 as uploaded; with it the cube is looked up in the cache, by a
+    // key over the texels, the sizes, the sources of the programs that make the cube and the GL
+    // driver, and stored there when computed. The cached cube is the computed one, bit for bit.
+    gl::Texture cube_from_equirect(const gl::Texture& equirect, const ImageF* texels, int size, int samples) const;
+    // Whether the last cube_from_equirect came from the cache.
+    bool last_cube_cached() const { return last_cube_cached_; }
     // Fills levels 1.. of `dst` (a cube-map array with `cubes` cubes and `levels` levels) from
     // `source` (same size, a full mip chain whose level 0 is the capture); level 0 is copied.
     void prefilter(const gl::Texture& source, const gl::Texture& dst, int size, int levels, int cubes, int samples) const;
@@ -50,7 +61,10 @@ public:
     static gl::Texture create_cube_array(int size, int cubes, int levels);
 
 private:
+    std::uint64_t cube_key(const ImageF& texels, int size, int samples, int levels) const;
     const ShaderLibrary& shaders_;
+    DerivedCache cache_;
+    mutable bool last_cube_cached_ = false;
     gl::Program lut_program_;
     mutable gl::Program to_cube_program_, prefilter_program_;  // built on first use
     FloatMipmaps mips_;

@@ -63,7 +63,8 @@ void Renderer::plan() {
     if (gpu_.has_environment_map() && env_cube_size_ != settings_.environment.resolution) {
         env_cube_size_ = settings_.environment.resolution;
         env_cube_levels_ = prefiltered_levels(env_cube_size_);
-        env_cube_ = ibl_.cube_from_equirect(gpu_.environment_map(), env_cube_size_, kEnvironmentSamples);
+        env_cube_ = ibl_.cube_from_equirect(gpu_.environment_map(), &gpu_.environment_image(), env_cube_size_, kEnvironmentSamples);
+        log::debug(std::string("environment cube: ") + (ibl_.last_cube_cached() ? "from the cache" : "computed"));
     }
     for (size_t i = 0; i < effects_.size(); ++i) effects_[i]->configure({scene_, gpu_, settings_, features_, features_.modules[i]});
     // Programs for the planned passes only (built now: a frame never compiles).
