@@ -4,6 +4,7 @@
 #include "image/png_write.hpp"
 
 #include <png.h>
+#include <zlib.h>
 
 #include <csetjmp>
 #include <cstdio>
@@ -52,9 +53,13 @@ std::string write_png_rgb8(const char* path, const unsigned char* rgba, int widt
         return "cannot write (" + st.error + ")";
     }
     png_init_io(png, file.get());
-    // zlib level 1, as the OpenImageIO writer used before (png:compressionLevel 1): level 6, the
-    // default, costs ~100 ms at 1280x720 here; level 1 writes files ~20 % larger.
+    // The Sub filter on every row and zlib's run-length strategy: of the filter and strategy
+    // pairs measured on 1280x720 renders (BoxTextured, FlightHelmet), the fastest that is not
+    // larger: 7.8 / 16.3 ms and 60 / 179 kB, against 25.4 / 27.4 ms and 79 / 205 kB for libpng's
+    // per-row filter choice at zlib level 1, and about 100 ms for level 6, the default.
     png_set_compression_level(png, 1);
+    png_set_compression_strategy(png, Z_RLE);
+    png_set_filter(png, PNG_FILTER_TYPE_BASE, PNG_FILTER_SUB);
     png_set_IHDR(png, info, static_cast<png_uint_32>(width), static_cast<png_uint_32>(height), 8, PNG_COLOR_TYPE_RGB,
                  PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
     png_write_info(png, info);
