@@ -48,12 +48,14 @@ namespace {
 // Bump when cube_from_equirect's procedure changes in C++ (the shaders' sources are in the key).
 constexpr int kCubeCacheVersion = 1;
 
+// Bytes of one level of an RGBA32F cube of face size `size`, and of `levels` levels.
+std::size_t cube_level_bytes(int size, int level) {
+    const std::size_t s = static_cast<std::size_t>(std::max(size >> level, 1));
+    return s * s * 6 * 4 * sizeof(float);
+}
 std::size_t cube_bytes(int size, int levels) {
     std::size_t n = 0;
-    for (int level = 0; level < levels; ++level) {
-        const std::size_t s = static_cast<std::size_t>(std::max(size >> level, 1));
-        n += s * s * 6 * 4 * sizeof(float);
-    }
+    for (int level = 0; level < levels; ++level) n += cube_level_bytes(size, level);
     return n;
 }
 }  // namespace
@@ -87,7 +89,7 @@ gl::Texture ImageBasedLighting::cube_from_equirect(const gl::Texture& equirect, 
             for (int level = 0; level < levels; ++level) {
                 const int s = std::max(size >> level, 1);
                 glTextureSubImage3D(cube.id(), level, 0, 0, 0, s, s, 6, GL_RGBA, GL_FLOAT, data->data() + at);
-                at += static_cast<std::size_t>(s) * s * 6 * 4 * sizeof(float);
+                at += cube_level_bytes(size, level);
             }
             last_cube_cached_ = true;
             return cube;
@@ -111,8 +113,7 @@ gl::Texture ImageBasedLighting::cube_from_equirect(const gl::Texture& equirect, 
         std::vector<std::uint8_t> data(bytes);
         std::size_t at = 0;
         for (int level = 0; level < levels; ++level) {
-            const int s = std::max(size >> level, 1);
-            const std::size_t n = static_cast<std::size_t>(s) * s * 6 * 4 * sizeof(float);
+            const std::size_t n = cube_level_bytes(size, level);
             glGetTextureImage(cube.id(), level, GL_RGBA, GL_FLOAT, static_cast<GLsizei>(n), data.data() + at);
             at += n;
         }
