@@ -64,11 +64,14 @@ StillResult FrameLoop::finish() {
     result_.report = renderer_->last_frame();
     result_.features = renderer_->features();  // as the frames planned (motion in view is counted per frame)
     for (auto& p : result_.report.passes) p.gpu_ms = gpu_ms_[p.name].empty() ? -1.0 : median(gpu_ms_[p.name]);
+    // The images go straight into the returned result (result_ never holds them: copying a
+    // 1280x720 float image cost about 7 ms of a 0.4 s render).
+    StillResult out = result_;
     const auto t0 = std::chrono::steady_clock::now();
-    result_.radiance = renderer_->read_radiance();
-    if (options_.output == FrameOutput::display) result_.display = renderer_->read_display();
-    result_.readback_ms = ms_since(t0);
-    return result_;
+    out.radiance = renderer_->read_radiance();
+    if (options_.output == FrameOutput::display) out.display = renderer_->read_display();
+    out.readback_ms = ms_since(t0);
+    return out;
 }
 
 void update_motion(const Scene& scene, GpuScene& gpu, int animation, float time, const RenderSettings& settings) {
