@@ -93,6 +93,8 @@ std::optional<fs::path> DerivedCache::entry_path(const std::string& kind, std::u
 std::optional<std::vector<std::uint8_t>> DerivedCache::load(const std::string& kind, std::uint64_t key, std::size_t size) const {
     const std::optional<fs::path> path = entry_path(kind, key);
     if (!path) return std::nullopt;
+    std::error_code ec;
+    if (!fs::is_regular_file(*path, ec)) return std::nullopt;  // not there, or a directory or FIFO (reading one would block)
     std::ifstream in(*path, std::ios::binary);
     if (!in) return std::nullopt;
     std::vector<std::uint8_t> file(kHeader + size + kTrailer);

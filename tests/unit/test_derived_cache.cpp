@@ -16,6 +16,9 @@
 #include <string>
 #include <vector>
 
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include "core/derived_cache.hpp"
 #include "gl/handles.hpp"
 #include "gl_fixture.hpp"
@@ -86,6 +89,15 @@ TEST(DerivedCache, StoresLoadsAndRejectsDamagedEntries) {
         f.put('x');
     }
     EXPECT_FALSE(cache.load("t", 7, data.size()));
+    // Something else at the entry's path: a directory, then a FIFO (which would block a reader).
+    fs::remove(path);
+    fs::create_directory(path);
+    EXPECT_FALSE(cache.load("t", 7, data.size()));
+    EXPECT_FALSE(cache.store("t", 7, data));
+    fs::remove(path);
+    ASSERT_EQ(::mkfifo(path.c_str(), 0600), 0);
+    EXPECT_FALSE(cache.load("t", 7, data.size()));
+    fs::remove(path);
     // No temporary files left behind.
     for (const auto& e : fs::directory_iterator(dir / "nested")) EXPECT_EQ(e.path().extension(), ".bin") << e.path();
     fs::remove_all(dir);
