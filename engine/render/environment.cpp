@@ -60,9 +60,15 @@ std::size_t cube_bytes(int size, int levels) {
 }
 }  // namespace
 
-std::uint64_t ImageBasedLighting::cube_key(const ImageF& texels, int size, int samples, int levels) const {
+std::uint64_t ImageBasedLighting::cube_key(const gl::Texture& equirect, const ImageF& texels, int size, int samples, int levels) const {
     Hasher h;
     h.text("environment cube").integer(kCubeCacheVersion).integer(size).integer(samples).integer(levels);
+    // How the conversion samples the map (its own parameters: the program binds no sampler).
+    for (const GLenum param : {GL_TEXTURE_MIN_FILTER, GL_TEXTURE_MAG_FILTER, GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T, GL_TEXTURE_IMMUTABLE_LEVELS}) {
+        GLint value = 0;
+        glGetTextureParameteriv(equirect.id(), param, &value);
+        h.integer(value);
+    }
     for (const GLenum name : {GL_VENDOR, GL_RENDERER, GL_VERSION})
         if (const auto* s = reinterpret_cast<const char*>(glGetString(name))) h.text(s);
     // Every program whose output reaches the cube: the map's own mipmaps (gpu_scene.cpp), the
@@ -80,7 +86,7 @@ gl::Texture ImageBasedLighting::cube_from_equirect(const gl::Texture& equirect, 
     const int levels = prefiltered_levels(size);
     const std::size_t bytes = cube_bytes(size, levels);
     const bool cached = texels != nullptr;
-    const std::uint64_t key = cached ? cube_key(*texels, size, samples, levels) : 0;
+    const std::uint64_t key = cached ? cube_key(equirect, *texels, size, samples, levels) : 0;
     last_cube_cached_ = false;
     if (cached)
         if (const auto data = cache_.load("envcube", key, bytes)) {

@@ -48,8 +48,8 @@ public:
     // A cube-map array (1 cube) with prefiltered_levels(size) levels from an equirectangular
     // map (a texture with a full mip chain), prefiltered with `samples` GGX samples per texel.
     // `texels`: the map's level 0 as uploaded; with it the cube is looked up in the cache, by a
-    // key over the texels, the sizes, the sources of the programs that make the cube and the GL
-    // driver, and stored there when computed. The cached cube is the computed one, bit for bit.
+    // key over the texels, the map's filter and wrap modes, the sizes, the sources of the programs
+    // that make the cube and the GL driver, and stored there when computed. The cached cube is the computed one, bit for bit.
     gl::Texture cube_from_equirect(const gl::Texture& equirect, const ImageF* texels, int size, int samples) const;
     // Whether the last cube_from_equirect came from the cache.
     bool last_cube_cached() const { return last_cube_cached_; }
@@ -61,7 +61,7 @@ public:
     static gl::Texture create_cube_array(int size, int cubes, int levels);
 
 private:
-    std::uint64_t cube_key(const ImageF& texels, int size, int samples, int levels) const;
+    std::uint64_t cube_key(const gl::Texture& equirect, const ImageF& texels, int size, int samples, int levels) const;
     const ShaderLibrary& shaders_;
     DerivedCache cache_;
     mutable bool last_cube_cached_ = false;

@@ -215,6 +215,12 @@ TEST_P(EnvironmentCubeCacheTest, CachedCubeIsTheComputedOneAndChangedInputsMiss)
     EXPECT_FALSE(second.last_cube_cached());
     EXPECT_NE(other_cube, reference);
 
+    // Another wrap mode for the map: another entry.
+    glTextureParameteri(sky.texture.id(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    second.cube_from_equirect(sky.texture, &sky.texels, size, samples);
+    EXPECT_FALSE(second.last_cube_cached());
+    glTextureParameteri(sky.texture.id(), GL_TEXTURE_WRAP_S, GL_REPEAT);
+
     // A damaged entry: computed again, the same cube, and the entry repaired.
     int damaged = 0;
     for (const auto& e : fs::directory_iterator(dir)) {
@@ -223,7 +229,7 @@ TEST_P(EnvironmentCubeCacheTest, CachedCubeIsTheComputedOneAndChangedInputsMiss)
         f.put('\x7f');
         ++damaged;
     }
-    EXPECT_EQ(damaged, 4);
+    EXPECT_EQ(damaged, 5);
     EXPECT_EQ(cube_texels(second.cube_from_equirect(sky.texture, &sky.texels, size, samples), size), reference);
     EXPECT_FALSE(second.last_cube_cached());
     second.cube_from_equirect(sky.texture, &sky.texels, size, samples);
