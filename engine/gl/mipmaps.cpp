@@ -17,7 +17,8 @@ void draw_mipmaps(GLuint program, GLuint texture, GLenum format, int width, int 
     glGetIntegerv(GL_SAMPLER_BINDING, &old_sampler);
     glActiveTexture(static_cast<GLenum>(old_unit));
     const GLboolean was_srgb = glIsEnabled(GL_FRAMEBUFFER_SRGB);
-    // On, writes to an sRGB level encode (GL 4.5 core, 17.3.9), as a blit's do; the view decodes.
+    // On, a draw into an sRGB level encodes (the per-fragment sRGB conversion), as a blit into it
+    // does; the sRGB view decodes what it samples.
     const bool srgb = format == GL_SRGB8_ALPHA8;
     if (srgb != (was_srgb == GL_TRUE)) srgb ? glEnable(GL_FRAMEBUFFER_SRGB) : glDisable(GL_FRAMEBUFFER_SRGB);
 
