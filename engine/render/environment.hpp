@@ -49,7 +49,8 @@ public:
     // map (a texture with a full mip chain), prefiltered with `samples` GGX samples per texel.
     // `texels`: the map's level 0 as uploaded; with it the cube is looked up in the cache, by a
     // key over the texels, the map's filter and wrap modes, the sizes, the sources of the programs
-    // that make the cube and the GL driver, and stored there when computed. The cached cube is the computed one, bit for bit.
+    // that make the cube and the GL driver, and stored there when computed. The cached cube is
+    // the computed one, bit for bit.
     gl::Texture cube_from_equirect(const gl::Texture& equirect, const ImageF* texels, int size, int samples) const;
     // Whether the last cube_from_equirect came from the cache.
     bool last_cube_cached() const { return last_cube_cached_; }
