@@ -48,6 +48,19 @@ RayRates measure_ray_rates(const ShaderLibrary& shaders, const Scene& scene, Gpu
     const Result counted = RayTracer(shaders, scene, gpu, counting).render(camera, width, height);
     out.nodes_per_ray = counted.nodes_per_ray;
     out.primitives_per_ray = counted.primitives_per_ray;
+    out.lane_utilisation = counted.lane_utilisation;
+    counting.mode = Mode::ao;
+    counting.ao_radius = 1e30f;
+    const Result both = RayTracer(shaders, scene, gpu, counting).render(camera, width, height);
+    if (both.traversal_rays > counted.traversal_rays) {
+        const double rays = static_cast<double>(both.traversal_rays - counted.traversal_rays);
+        const double steps = static_cast<double>(both.traversal_steps) - static_cast<double>(counted.traversal_steps);
+        out.ao_nodes_per_ray = steps / rays;
+        out.ao_primitives_per_ray =
+            (static_cast<double>(both.traversal_primitives) - static_cast<double>(counted.traversal_primitives)) / rays;
+        const double slots = static_cast<double>(both.traversal_slots) - static_cast<double>(counted.traversal_slots);
+        if (slots > 0.0) out.ao_lane_utilisation = steps / slots;
+    }
     return out;
 }
 

@@ -20,6 +20,9 @@ struct RayRates {
     // Traversal work per camera ray (loop iterations: interior nodes and leaves), counted in a
     // separate run with RT_STATS.
     double nodes_per_ray = 0.0, primitives_per_ray = 0.0;
+    double lane_utilisation = 0.0;  // of the camera rays' traversal steps (Result::lane_utilisation)
+    // The same for the AO rays alone: an AO run's counts less the camera rays' (the same rays).
+    double ao_nodes_per_ray = 0.0, ao_primitives_per_ray = 0.0, ao_lane_utilisation = 0.0;
     // Bytes of the traversal layout (rt::pack_traversal): node texels and primitive records.
     std::size_t node_bytes = 0, prim_bytes = 0;
 };

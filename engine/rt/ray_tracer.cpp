@@ -328,7 +328,7 @@ void RayTracer::progressive_restart(const Camera& camera, int width, int height)
     const size_t pixels = static_cast<size_t>(width) * static_cast<size_t>(height);
     if (p.width != width || p.height != height || !p.accum) {
         p.accum = gl::Buffer(static_cast<GLsizeiptr>(pixels * sizeof(glm::vec4)), nullptr, GL_DYNAMIC_STORAGE_BIT);
-        p.diagnostics = gl::Buffer(4 * sizeof(unsigned), nullptr, GL_DYNAMIC_STORAGE_BIT);
+        p.diagnostics = gl::Buffer(5 * sizeof(unsigned), nullptr, GL_DYNAMIC_STORAGE_BIT);
     }
     const float zero = 0.0f;
     glClearNamedBufferData(p.accum.id(), GL_R32F, GL_RED, GL_FLOAT, &zero);
@@ -393,8 +393,8 @@ Result RayTracer::render(const Camera& camera, int width, int height) {
     const size_t pixels = static_cast<size_t>(width) * static_cast<size_t>(height);
     std::vector<glm::vec4> zeros(pixels, glm::vec4(0.0f));
     gl::Buffer accum(static_cast<GLsizeiptr>(pixels * sizeof(glm::vec4)), zeros.data(), GL_DYNAMIC_STORAGE_BIT);
-    const unsigned zeros4[4] = {0, 0, 0, 0};
-    gl::Buffer diagnostics(sizeof(zeros4), zeros4, GL_DYNAMIC_STORAGE_BIT);
+    const unsigned zero_diag[5] = {0, 0, 0, 0, 0};
+    gl::Buffer diagnostics(sizeof(zero_diag), zero_diag, GL_DYNAMIC_STORAGE_BIT);
 
     const bool motion = static_cast<bool>(options_.pose_at);
     const auto start = std::chrono::steady_clock::now();
@@ -461,13 +461,18 @@ Result RayTracer::render(const Camera& camera, int width, int height) {
 
     std::vector<glm::vec4> sums(pixels);
     glGetNamedBufferSubData(accum.id(), 0, static_cast<GLsizeiptr>(pixels * sizeof(glm::vec4)), sums.data());
-    unsigned diag[4] = {0, 0, 0, 0};
+    unsigned diag[5] = {0, 0, 0, 0, 0};
     glGetNamedBufferSubData(diagnostics.id(), 0, sizeof(diag), diag);
     result.nonfinite_samples = diag[0];
     if (diag[3] > 0) {
         result.nodes_per_ray = static_cast<double>(diag[1]) / diag[3];
         result.primitives_per_ray = static_cast<double>(diag[2]) / diag[3];
     }
+    if (diag[4] > 0) result.lane_utilisation = static_cast<double>(diag[1]) / diag[4];
+    result.traversal_rays = diag[3];
+    result.traversal_steps = diag[1];
+    result.traversal_primitives = diag[2];
+    result.traversal_slots = diag[4];
     result.image = ImageF(width, height, 4);
     for (size_t i = 0; i < pixels; ++i) {
         const glm::vec4 v = sums[i];

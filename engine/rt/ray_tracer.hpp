@@ -1,6 +1,7 @@
 #pragma once
 // The compute-shader ray tracer: the reference every raster effect is judged against. Modes:
 // whitted, path, direct (path with one bounce), indirect (one diffuse bounce only), ao.
+#include <cstdint>
 #include <functional>
 #include <optional>
 #include <memory>
@@ -118,6 +119,12 @@ struct Result {
     unsigned nonfinite_samples = 0;  // replaced by 0 (should stay 0; tests assert it)
     // With Options::traversal_stats: mean BVH nodes visited and primitives tested per traced ray.
     double nodes_per_ray = 0.0, primitives_per_ray = 0.0;
+    // With traversal_stats: the fraction of SIMD lanes that did a traversal step while their
+    // subgroup ran one (the rest waited for the others); 0 without GL_ARB_shader_ballot.
+    double lane_utilisation = 0.0;
+    // The raw counts behind those means: rays traced, traversal steps (nodes and leaves),
+    // primitives tested, lane slots.
+    std::uint64_t traversal_rays = 0, traversal_steps = 0, traversal_primitives = 0, traversal_slots = 0;
     double trace_ms = 0.0;
     // Motion blur (Options::pose_at): time slices this run traced, and the time spent posing the
     // scene (pose_at) and updating the geometry (build/refit, pack, upload), part of trace_ms.

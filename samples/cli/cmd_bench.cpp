@@ -69,16 +69,16 @@ int bench_rays(const Args& args) {
     const ShaderLibrary shaders(s.shader_dir);
     std::printf("device: %s (%s); %dx%d, %d spp per mode, medians of %d runs after one warm-up sample\n",
                 ctx.context->device_string().c_str(), to_string(ctx.context->backend()), w, h, spp, repeats);
-    std::printf("%-28s %10s %10s %10s %12s %12s %12s %10s %10s\n", "scene", "triangles", "bvh ms", "SAH", "primary Mr/s",
-                "AO Mr/s", "bounce Mr/s", "nodes/ray", "prims/ray");
+    std::printf("%-28s %10s %10s %10s %12s %12s %12s %10s %10s %6s\n", "scene", "triangles", "bvh ms", "SAH", "primary Mr/s",
+                "AO Mr/s", "bounce Mr/s", "nodes/ray", "prims/ray", "lanes");
     for (const std::string& name : p.positional) {
         const Scene scene = load_scene(name, false);
         GpuScene gpu(scene);
         const Camera camera = scene.select_camera("", static_cast<float>(w) / static_cast<float>(h));
         const rt::RayRates r = rt::measure_ray_rates(shaders, scene, gpu, camera, w, h, spp, repeats);
-        std::printf("%-28s %10zu %10.1f %10.2f %12.2f %12.2f %12.2f %10.1f %10.1f\n",
+        std::printf("%-28s %10zu %10.1f %10.2f %12.2f %12.2f %12.2f %10.1f %10.1f %5.0f%%\n",
                     name.substr(name.size() > 28 ? name.size() - 28 : 0).c_str(), r.triangles, r.bvh.build_ms, r.bvh.sah_cost,
-                    r.primary_mrays, r.ao_mrays, r.bounce_mrays, r.nodes_per_ray, r.primitives_per_ray);
+                    r.primary_mrays, r.ao_mrays, r.bounce_mrays, r.nodes_per_ray, r.primitives_per_ray, 100.0 * r.lane_utilisation);
     }
     return 0;
 }

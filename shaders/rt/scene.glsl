@@ -141,6 +141,22 @@ shared int traversal_stack[kStackSize * kGroupInvocations];
 // On llvmpipe this measured 1.5x the camera rays and 1.9x the AO rays per second of that loop.
 const int kTraversalDone = int(0x80000000);  // below every leaf ref (rt::kTraversalNoChild)
 
+#ifdef RT_STATS
+// One traversal step (a node or a leaf) of the invocations that run it together in one subgroup:
+// their first lane adds the subgroup's size, so that (steps of all lanes) / (lane slots) is the
+// fraction of SIMD lanes that did useful work; lanes waiting for the others count as idle.
+uint traversal_slots() {
+#ifdef GL_ARB_shader_ballot
+    uint64_t lanes = ballotARB(true);
+    uint low = uint(lanes), high = uint(lanes >> 32);
+    int first = low != 0u ? findLSB(low) : 32 + findLSB(high);
+    return gl_SubGroupInvocationARB == uint(first) ? gl_SubGroupSizeARB : 0u;
+#else
+    return 0u;
+#endif
+}
+#endif
+
 Hit trace(Ray ray, float tmax, bool any_hit) {
     Hit hit;
     hit.t = tmax;
@@ -153,13 +169,14 @@ Hit trace(Ray ray, float tmax, bool any_hit) {
     int sp = 0;
     int ref = 0;
 #ifdef RT_STATS
-    uint visited = 0u, tested = 0u;
+    uint visited = 0u, tested = 0u, slots = 0u;
     atomicAdd(traversal_rays, 1u);
 #endif
     while (true) {
         while (ref >= 0) {
 #ifdef RT_STATS
             ++visited;
+            slots += traversal_slots();
 #endif
             int b = ref * 4;
             vec4 lmin = texelFetch(t_bvh_nodes, b), lmax = texelFetch(t_bvh_nodes, b + 1);
@@ -185,6 +202,7 @@ Hit trace(Ray ray, float tmax, bool any_hit) {
 #ifdef RT_STATS
             ++visited;
             tested += uint(count);
+            slots += traversal_slots();
 #endif
             for (int i = 0; i < count; ++i) {
                 int r = (first + i) * 3;
@@ -229,6 +247,7 @@ Hit trace(Ray ray, float tmax, bool any_hit) {
 #ifdef RT_STATS
                         atomicAdd(traversal_nodes, visited);
                         atomicAdd(traversal_primitives, tested);
+                        atomicAdd(traversal_lane_slots, slots);
 #endif
                         return hit;
                     }
@@ -241,6 +260,7 @@ Hit trace(Ray ray, float tmax, bool any_hit) {
 #ifdef RT_STATS
     atomicAdd(traversal_nodes, visited);
     atomicAdd(traversal_primitives, tested);
+    atomicAdd(traversal_lane_slots, slots);
 #endif
     return hit;
 }

@@ -11,6 +11,11 @@
 // llvmpipe runs both sides of a branch for its 8 SIMD lanes, masked, so code a scene never
 // takes still costs every bounce unless it is compiled out: without the texture reads the
 // Cornell box's path program runs 1.3x faster (issue 23).
+#ifdef RT_STATS
+// Lane utilisation: one lane per subgroup counts each traversal step (see scene.glsl).
+#extension GL_ARB_gpu_shader_int64 : enable
+#extension GL_ARB_shader_ballot : enable
+#endif
 #include "../common/scene_data.glsl"
 #include "../common/brdf.glsl"
 #include "../common/sampling.glsl"
@@ -19,6 +24,7 @@ layout(std430, binding = 10) buffer Diagnostics {
     uint traversal_nodes;      // RT_STATS only: BVH nodes visited, all rays
     uint traversal_primitives; // RT_STATS only: primitives intersected, all rays
     uint traversal_rays;       // RT_STATS only
+    uint traversal_lane_slots; // RT_STATS only: the subgroup's size, summed over its traversal steps
 };
 layout(local_size_x = 8, local_size_y = 8) in;  // before scene.glsl: its traversal stacks are sized by it
 #include "scene.glsl"

@@ -224,9 +224,12 @@ int main(int argc, char** argv) {
         std::printf("%-28s %7.2f %7.2f %5.0f%% %7.2f %7.2f %5.0f%%\n", name.substr(name.size() > 28 ? name.size() - 28 : 0).c_str(),
                     t.primary_mrays, e.primary_mrays, 100.0 * ratio(t.primary_mrays, e.primary_mrays), t.ao_mrays, e.ao_mrays,
                     100.0 * ratio(t.ao_mrays, e.ao_mrays));
-        char line[256];
-        std::snprintf(line, sizeof line, "%-28s %.1f nodes + %.1f primitives per camera ray; layout %.1f MB nodes + %.1f MB primitives\n",
+        char line[384];
+        std::snprintf(line, sizeof line,
+                      "%-28s per camera ray %.1f nodes + %.1f primitives, %.0f %% of SIMD lanes busy; per AO ray %.1f + %.1f, %.0f %%; "
+                      "layout %.1f MB nodes + %.1f MB primitives\n",
                       name.substr(name.size() > 28 ? name.size() - 28 : 0).c_str(), t.nodes_per_ray, t.primitives_per_ray,
+                      100.0 * t.lane_utilisation, t.ao_nodes_per_ray, t.ao_primitives_per_ray, 100.0 * t.ao_lane_utilisation,
                       static_cast<double>(t.node_bytes) / 1e6, static_cast<double>(t.prim_bytes) / 1e6);
         work_lines.push_back(line);
     }

@@ -364,6 +364,35 @@ TEST_P(RtTest, ShadersAreSpecialisedToTheScene) {
     EXPECT_EQ(defines("transparency.gltf"), "MODE_PATH HAS_BLEND HAS_MASK");
 }
 
+// The traversal counters (RT_STATS): nodes and primitives per camera ray, and the fraction of the
+// SIMD lanes that did a traversal step while their subgroup ran one.
+TEST_P(RtTest, TraversalStatisticsCountLanes) {
+    const Scene scene = load_gltf(fs::path(CANDELA_SOURCE_DIR) / "samples/scenes/cornell_box.gltf");
+    rt::Options o;
+    o.mode = rt::Mode::primary;
+    o.spp = 1;
+    o.jitter = 0;
+    o.traversal_stats = true;
+    const rt::Result one = trace(scene, o, 1, 1);
+    const rt::Result many = trace(scene, o, 64, 64);
+    std::printf("cornell_box: 1x1 lanes %.4f; 64x64 lanes %.4f, %.2f nodes + %.2f primitives per ray\n", one.lane_utilisation,
+                many.lane_utilisation, many.nodes_per_ray, many.primitives_per_ray);
+    // A ray through the box's middle visits at least the root and a leaf; the box has 36 triangles.
+    EXPECT_GE(one.nodes_per_ray, 2.0);
+    EXPECT_GT(many.nodes_per_ray, 2.0);
+    EXPECT_GT(many.primitives_per_ray, 0.0);
+    EXPECT_LT(many.primitives_per_ray, 36.0);
+    if (one.lane_utilisation == 0.0) GTEST_SKIP() << "no GL_ARB_shader_ballot: lane utilisation is not counted";
+    // One pixel: one busy lane in its subgroup at every step, so the fraction is exactly one over
+    // the subgroup's size (8 on llvmpipe with 256-bit vectors), whatever the step count.
+    const double lanes = 1.0 / one.lane_utilisation;
+    EXPECT_GE(lanes, 2.0);
+    EXPECT_NEAR(lanes, std::round(lanes), 1e-9);
+    // Neighbouring camera rays of a closed box take nearly the same path: most lanes are busy.
+    EXPECT_GT(many.lane_utilisation, 0.5);
+    EXPECT_LE(many.lane_utilisation, 1.0);
+}
+
 TEST_P(RtTest, TimeLimitStopsAtASampleBoundaryAndStillGivesAnImage) {
     const Scene scene = load_gltf(fs::path(CANDELA_SOURCE_DIR) / "samples/scenes/cornell_box.gltf");
     rt::Options o;
