@@ -43,7 +43,7 @@ RayRates measure_ray_rates(const ShaderLibrary& shaders, const Scene& scene, Gpu
     out.bounce_mrays = rate(median(bounce_extra_ms));
     Options counting;
     counting.mode = Mode::primary;
-    counting.spp = 1;
+    counting.spp = std::min(spp, 16);  // one dispatch's samples, as timed (32-bit counters)
     counting.traversal_stats = true;
     const Result counted = RayTracer(shaders, scene, gpu, counting).render(camera, width, height);
     out.nodes_per_ray = counted.nodes_per_ray;
