@@ -41,4 +41,11 @@ Scene make_motion_scene();
 // floor under a directional light: the animation cost benchmark at any size.
 Scene make_skinned_scene(std::size_t triangles);
 
+// generated:random:SEED (generate_random.cpp): a random scene for the statistical property tests
+// (tests/unit/test_random_scenes.cpp), the same on every platform for a seed: a closed room, an
+// open floor with a back wall or no room; boxes, spheres and thin walls of diffuse, glossy,
+// metal and glass materials; point, spot, directional, quad-emitter and environment light; a
+// camera inside or outside the room; every length scaled by a factor from 0.1 to 20.
+Scene make_random_scene(std::uint32_t seed);
+
 }  // namespace candela

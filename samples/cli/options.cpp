@@ -235,6 +235,12 @@ Scene load_scene(const std::string& path, bool strict) {
             throw bad_input(path + ": expected generated:skinned:N with 64 <= N < 1e8 triangles");
         return make_skinned_scene(std::stoul(n));
     }
+    if (path.rfind("generated:random:", 0) == 0) {
+        const std::string n = path.substr(17);
+        if (n.empty() || n.size() > 10 || n.find_first_not_of("0123456789") != std::string::npos || std::stoull(n) > 4294967295ull)
+            throw bad_input(path + ": expected generated:random:SEED with SEED an integer from 0 to 4294967295");
+        return make_random_scene(static_cast<std::uint32_t>(std::stoull(n)));
+    }
     if (path.rfind("generated:lights:", 0) == 0) {
         const std::string n = path.substr(17);
         if (n.empty() || n.size() > 6 || n.find_first_not_of("0123456789") != std::string::npos || std::stoul(n) < 1)
