@@ -41,17 +41,28 @@ Renderer::Renderer(const ShaderLibrary& shaders, const Scene& scene, GpuScene& g
 
 void Renderer::set_settings(const RenderSettings& settings) {
     settings_ = settings;
-    // GI is planned by how much indirect light the image has: a tiny trace, once per renderer.
-    if (gi_needs_estimate(settings_) && !indirect_estimate_) {
-        try {
-            indirect_estimate_ = estimate_indirect(shaders_, scene_, gpu_);
-            log::debug("indirect light estimate: " + indirect_estimate_->text());
-        } catch (const Error& e) {
-            if (e.code() == ExitCode::internal) throw;
-            indirect_estimate_ = IndirectEstimate{};  // nothing to trace (e.g. no triangles): none planned
-        }
-    }
+    if (view_) estimate_if_needed();
     plan();
+}
+
+void Renderer::set_view(const Camera& camera, int width, int height) {
+    if (view_) return;
+    view_ = View{camera, static_cast<float>(width) / static_cast<float>(std::max(height, 1))};
+    if (estimate_if_needed()) plan();
+}
+
+bool Renderer::estimate_if_needed() {
+    // GI is planned by how much indirect light the image has: a tiny trace from the first frame's
+    // camera at its aspect, once per renderer.
+    if (!gi_needs_estimate(settings_) || indirect_estimate_ || !view_) return false;
+    try {
+        indirect_estimate_ = estimate_indirect(shaders_, scene_, gpu_, view_->camera, view_->aspect);
+        log::debug("indirect light estimate: " + indirect_estimate_->text());
+    } catch (const Error& e) {
+        if (e.code() == ExitCode::internal) throw;
+        indirect_estimate_ = IndirectEstimate{};  // nothing to trace (e.g. no triangles): none planned
+    }
+    return true;
 }
 
 void Renderer::plan() {
@@ -108,6 +119,7 @@ int Renderer::count_moving_draws(const Camera& camera, int width, int height) co
 void Renderer::render(const Camera& view_camera, int width, int height, FrameOutput output, float exposure_ev) {
     // The settings' lens over the camera's own; a lens that turns depth of field on or off re-plans
     // (a changed aperture or focus alone does not: the passes read them every frame).
+    set_view(view_camera, width, height);
     const Camera camera = with_lens(view_camera, settings_);
     // Animation (issue 21): a new pose moves the bounds (shadow fitting, auto focus), the lights
     // and what the probes captured; they re-capture. Motion in view during the shutter plans

@@ -62,6 +62,10 @@ public:
     Renderer& operator=(const Renderer&) = delete;
 
     void set_settings(const RenderSettings& settings);
+    // The view the planner measures the scene from (the indirect-light estimate): the first call,
+    // or the first frame's camera and size, fixes it for the renderer's life. A caller that wants
+    // features() planned before its first frame calls this first.
+    void set_view(const Camera& camera, int width, int height);
     // Rebuilds every program that includes one of `changed` (shader files); a program that
     // fails keeps its last good version. Never throws for GLSL errors.
     ShaderReload reload_shaders(const std::vector<std::filesystem::path>& changed);
@@ -117,8 +121,15 @@ private:
     const Scene& scene_;
     GpuScene& gpu_;
     Bounds scene_bounds_;
-    // The indirect-light estimate the planner uses (traced once, on the first settings that ask).
+    // The indirect-light estimate the planner uses (traced once, from view_, on the first
+    // settings that ask).
     std::optional<IndirectEstimate> indirect_estimate_;
+    struct View {
+        Camera camera;
+        float aspect;
+    };
+    std::optional<View> view_;
+    bool estimate_if_needed();  // true when it traced
     gl::Sampler linear_clamp_;
     ImageBasedLighting ibl_;
     gl::Texture env_cube_;   // static environment map, prefiltered (empty without a map)

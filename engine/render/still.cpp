@@ -38,6 +38,7 @@ FrameLoop::FrameLoop(const Scene& scene, const ShaderLibrary& shaders, const Sti
     t0 = std::chrono::steady_clock::now();
     update_motion(scene, *gpu_, options.animation, options.time, options.settings);
     renderer_ = std::make_unique<Renderer>(shaders, scene, *gpu_, options.settings, options.programs);
+    renderer_->set_view(camera_, options.width, options.height);
     renderer_->set_verify_state(options.verify_state);
     result_.shader_ms = ms_since(t0);
     result_.features = renderer_->features();

@@ -83,6 +83,7 @@ const char* to_string(Mode mode) {
         case Mode::primary: return "primary";
         case Mode::visibility: return "visibility";
         case Mode::bounce: return "bounce";
+        case Mode::hits: return "hits";
     }
     return "?";
 }
@@ -97,12 +98,13 @@ ModeProgram mode_program(Mode mode) {
         case Mode::whitted: return {"MODE_WHITTED", "rt/modes/whitted.comp"};
         case Mode::visibility: return {"MODE_VISIBILITY", "rt/modes/visibility.comp"};
         case Mode::bounce: return {"MODE_BOUNCE", "rt/modes/bounce.comp"};
+        case Mode::hits: return {"MODE_HITS", "rt/modes/hits.comp"};
     }
     return {"MODE_PATH", "rt/modes/path.comp"};
 }
 
 std::optional<Mode> parse_mode(const std::string& name) {
-    for (Mode m : {Mode::whitted, Mode::path, Mode::direct, Mode::indirect, Mode::ao, Mode::primary, Mode::visibility, Mode::bounce})
+    for (Mode m : {Mode::whitted, Mode::path, Mode::direct, Mode::indirect, Mode::ao, Mode::primary, Mode::visibility, Mode::bounce, Mode::hits})
         if (name == to_string(m)) return m;
     return std::nullopt;
 }
@@ -287,7 +289,7 @@ FrameGpu RayTracer::make_frame(const Camera& camera, int width, int height) cons
     f.params = glm::ivec4(options_.max_depth, options_.jitter, options_.indirect_occlusion ? 1 : 0, 0);
     f.fparams = glm::vec4(options_.ao_radius, options_.whitted_max_roughness, f.fparams.z,
                           static_cast<float>(options_.visibility_light));
-    f.fparams2 = glm::vec4(ray_offset_for_extent(scene_diagonal_), 0.0f, 0.0f, 0.0f);
+    f.fparams2 = glm::vec4(ray_offset_for_extent(scene_diagonal_), 0.0f, options_.camera_sees_emission ? 0.0f : 1.0f, 0.0f);
     // The thin lens (docs/raytracing.md, "Depth of field"): an orthonormal frame of the camera
     // (its -Z the view axis), the disk's axes scaled by the radius. Orthographic cameras stay
     // pinholes (has_thin_lens).

@@ -17,7 +17,9 @@ namespace candela::rt {
 // visibility: the fraction of one light reaching each visible point (the ground truth of the
 // raster visibility buffer, debug.view=visibility).
 // bounce: camera rays plus one cosine-distributed closest-hit ray (ray-rate benchmark).
-enum class Mode { whitted, path, direct, indirect, ao, primary, visibility, bounce };
+// hits: the share of each pixel's camera rays that see a passive surface (r), an emitter (g) or
+// nothing, the environment (b): what the planner's view measurements weight pixels with.
+enum class Mode { whitted, path, direct, indirect, ao, primary, visibility, bounce, hits };
 const char* to_string(Mode mode);
 std::optional<Mode> parse_mode(const std::string& name);
 
@@ -59,6 +61,9 @@ struct Options {
     // Environment maps: sample directions by the map's luminance and combine with BRDF sampling
     // by MIS (path and direct). Off: BRDF sampling only (for comparison).
     bool env_importance = true;
+    // path and direct: false leaves out what camera rays see directly (emitters' emission and the
+    // environment), so that the image is the light the surfaces reflect alone (view_light.hpp).
+    bool camera_sees_emission = true;
     // visibility mode: the light (debug.light); >= the punctual count: all emissive triangles.
     int visibility_light = 0;
     bool progress = false;      // progress bar with ETA on stderr

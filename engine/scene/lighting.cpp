@@ -68,6 +68,12 @@ std::shared_ptr<const ImageF> default_sky_image(int width) {
     return image;
 }
 
+void add_default_environment(Scene& scene) {
+    scene.environment = Environment{};
+    scene.environment.image = default_sky_image();
+    scene.environment.label = "default sky (built in)";
+}
+
 LightingChoice apply_lighting(Scene& scene, LightingMode mode, const Camera& view) {
     LightingChoice choice;
     const std::string own = own_lighting_summary(scene);
@@ -78,6 +84,7 @@ LightingChoice apply_lighting(Scene& scene, LightingMode mode, const Camera& vie
     case LightingMode::auto_select:
         if (!own.empty()) {
             choice.reason = "the file's own: " + own;
+            choice.check_view = !scene.environment.present();
             return choice;
         }
         choice.reason = "default rig (the file has no light, no emitter brighter than 1 and no environment; --lighting auto)";
@@ -88,9 +95,7 @@ LightingChoice apply_lighting(Scene& scene, LightingMode mode, const Camera& vie
         break;
     }
     choice.rig = true;
-    scene.environment = Environment{};
-    scene.environment.image = default_sky_image();
-    scene.environment.label = "default sky (built in)";
+    add_default_environment(scene);
 
     // The key light, in the camera's frame: from above (0.85), left (-0.5) and the viewer's side
     // (0.7), i.e. about 40 degrees above the view and 30 degrees left of it.

@@ -35,6 +35,11 @@ std::string own_lighting_summary(const Scene& scene);
 struct LightingChoice {
     bool rig = false;    // the default rig was added
     std::string reason;  // one line for `info` and the log
+    // `auto` kept the file's own lights and the file has no environment: whether those lights
+    // light what the camera sees is measured with the tracer once a GL context exists
+    // (render/view_lighting.hpp: complete_lighting), which may add the default environment.
+    bool check_view = false;
+    bool environment_added = false;  // complete_lighting added the default environment
 };
 
 constexpr float kKeyIrradiance = 2.0f;    // W/m^2, the rig's directional key light
@@ -43,6 +48,10 @@ constexpr float kSkyIntensity = 1.0f;     // scale of default_sky_image()
 // Applies the policy to a loaded scene. `view` is the camera the image is rendered from: it
 // orients the key light. Call before uploading the scene (GpuScene) or building the tracer.
 LightingChoice apply_lighting(Scene& scene, LightingMode mode, const Camera& view);
+
+// The rig's sky alone as the scene's environment (no key light): what `auto` adds to a file
+// whose own lights leave most of the view unlit.
+void add_default_environment(Scene& scene);
 
 // The rig's sky as an equirectangular linear radiance image (width x width/2, RGBA32F), in the
 // mapping of shaders/common/math.glsl (row 0 looks up +Y).

@@ -75,7 +75,8 @@ std::vector<ProgramDesc> ray_tracer_variants() {
                                      {"MODE_INDIRECT", "rt/modes/indirect.comp"},
                                      {"MODE_WHITTED", "rt/modes/whitted.comp"},
                                      {"MODE_VISIBILITY", "rt/modes/visibility.comp"},
-                                     {"MODE_BOUNCE", "rt/modes/bounce.comp"}};
+                                     {"MODE_BOUNCE", "rt/modes/bounce.comp"},
+                                     {"MODE_HITS", "rt/modes/hits.comp"}};
     std::vector<ProgramDesc> out;
     for (const ModeFile& mode : modes)
         for (int variant : {0, 1, 2}) {

@@ -106,6 +106,7 @@ int bench_reload(const Args& args) {
         }
     } cleanup{dir};
     const ShaderLibrary shaders(dir);
+    finish_lighting(s, shaders);
     GpuScene gpu(s.scene);
     Renderer renderer(shaders, s.scene, gpu, s.options.settings);
     const Camera camera = s.scene.select_camera(s.options.camera, static_cast<float>(s.options.width) / static_cast<float>(s.options.height));
@@ -190,6 +191,7 @@ int bench_frame(const Args& args) {
     ContextResult ctx = open_context(s);
     if (!ctx.context) return static_cast<int>(ExitCode::no_gl);
     const ShaderLibrary shaders(s.shader_dir);
+    finish_lighting(s, shaders);
     std::vector<StillOptions> options(variants.size(), s.options);
     std::vector<std::unique_ptr<FrameLoop>> loops;
     for (size_t v = 0; v < variants.size(); ++v) {
@@ -245,6 +247,7 @@ int bench_animation(const Args& args) {
                 "raster ms", "rebuild ms", "refit ms", "static ms");
     for (size_t si = 0; si < p.positional.size(); ++si) {
         SceneSetup s = si == 0 ? std::move(s0) : setup_scene(p, p.positional[si], 1280, 720);
+        finish_lighting(s, shaders);
         Scene& scene = s.scene;
         if (scene.animations.empty()) throw bad_input(p.positional[si] + ": bench animation needs a scene with an animation");
         const int animation = std::max(0, s.options.animation);

@@ -14,11 +14,13 @@
 #include "render/gpu_scene.hpp"
 #include "shader/shader_library.hpp"
 #include "render/settings.hpp"
+#include "render/view_lighting.hpp"
 
 namespace candela::cli {
 
 int cmd_info(const Args& args) {
-    const Parsed p = parse(args, {"--effects", "--set", "--path", "--lighting", "--environment", "--camera", "--shader-dir"}, {"--strict", "--knobs"});
+    const Parsed p = parse(args, {"--effects", "--set", "--path", "--lighting", "--environment", "--camera", "--shader-dir", "--size"},
+                           {"--strict", "--knobs"});
     if (p.flags.count("--knobs")) {
         for (const KnobInfo& k : knob_infos())
             std::printf("%-28s %-6s %-22s %s\n", k.name.c_str(), k.type.c_str(), k.range.c_str(), k.help.c_str());
@@ -31,7 +33,20 @@ int cmd_info(const Args& args) {
     for (const std::string& knob : p.all("--set")) apply_knob(settings, knob);
     Scene scene = load_scene(p.positional[0], p.flags.count("--strict") > 0);
     const std::string camera_choice = p.has("--camera") ? p.get("--camera") : "";
-    const LightingChoice lighting = setup_lighting(scene, p, camera_choice, 1.0f);
+    // The render's size (its aspect frames the camera the planner measures from): as render's.
+    int width = 512, height = 512;
+    if (p.has("--size")) parse_size(p.get("--size"), width, height);
+    const float aspect = static_cast<float>(width) / static_cast<float>(height);
+    LightingChoice lighting = setup_lighting(scene, p, camera_choice, aspect);
+    // The tracer measures the view (whether the file's lights light it; the GI effect's estimate
+    // of the indirect light) and anti-aliasing plans with the device's sample counts: a headless
+    // context when one can be had (without one, `info` says what is missing).
+    ContextResult ctx;
+    if (lighting.check_view || gi_needs_estimate(settings) || settings.get<AaOptions>().mode != AaMode::off)
+        ctx = create_context(Backend::auto_select);
+    std::optional<ShaderLibrary> shaders;
+    if (ctx.context) shaders.emplace(shader_dir_option(p));
+    if (lighting.check_view && shaders) complete_lighting(scene, lighting, *shaders, scene.select_camera(camera_choice, aspect), aspect);
     int directional = 0, point = 0, spot = 0;
     for (const auto& pl : scene.placed_lights()) {
         directional += pl.light->type == LightType::directional;
@@ -90,18 +105,13 @@ int cmd_info(const Args& args) {
                                             format_number("%.3g", scene.environment.radiance.g) + ", " +
                                             format_number("%.3g", scene.environment.radiance.b) + ")").c_str()
                                          : "none");
-    // The GI effect plans from an estimate of the indirect light, which the tracer computes: a
-    // headless context when one can be had (without one, `info` says the estimate is missing).
+    if (lighting.check_view) std::printf("lighting check: none (no usable OpenGL: %s)\n", ctx.error.c_str());
     std::optional<IndirectEstimate> estimate;
-    // Anti-aliasing plans with the device's sample counts: it needs the context too.
-    ContextResult ctx;
-    if (gi_needs_estimate(settings) || settings.get<AaOptions>().mode != AaMode::off) ctx = create_context(Backend::auto_select);
     if (gi_needs_estimate(settings)) {
-        if (ctx.context) {
-            const ShaderLibrary shaders(shader_dir_option(p));
+        if (shaders) {
             GpuScene gpu(scene);
             try {
-                estimate = estimate_indirect(shaders, scene, gpu);
+                estimate = estimate_indirect(*shaders, scene, gpu, scene.select_camera(camera_choice, aspect), aspect);
             } catch (const Error& e) {
                 if (e.code() == ExitCode::internal) throw;
                 estimate = IndirectEstimate{};
@@ -111,7 +121,7 @@ int cmd_info(const Args& args) {
             std::printf("indirect estimate: none (no usable OpenGL: %s)\n", ctx.error.c_str());
         }
     }
-    const Camera view_camera = scene.select_camera(camera_choice, 1.0f);  // its lens plans depth of field
+    const Camera view_camera = scene.select_camera(camera_choice, aspect);  // its lens plans depth of field
     const Features features = analyze(scene, settings, estimate ? &*estimate : nullptr, &view_camera);
     std::printf("scene features:\n");
     for (const Feature* feat : features.scene.all())

@@ -178,6 +178,7 @@ int run_render(const Args& args, BatchSession* batch) {
     BatchSession::Programs* shared = batch && batch->share_programs ? &batch->programs_for(s.shader_dir) : nullptr;
     const ShaderLibrary& shaders = shared ? *shared->shaders : own_shaders;
     s.options.programs = shared ? shared->cache.get() : nullptr;
+    finish_lighting(s, shaders);
     const std::vector<float> times = frame_times(s, fps);
     if (p.has("--raytrace")) {
         for (size_t i = 0; i < times.size(); ++i) {

@@ -25,7 +25,7 @@ int cmd_view(const Args& args) {
     o.settings = s.options.settings;
     o.set_knobs = p.all("--set");  // the viewer's defaults (gi.budget) leave the user's knobs alone
     o.camera = s.options.camera;
-    o.lighting = s.lighting.reason;
+    o.lighting = s.lighting;
     o.shader_dir = s.shader_dir;
     o.frames = p.has("--frames") ? s.options.frames : 0;
     o.vsync = !p.flags.count("--no-vsync");

@@ -12,6 +12,7 @@
 #include "core/log.hpp"
 #include "gl/debug.hpp"
 #include "render/settings.hpp"
+#include "render/view_lighting.hpp"
 #include "scene/generate.hpp"
 #include "scene/gltf_loader.hpp"
 
@@ -40,7 +41,7 @@ void print_usage() {
         "  candela farm sweep [SCENE...] -o DIR [bench accuracy's options]\n"
         "               (both: [--sbatch ARG]... [--dry-run] [--submit [--wait]])\n"
         "  candela farm task|finish|status|submit DIR [INDEX] [--wait]\n"
-        "  candela info SCENE [--effects ...] [--set ...] [--lighting L] [--environment E] [--camera C] [--strict]\n"
+        "  candela info SCENE [--effects ...] [--set ...] [--lighting L] [--environment E] [--camera C] [--size WxH] [--strict]\n"
         "  candela compare A B [--heatmap OUT.png] [--tolerance T] [--max-failing F] [--check] [--blocks K]\n"
         "  candela compare --batches A1.exr A2.exr... --against B1.exr B2.exr...|REF.exr [--ref-stderr SE.exr]\n"
         "                  [--z-threshold Z] [--z-map OUT.png] [--save-mean M.exr] [--save-stderr S.exr]\n"
@@ -355,6 +356,14 @@ ContextResult open_context(const SceneSetup& s) {
     if (ctx.context) log::info(std::string("backend ") + to_string(ctx.context->backend()) + ": " + ctx.context->device_string());
     else std::fprintf(stderr, "candela: error: no usable OpenGL: %s\n", ctx.error.c_str());
     return ctx;
+}
+
+void finish_lighting(SceneSetup& s, const ShaderLibrary& shaders) {
+    if (!s.lighting.check_view) return;
+    const float aspect = static_cast<float>(s.options.width) / static_cast<float>(s.options.height);
+    complete_lighting(s.scene, s.lighting, shaders, s.scene.select_camera(s.options.camera, aspect), aspect);
+    if (s.lighting.environment_added) log::warn("lighting: " + s.lighting.reason);
+    else log::info("lighting: " + s.lighting.reason);
 }
 
 bool mip_worker_wanted() {

@@ -79,6 +79,10 @@ SceneSetup setup_scene(const Parsed& p, const std::string& scene_path, int defau
 
 // Opens the GL context the set-up asks for; on failure prints why (the caller returns exit 3).
 ContextResult open_context(const SceneSetup& s);
+// With the context current: `--lighting auto` measures whether the file's own lights light the
+// view and may add the default environment (render/view_lighting.hpp). Before the scene is
+// uploaded or traced.
+void finish_lighting(SceneSetup& s, const ShaderLibrary& shaders);
 // Whether render makes texture mipmaps on a worker context (GlWorker): yes unless the
 // environment sets CANDELA_MIP_WORKER=0 (a switch for comparing; the images are the same).
 bool mip_worker_wanted();

@@ -27,6 +27,7 @@
 #include "platform/context.hpp"
 #include "render/features.hpp"
 #include "render/renderer.hpp"
+#include "render/view_lighting.hpp"
 #include "rt/ray_tracer.hpp"
 #include "scene/animation.hpp"
 #include "script.hpp"
@@ -668,7 +669,7 @@ void Viewer::draw_ui(double frame_ms) {
     std::vector<double> sorted(frame_times_.begin(), frame_times_.end());
     std::sort(sorted.begin(), sorted.end());
     ImGui::Text("frame %.1f ms (median of %zu)  %s", sorted[sorted.size() / 2], sorted.size(), controller_.fly_mode ? "fly" : "orbit");
-    if (!o_.lighting.empty()) ImGui::TextWrapped("lighting: %s", o_.lighting.c_str());
+    if (!o_.lighting.reason.empty()) ImGui::TextWrapped("lighting: %s", o_.lighting.reason.c_str());
     ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyleColorVec4(ImGuiCol_TextDisabled));
     ImGui::TextWrapped("drag: turn  shift/middle drag: pan  wheel: zoom  WASDQE: move  F: frame  Tab: fly  P: screenshot  "
                        "H: hide this panel%s", scene_.animations.empty() ? "" : "  Space: play/pause  arrows: step a frame");
@@ -950,6 +951,11 @@ int run_viewer(Scene& scene, const ViewerOptions& options) {
     }
     log::info("viewer: " + ctx.context->device_string());
     ViewerOptions o = options;
+    {
+        const float aspect = static_cast<float>(o.width) / static_cast<float>(o.height);
+        const ShaderLibrary shaders(o.shader_dir);
+        complete_lighting(scene, o.lighting, shaders, scene.select_camera(o.camera, aspect), aspect);
+    }
     apply_viewer_defaults(o.settings, o.set_knobs);
     Viewer viewer(scene, o, *ctx.context, std::move(script), animation);
     return viewer.run();

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "render/settings.hpp"
+#include "scene/lighting.hpp"
 #include "scene/scene.hpp"
 
 namespace candela::viewer {
@@ -27,7 +28,9 @@ struct ViewerOptions {
     int frames = 0;                    // --frames N: quit after N frames (0: when closed)
     bool vsync = true;
     float exposure_ev = 0.0f;
-    std::string lighting;  // which lighting the scene got and why (scene/lighting.hpp), shown in the panel
+    // Which lighting the scene got and why (scene/lighting.hpp), shown in the panel; the viewer
+    // completes it with its context (render/view_lighting.hpp) before uploading the scene.
+    LightingChoice lighting;
     // --animation N|NAME|none: the animation to play ("": the first, if the scene has any; none:
     // the rest pose). --time T: start paused at T seconds (the pose `render --time T` draws);
     // < 0: start at 0, playing.

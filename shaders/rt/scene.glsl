@@ -68,7 +68,8 @@ layout(std140, binding = 8) uniform RtFrame {
     ivec4 image;         // x width, y height, z sample index, w seed
     ivec4 params;        // x max depth, y jitter, z indirect occlusion, w tile y offset
     vec4 fparams;        // x ao radius, y whitted max roughness, z emitter power total
-    vec4 fparams2;       // x smallest secondary-ray offset (rt::ray_offset_for_extent)
+    vec4 fparams2;       // x smallest secondary-ray offset (rt::ray_offset_for_extent), z 1: camera rays
+                         // do not see emission or the environment (path/direct: Options::camera_sees_emission)
     vec4 lens_x;         // thin lens: xyz the camera's x axis * lens radius, w lens radius (0: pinhole)
     vec4 lens_y;         // xyz the camera's y axis * lens radius, w focus distance along lens_axis
     vec4 lens_axis;      // xyz the view axis (unit)

@@ -34,6 +34,7 @@
 #include "render/still.hpp"
 #include "scene/animation.hpp"
 #include "scene/gltf_loader.hpp"
+#include "render/view_lighting.hpp"
 #include "scene/lighting.hpp"
 
 namespace fs = std::filesystem;
@@ -105,8 +106,9 @@ int run_job(GoldenJob& job, const ShaderLibrary& shaders, ProgramCache* programs
             scene.cameras.insert(scene.cameras.begin(), cam);  // the first camera is the default
         }
         // As `candela render`: a file without lights gets the default rig (--lighting auto).
-        apply_lighting(scene, LightingMode::auto_select,
-                       scene.select_camera(options.camera, static_cast<float>(options.width) / static_cast<float>(options.height)));
+        const float aspect = static_cast<float>(options.width) / static_cast<float>(options.height);
+        LightingChoice lighting = apply_lighting(scene, LightingMode::auto_select, scene.select_camera(options.camera, aspect));
+        complete_lighting(scene, lighting, shaders, scene.select_camera(options.camera, aspect), aspect);
         options.output = FrameOutput::display;  // the GPU tonemap pass, as `candela render x.png`
         options.verify_state = true;
         options.programs = programs;

@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "gl_fixture.hpp"
+#include "core/error.hpp"
 #include "gltf_builder.hpp"
 #include "rt/ray_tracer.hpp"
 #include "scene/gltf_loader.hpp"
@@ -26,7 +27,8 @@ namespace {
 namespace fs = std::filesystem;
 
 const rt::Mode kAllModes[] = {rt::Mode::whitted, rt::Mode::path,    rt::Mode::direct,     rt::Mode::indirect,
-                              rt::Mode::ao,      rt::Mode::primary, rt::Mode::visibility, rt::Mode::bounce};
+                              rt::Mode::ao,      rt::Mode::primary, rt::Mode::visibility, rt::Mode::bounce,
+                              rt::Mode::hits};
 
 using test::read_text;
 using test::write_text;
@@ -54,7 +56,7 @@ TEST(RtModePrograms, EachModeIsItsOwnFileOverSharedIncludes) {
         });
         EXPECT_NE(in_catalog, variants.end());
     }
-    EXPECT_EQ(mode_files.size(), 7u) << "direct shares path's program; every other mode has its own";
+    EXPECT_EQ(mode_files.size(), 8u) << "direct shares path's program; every other mode has its own";
     for (const ProgramDesc& d : variants) {
         SCOPED_TRACE(d.name);
         ASSERT_EQ(d.stages.size(), 1u);

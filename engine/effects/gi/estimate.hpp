@@ -1,27 +1,36 @@
 #pragma once
-// The planner's estimate of how much of the image is diffuse indirect light (issue 24): tiny
-// `direct` and `indirect` (one diffuse bounce) renders from the scene's default camera, with
-// Candela's own tracer, the bounces after the first extrapolated as a geometric series. Pixels
-// of the camera's view that are emitters (above 10x the median direct light) are left out. The GI effect plans its probes from it (engine/effects/gi/gi.cpp).
+// The planner's estimate of how much of the image is diffuse indirect light: the view measurement
+// of rt/view_light.hpp (tiny `direct` and `indirect` renders over the surfaces the camera sees,
+// from the render's own camera at its aspect) with the bounces after the first extrapolated as a
+// geometric series. The GI effect plans its probes from it (engine/effects/gi/gi.cpp).
 #include <string>
+
+#include "scene/scene.hpp"
 
 namespace candela {
 
 class GpuScene;
 class ShaderLibrary;
-struct Scene;
+
+// Fewer directly lit pixels than this and the estimate is not trusted: the planner then runs the
+// probes (a wrong "off" loses light; a wrong "on" only costs time).
+constexpr int kMinLitPixels = 32;
 
 struct IndirectEstimate {
     double fraction = 0.0;         // rho = I1 / D (at most 0.99; 0 for a black image): the share of every bounce
-    double direct_mean = 0.0;      // D: mean luminance of `direct` (emission, sky, direct light)
-    double one_bounce_mean = 0.0;  // I1: mean luminance of `indirect` (one diffuse bounce)
+    double fraction_se = 0.0;          // standard error of I1 / D (errs large: rt/view_light.hpp)
+    double direct_mean = 0.0;      // D: direct light the seen surfaces reflect (no emitter or sky in view)
+    double one_bounce_mean = 0.0;  // I1: one diffuse bounce on the same surfaces
     int width = 0, height = 0, spp = 0;
-    double ms = 0.0;         // wall time of the estimate (BVH, program, both renders)
-    std::string text() const;  // "40 % of the image (one diffuse bounce / direct ..., 48x32 px x 8 spp, 90 ms)"
+    int surface_pixels = 0, lit_pixels = 0;
+    bool trusted = false;          // lit_pixels >= kMinLitPixels
+    double ms = 0.0;               // wall time of the estimate (BVH, programs, renders)
+    std::string text() const;  // "40 % +- 3 % of the light on the image's surfaces (...)"
 };
 
-// Throws candela::Error if the tracer cannot be built (internal) or the scene is empty of
-// triangles (nothing to estimate: callers treat that as fraction 0).
-IndirectEstimate estimate_indirect(const ShaderLibrary& shaders, const Scene& scene, GpuScene& gpu);
+// From the render's camera at its aspect. Throws candela::Error if the tracer cannot be built
+// (internal) or the scene has no triangles (callers treat that as fraction 0).
+IndirectEstimate estimate_indirect(const ShaderLibrary& shaders, const Scene& scene, GpuScene& gpu, const Camera& camera,
+                                   float aspect);
 
 }  // namespace candela

@@ -308,7 +308,12 @@ public:
         if (f.source && f.source->triangle_count() == 0) why = "no geometry to bounce light";
         else if (o.threshold <= 0.0f) needed = true, why = "gi.threshold=0 (always)";
         else if (!e) why = "no estimate of the indirect light (it needs the tracer: a GL context)";
-        else {
+        else if (!e->trusted) {
+            // Too little of the view is lit to measure a ratio: run the probes rather than risk
+            // losing the light.
+            needed = true;
+            why = "indirect light is " + e->text() + ", so the probes run";
+        } else {
             needed = e->fraction >= o.threshold;
             why = "indirect light is " + e->text() + (needed ? ", at least" : ", below") + " gi.threshold " + pct;
         }

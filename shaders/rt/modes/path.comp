@@ -50,7 +50,11 @@ PathState path_start(ivec2 pixel, uint index, uint sample_index) {
 bool path_step(inout PathState p) {
     int max_depth = rt.params.x;
     Hit hit = trace_closest(p.ray, 3.0e38);
+    // rt.fparams2.z: camera rays do not see emission or the environment; the image is then the
+    // light that surfaces reflect (the planner's view measurements).
+    bool seen = p.depth > 0 || rt.fparams2.z == 0.0;
     if (hit.prim < 0) {
+        if (!seen) return true;
         float w = 1.0;
 #ifdef HAS_ENV_MAP_SAMPLING
         if (p.last_brdf_pdf > 0.0) w = power_heuristic(p.last_brdf_pdf, env_pdf(p.ray.dir));
@@ -69,7 +73,7 @@ bool path_step(inout PathState p) {
     }
 #endif
     vec3 Le = emitted(s);
-    if (max(Le.r, max(Le.g, Le.b)) > 0.0) {
+    if (seen && max(Le.r, max(Le.g, Le.b)) > 0.0) {
         float w = 1.0;
 #ifdef HAS_EMITTERS
         if (p.last_brdf_pdf > 0.0) w = power_heuristic(p.last_brdf_pdf, emitter_pdf(p.ray, hit, s));

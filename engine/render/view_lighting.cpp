@@ -1,0 +1,39 @@
+#include "render/view_lighting.hpp"
+
+#include <cstdio>
+
+#include "core/error.hpp"
+#include "core/log.hpp"
+#include "render/gpu_scene.hpp"
+#include "rt/view_light.hpp"
+
+namespace candela {
+
+void complete_lighting(Scene& scene, LightingChoice& choice, const ShaderLibrary& shaders, const Camera& camera, float aspect) {
+    if (!choice.check_view) return;
+    choice.check_view = false;
+    if (scene.triangle_count() == 0) return;
+    ViewLight v;
+    {
+        GpuScene gpu(scene);
+        try {
+            v = measure_view_light(shaders, scene, gpu, camera, aspect, 8);
+        } catch (const Error& e) {
+            if (e.code() == ExitCode::internal) throw;
+            return;  // nothing to trace
+        }
+    }
+    log::debug("lighting: view measurement " + v.text());
+    char buf[200];
+    std::snprintf(buf, sizeof buf, "%.0f %% of the surface in view (%d of %d px at %dx%d) is unlit by them", v.unlit_share * 100.0,
+                  static_cast<int>(v.unlit_share * v.surface_pixels + 0.5), v.surface_pixels, v.width, v.height);
+    if (v.surface_pixels == 0 || v.unlit_share <= kMostlyUnlit) {
+        choice.reason += std::string("; ") + buf;
+        return;
+    }
+    add_default_environment(scene);
+    choice.environment_added = true;
+    choice.reason += std::string("; ") + buf + ", so the default sky is added (--lighting file: the file's lights alone)";
+}
+
+}  // namespace candela

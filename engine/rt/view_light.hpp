@@ -1,0 +1,55 @@
+#pragma once
+// What the camera sees and how the scene's lights light it, measured with the tracer on a small
+// image at the render's camera and aspect: the planner's input for how much of the image is
+// indirect light (the GI effect) and for whether a file's own lights leave the view unlit
+// (`--lighting auto`, scene/lighting.hpp).
+//
+// Three tiny renders over one BVH:
+// - `hits`: per pixel, the share of camera rays that see a passive surface, an emitter or nothing.
+//   Emitters are known by what the ray hits (any emission towards the camera), never by
+//   brightness;
+// - `direct` with Options::camera_sees_emission off: the direct light the seen surfaces reflect
+//   (punctual lights, emitters, environment), without the emission or sky the camera sees itself;
+// - `indirect`: one diffuse bounce at the seen surfaces.
+// The sums run over the passive share of each pixel, so an emitter or the background in view
+// neither counts as lit surface nor hides one.
+#include <string>
+
+#include "scene/scene.hpp"
+
+namespace candela {
+
+class GpuScene;
+class ShaderLibrary;
+
+struct ViewLight {
+    int width = 0, height = 0, spp = 0;
+    // Shares of the image's camera rays (they add up to 1).
+    double passive_share = 0.0, emitter_share = 0.0, background_share = 0.0;
+    // Means over the image of passive share x light: D the direct light the surfaces reflect,
+    // I1 one diffuse bounce.
+    double direct_mean = 0.0, bounce_mean = 0.0;
+    // I1 / D and its standard error (a ratio estimator over the pixels; it counts the spread of
+    // the light across the image as well as the sampling noise, so it errs large). 0 when D is 0.
+    double ratio = 0.0, ratio_stderr = 0.0;
+    int surface_pixels = 0;  // pixels whose camera rays mostly see passive surfaces
+    int lit_pixels = 0;      // of those, pixels with direct light
+    // Of the surface pixels, the share whose light (D + I1) is below kUnlitLevel of the typical
+    // directly lit level (the median of the lit pixels; without any, every pixel counts as unlit).
+    double unlit_share = 0.0;
+    double ms = 0.0;  // wall time (BVH, programs, the three renders)
+    std::string text() const;
+};
+
+// A pixel whose light is below this fraction of the typical directly lit pixel's looks black
+// beside it (about 38/255 in sRGB where the lit level is display white).
+constexpr double kUnlitLevel = 0.02;
+// About this many pixels at the given aspect, `spp` samples each.
+constexpr int kViewLightPixels = 1536;
+
+// Throws candela::Error if the tracer cannot be built (internal) or the scene has no triangles
+// (bad_input: nothing to trace).
+ViewLight measure_view_light(const ShaderLibrary& shaders, const Scene& scene, GpuScene& gpu, const Camera& camera, float aspect,
+                             int spp = 8);
+
+}  // namespace candela
