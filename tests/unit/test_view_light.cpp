@@ -1,0 +1,251 @@
+// The planner's view measurements (rt/view_light.hpp) on scenes built here to break the rules
+// they replaced:
+// - an open room lit only by a quad emitter, seen from outside so that most of the view is
+//   background or ceiling lit by bounced light: the old rule (an emitter is a pixel above 10x the
+//   median) took the median 0, called every lit pixel an emitter and estimated 0 % indirect
+//   light; the estimate must see the room's bounce (checked against the tracer: path - direct);
+// - a model lit from behind by the file's only light (no floor, no sky): `--lighting auto` adds
+//   the default sky and says why, `--lighting file` stays exact; the same model lit from the
+//   front, and the closed sample rooms, stay as their files have them;
+// - a model a few pixels wide: too few lit pixels to trust, so the GI effect runs.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "effects/gi/estimate.hpp"
+#include "reference_fixture.hpp"
+#include "render/view_lighting.hpp"
+#include "rt/view_light.hpp"
+#include "scene/generate.hpp"
+#include "scene/gltf_loader.hpp"
+#include "scene/lighting.hpp"
+#include "scene/mesh_utils.hpp"
+
+namespace candela {
+namespace {
+namespace fs = std::filesystem;
+
+int add_mesh(Scene& scene, const std::string& name, Primitive p, const glm::mat4& local = glm::mat4(1.0f)) {
+    compute_bounds(p);
+    scene.meshes.push_back({name, {std::move(p)}});
+    Node n;
+    n.name = name;
+    n.mesh = static_cast<int>(scene.meshes.size()) - 1;
+    n.local = local;
+    scene.nodes.push_back(n);
+    scene.roots.push_back(static_cast<int>(scene.nodes.size()) - 1);
+    return n.mesh;
+}
+
+void add_camera(Scene& scene, glm::vec3 eye, glm::vec3 target, float yfov = 0.8f) {
+    Camera c;
+    c.name = "view";
+    c.yfov = yfov;
+    c.world = glm::inverse(glm::lookAt(eye, target, glm::vec3(0, 1, 0)));
+    scene.cameras.push_back(c);
+}
+
+// A directional light shining along `dir`.
+void add_sun(Scene& scene, glm::vec3 dir, float irradiance) {
+    Light sun;
+    sun.name = "sun";
+    sun.type = LightType::directional;
+    sun.intensity = irradiance;
+    scene.lights.push_back(sun);
+    Node n;
+    n.name = "sun";
+    n.light = static_cast<int>(scene.lights.size()) - 1;
+    const glm::vec3 d = glm::normalize(dir);
+    const glm::vec3 up = std::fabs(d.y) > 0.99f ? glm::vec3(1, 0, 0) : glm::vec3(0, 1, 0);
+    n.local = glm::inverse(glm::lookAt(glm::vec3(0.0f), d, up));
+    scene.nodes.push_back(n);
+    scene.roots.push_back(static_cast<int>(scene.nodes.size()) - 1);
+}
+
+// A 2 m room open at the front (+Z), white walls, a 0.5 m quad emitter under the ceiling facing
+// down, no other light; the camera stands 3.5 m in front of the opening.
+Scene open_room_lit_by_an_emitter() {
+    Scene scene;
+    scene.source = "test:open_room";
+    scene.materials.push_back(lambert_material("white", glm::vec3(0.8f)));
+    Material lamp = lambert_material("lamp", glm::vec3(0.0f));
+    lamp.emissive = glm::vec3(1.0f);
+    lamp.emissive_strength = 30.0f;
+    scene.materials.push_back(lamp);
+    Primitive walls;
+    walls.material = 0;
+    append_quad(walls, {-1, 0, 1}, {2, 0, 0}, {0, 0, -2});   // floor, up
+    append_quad(walls, {-1, 2, -1}, {2, 0, 0}, {0, 0, 2});   // ceiling, down
+    append_quad(walls, {-1, 0, -1}, {2, 0, 0}, {0, 2, 0});   // back, +Z
+    append_quad(walls, {-1, 0, 1}, {0, 0, -2}, {0, 2, 0});   // left, +X
+    append_quad(walls, {1, 0, -1}, {0, 0, 2}, {0, 2, 0});    // right, -X
+    add_mesh(scene, "room", std::move(walls));
+    Primitive light;
+    light.material = 1;
+    append_quad(light, {-0.25f, 1.98f, -0.25f}, {0.5f, 0, 0}, {0, 0, 0.5f});  // facing down
+    add_mesh(scene, "lamp", std::move(light));
+    add_camera(scene, {0, 1, 4.5f}, {0, 1, 0}, 0.9f);
+    scene.update_world_transforms();
+    return scene;
+}
+
+// A "sofa" of boxes with no floor, lit only by a directional light from behind and above (as
+// the camera sees it), no environment.
+Scene model_lit_from(glm::vec3 light_direction) {
+    Scene scene;
+    scene.source = "test:sofa";
+    scene.materials.push_back(lambert_material("fabric", glm::vec3(0.5f, 0.3f, 0.25f)));
+    Primitive sofa;
+    sofa.material = 0;
+    append_box(sofa, {-1.0f, 0.0f, -0.4f}, {1.0f, 0.45f, 0.4f});   // seat
+    append_box(sofa, {-1.0f, 0.45f, -0.4f}, {1.0f, 1.0f, -0.2f});  // back
+    append_box(sofa, {-1.0f, 0.45f, -0.2f}, {-0.8f, 0.7f, 0.4f});  // arms
+    append_box(sofa, {0.8f, 0.45f, -0.2f}, {1.0f, 0.7f, 0.4f});
+    add_mesh(scene, "sofa", std::move(sofa));
+    add_sun(scene, light_direction, 3.0f);
+    add_camera(scene, {0.3f, 1.2f, 3.0f}, {0, 0.5f, 0});
+    scene.update_world_transforms();
+    return scene;
+}
+
+double luminance_mean(const ImageF& img) {
+    double s = 0.0;
+    for (int y = 0; y < img.height; ++y)
+        for (int x = 0; x < img.width; ++x) {
+            const float* p = img.at(x, y);
+            s += 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2];
+        }
+    return s / (static_cast<double>(img.width) * img.height);
+}
+
+class ViewLightTest : public test::ReferenceTest {
+protected:
+    ViewLight measure(const Scene& scene, float aspect) {
+        GpuScene gpu(scene);
+        return measure_view_light(lib_, scene, gpu, scene.select_camera("", aspect), aspect);
+    }
+    IndirectEstimate estimate(const Scene& scene, float aspect) {
+        GpuScene gpu(scene);
+        return estimate_indirect(lib_, scene, gpu, scene.select_camera("", aspect), aspect);
+    }
+    bool gi_planned(const Scene& scene, int w, int h) {
+        GpuScene gpu(scene);
+        Renderer renderer(lib_, scene, gpu, RenderSettings{});
+        renderer.set_view(scene.select_camera("", static_cast<float>(w) / static_cast<float>(h)), w, h);
+        const EffectDecision& gi = renderer.features().decision("gi");
+        std::printf("gi: %s\n", gi.reason.c_str());
+        return gi.planned;
+    }
+};
+
+TEST_P(ViewLightTest, EmitterLitRoomSeenFromOutsideHasItsBounce) {
+    const Scene scene = open_room_lit_by_an_emitter();
+    for (const float aspect : {1.5f, 1.0f}) {
+        SCOPED_TRACE(aspect);
+        const ViewLight v = measure(scene, aspect);
+        std::printf("aspect %.2f: %s\n", aspect, v.text().c_str());
+        // The case the brightness rule got wrong: more than half of the pixels have no direct
+        // light (background, and the ceiling lit only by the bounce), so their median was 0.
+        EXPECT_GT(v.background_share, 0.2);
+        EXPECT_GT(v.emitter_share, 0.0);
+        EXPECT_LT(v.emitter_share, 0.05);
+        EXPECT_GT(1.0 - static_cast<double>(v.lit_pixels) / (v.width * v.height), 0.5);
+        EXPECT_GT(v.lit_pixels, 100);
+        const IndirectEstimate e = estimate(scene, aspect);
+        EXPECT_TRUE(e.trusted);
+        // The tracer's measured share of indirect light on the seen surfaces: path (every bounce)
+        // minus direct, both without what the camera sees directly, over path.
+        rt::Options o;
+        o.mode = rt::Mode::path;
+        o.spp = 64;
+        o.camera_sees_emission = false;
+        const int w = static_cast<int>(std::lround(48 * aspect)), h = 48;
+        const double all = luminance_mean(traced(scene, w, h, o).image);
+        o.mode = rt::Mode::direct;
+        const double direct = luminance_mean(traced(scene, w, h, o).image);
+        const double measured = (all - direct) / all;
+        std::printf("estimate %.3f +- %.3f, measured indirect share %.3f\n", e.fraction, e.fraction_se, measured);
+        // White walls of albedo 0.8 in a room: a large share, far from 0, and the estimate (one
+        // bounce extrapolated as a geometric series) within 0.15 of the measured share.
+        EXPECT_GT(measured, 0.3);
+        EXPECT_NEAR(e.fraction, measured, 0.15);
+    }
+    EXPECT_TRUE(gi_planned(scene, 96, 64));
+}
+
+TEST_P(ViewLightTest, LightsThatMissTheViewAddTheDefaultSky) {
+    // Light from behind and above the sofa, as the camera looks at its front.
+    Scene behind = model_lit_from({0.0f, -0.4f, 1.0f});
+    LightingChoice choice = apply_lighting(behind, LightingMode::auto_select, behind.select_camera("", 1.0f));
+    EXPECT_TRUE(choice.check_view);
+    EXPECT_FALSE(behind.environment.present());
+    const ViewLight v = measure(behind, 1.0f);
+    std::printf("lit from behind: %s\n", v.text().c_str());
+    EXPECT_GT(v.unlit_share, kMostlyUnlit);
+    complete_lighting(behind, choice, lib_, behind.select_camera("", 1.0f), 1.0f);
+    std::printf("%s\n", choice.reason.c_str());
+    EXPECT_TRUE(choice.environment_added);
+    EXPECT_TRUE(behind.environment.present());
+    EXPECT_EQ(behind.lights.size(), 1u) << "the sky only: never the key light";
+    EXPECT_NE(choice.reason.find("unlit"), std::string::npos);
+    EXPECT_NE(choice.reason.find("default sky"), std::string::npos);
+    // The image is no longer nearly black.
+    const ImageF lit = raster(behind, 64, 64, RenderSettings{});
+    EXPECT_GT(luminance_mean(lit), 0.05);
+
+    // --lighting file: exactly the file's light, never measured.
+    Scene exact = model_lit_from({0.0f, -0.4f, 1.0f});
+    LightingChoice file = apply_lighting(exact, LightingMode::file, exact.select_camera("", 1.0f));
+    EXPECT_FALSE(file.check_view);
+    complete_lighting(exact, file, lib_, exact.select_camera("", 1.0f), 1.0f);
+    EXPECT_FALSE(exact.environment.present());
+}
+
+TEST_P(ViewLightTest, LitViewsStayAsTheFileHasThem) {
+    Scene front = model_lit_from({0.3f, -0.6f, -1.0f});
+    LightingChoice choice = apply_lighting(front, LightingMode::auto_select, front.select_camera("", 1.0f));
+    complete_lighting(front, choice, lib_, front.select_camera("", 1.0f), 1.0f);
+    std::printf("lit from the front: %s\n", choice.reason.c_str());
+    EXPECT_FALSE(choice.environment_added);
+    EXPECT_FALSE(front.environment.present());
+    for (const char* name : {"cornell_box", "cornell_point", "shadow_test"}) {
+        SCOPED_TRACE(name);
+        Scene room = load_gltf(fs::path(CANDELA_SOURCE_DIR) / "samples" / "scenes" / (std::string(name) + ".gltf"));
+        LightingChoice c = apply_lighting(room, LightingMode::auto_select, room.select_camera("", 1.0f));
+        const bool had_environment = room.environment.present();
+        complete_lighting(room, c, lib_, room.select_camera("", 1.0f), 1.0f);
+        std::printf("%s: %s\n", name, c.reason.c_str());
+        EXPECT_FALSE(c.environment_added);
+        EXPECT_EQ(room.environment.present(), had_environment);
+    }
+    Scene open = open_room_lit_by_an_emitter();
+    LightingChoice c = apply_lighting(open, LightingMode::auto_select, open.select_camera("", 1.5f));
+    complete_lighting(open, c, lib_, open.select_camera("", 1.5f), 1.5f);
+    EXPECT_FALSE(c.environment_added) << c.reason;
+}
+
+TEST_P(ViewLightTest, TooFewLitPixelsRunTheProbes) {
+    // The sofa lit from the front, 60 m away: a few pixels of the estimate's image.
+    Scene far = model_lit_from({0.3f, -0.6f, -1.0f});
+    far.cameras[0].world = glm::inverse(glm::lookAt(glm::vec3(0.3f, 1.2f, 60.0f), glm::vec3(0, 0.5f, 0), glm::vec3(0, 1, 0)));
+    const IndirectEstimate e = estimate(far, 1.0f);
+    std::printf("far: %s\n", e.text().c_str());
+    EXPECT_LT(e.lit_pixels, kMinLitPixels);
+    EXPECT_FALSE(e.trusted);
+    EXPECT_TRUE(gi_planned(far, 64, 64));
+    // Near, the same model is measured and its small bounce (no floor) leaves the probes off.
+    const Scene near = model_lit_from({0.3f, -0.6f, -1.0f});
+    const IndirectEstimate n = estimate(near, 1.0f);
+    std::printf("near: %s\n", n.text().c_str());
+    EXPECT_TRUE(n.trusted);
+    EXPECT_LT(n.fraction, 0.15);
+    EXPECT_FALSE(gi_planned(near, 64, 64));
+}
+
+INSTANTIATE_TEST_SUITE_P(Backends, ViewLightTest, ::testing::Values(Backend::egl, Backend::osmesa), test::backend_name);
+
+}  // namespace
+}  // namespace candela
