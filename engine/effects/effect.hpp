@@ -7,6 +7,7 @@
 // effect by name.
 #include <any>
 #include <memory>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -75,6 +76,9 @@ public:
     virtual std::vector<Knob> knobs() const = 0;
     // The prefixes of its knob names: name() unless the effect keeps older names ("probe.*").
     virtual std::vector<std::string> knob_groups() const { return {name()}; }
+    // After a list of --set assignments (apply_knobs): a knob given alone may imply another of
+    // this effect's (aa.samples=4 alone turns aa.mode to msaa). `given`: the knob names set.
+    virtual void complete_knobs(RenderSettings& /*s*/, const std::set<std::string>& /*given*/) const {}
 
     // Whether the scene calls for the effect, and so whether it runs. `f` already holds the
     // decisions of the effects before this one in the registry (an effect may depend on them).

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <functional>
 #include <map>
+#include <set>
 
 #include <nlohmann/json.hpp>
 
@@ -123,6 +124,14 @@ void apply_effects(RenderSettings& s, const std::string& list) {
                 s.set_on(n, true);
                 found = true;
             }
+        if (!found)
+            if (const Effect* e = find_effect(name); e && !e->switchable())
+            {
+                std::string groups;
+                for (const std::string& g : e->knob_groups()) groups += (groups.empty() ? "" : ", ") + g + ".*";
+                throw bad_input("--effects: '" + name + "' is not switched with --effects: it runs whenever the scene or its knobs call "
+                                "for it (candela info lists it under 'planned by the scene or their knobs'; its knobs: " + groups + ")");
+            }
         if (!found) {
             std::string known;
             for (const auto& n : effect_names()) known += (known.empty() ? "" : ", ") + n;
@@ -145,6 +154,15 @@ void apply_knob(RenderSettings& s, const std::string& assignment) {
     std::string known;
     for (const Knob& k : knobs()) known += "\n  " + k.info.name + " (" + k.info.type + " " + k.info.range + ")";
     throw bad_input("--set: unknown knob '" + name + "'; knobs are:" + known);
+}
+
+void apply_knobs(RenderSettings& s, const std::vector<std::string>& assignments) {
+    std::set<std::string> given;
+    for (const std::string& a : assignments) {
+        apply_knob(s, a);
+        given.insert(a.substr(0, a.find('=')));
+    }
+    for (const Effect* e : effect_registry()) e->complete_knobs(s, given);
 }
 
 const std::vector<KnobInfo>& knob_infos() {

@@ -111,6 +111,8 @@ const std::vector<std::string>& effect_names();
 void apply_effects(RenderSettings& settings, const std::string& list);
 // Sets "effect.knob=value"; throws bad_input naming the knob and its range/choices on error.
 void apply_knob(RenderSettings& settings, const std::string& assignment);
+// The --set list of a command, in order, then what the given knobs imply (Effect::complete_knobs).
+void apply_knobs(RenderSettings& settings, const std::vector<std::string>& assignments);
 
 // Every knob: the base rows (render/) then each registered effect's, in registry order.
 const std::vector<Knob>& knobs();

@@ -282,7 +282,7 @@ void measure_errors(Row& row, const ImageF& img, const Reference& ref, Buffer bu
 RenderSettings variant_settings(const AccuracySweep& s, const AccuracySweep::Variant& v) {
     RenderSettings rs;
     apply_effects(rs, v.effects);
-    for (const auto& k : v.knobs) apply_knob(rs, k);
+    apply_knobs(rs, v.knobs);
     if (s.buffer == Buffer::visibility) rs.debug.view = DebugView::visibility, rs.debug.light = 0;
     if (s.buffer == Buffer::ao) rs.debug.view = DebugView::ao;
     if (s.buffer == Buffer::indirect) rs.debug.view = DebugView::indirect;

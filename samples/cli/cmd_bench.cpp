@@ -198,7 +198,7 @@ int bench_frame(const Args& args) {
         const size_t space = variants[v].find(" --path ");
         apply_effects(options[v].settings, variants[v].substr(0, space));
         if (space != std::string::npos) apply_knob(options[v].settings, "render.path=" + variants[v].substr(space + 8));
-        for (const std::string& knob : p.all("--set")) apply_knob(options[v].settings, knob);
+        apply_knobs(options[v].settings, p.all("--set"));
         loops.push_back(std::make_unique<FrameLoop>(s.scene, shaders, options[v]));
     }
     for (auto& loop : loops) loop->warmup(s.options.warmup);

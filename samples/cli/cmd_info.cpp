@@ -9,6 +9,7 @@
 #include "effects/aa/aa.hpp"
 #include "effects/gi/estimate.hpp"
 #include "effects/gi/gi.hpp"
+#include "effects/registry.hpp"
 #include "platform/context.hpp"
 #include "render/features.hpp"
 #include "render/gpu_scene.hpp"
@@ -30,7 +31,7 @@ int cmd_info(const Args& args) {
     RenderSettings settings;
     if (p.has("--effects")) apply_effects(settings, p.get("--effects"));
     if (p.has("--path")) apply_knob(settings, "render.path=" + p.get("--path"));
-    for (const std::string& knob : p.all("--set")) apply_knob(settings, knob);
+    apply_knobs(settings, p.all("--set"));
     Scene scene = load_scene(p.positional[0], p.flags.count("--strict") > 0);
     const std::string camera_choice = p.has("--camera") ? p.get("--camera") : "";
     // The render's size (its aspect frames the camera the planner measures from): as render's.
@@ -126,9 +127,15 @@ int cmd_info(const Args& args) {
     std::printf("scene features:\n");
     for (const Feature* feat : features.scene.all())
         std::printf("  %-22s %-4s %s\n", (feat->name + ":").c_str(), feat->needed ? "yes" : "no", feat->reason.c_str());
-    std::printf("effects:\n");
-    for (const EffectDecision* d : features.effects())
-        std::printf("  %-22s %s\n", (d->name + ":").c_str(), d->reason.c_str());
+    // Under "effects" exactly the names --effects switches; the others are planned by the scene
+    // (area lights: emitters are lights) or by their own knobs (aa.mode).
+    for (const bool switchable : {true, false}) {
+        std::printf(switchable ? "effects (--effects):\n" : "planned by the scene or their knobs (not in --effects):\n");
+        for (const EffectDecision* d : features.effects()) {
+            const Effect* e = find_effect(d->name);
+            if ((e && e->switchable()) == switchable) std::printf("  %-22s %s\n", (d->name + ":").c_str(), d->reason.c_str());
+        }
+    }
     std::printf("planned passes:\n");
     for (const PlannedPass& pass : plan_passes(features, settings))
         std::printf("  %-22s %s\n", pass.name.c_str(), pass.why.c_str());

@@ -210,6 +210,7 @@ int run_render(const Args& args, BatchSession* batch) {
         return check_gl_errors(s);
     }
     const StillResult result = render_still(s.scene, shaders, s.options);
+    warn_idle_knobs(p, result.features);
     const std::size_t bad = count_nonfinite(result.radiance);
     if (bad) log::warn(out + ": " + std::to_string(bad) + " non-finite values in the rendered radiance (written as 0 in .png)");
     t0 = std::chrono::steady_clock::now();

@@ -11,6 +11,8 @@
 #include "core/error.hpp"
 #include "core/log.hpp"
 #include "gl/debug.hpp"
+#include "effects/registry.hpp"
+#include "render/features.hpp"
 #include "render/settings.hpp"
 #include "render/view_lighting.hpp"
 #include "scene/generate.hpp"
@@ -314,7 +316,7 @@ SceneSetup setup_scene(const Parsed& p, const std::string& scene_path, int defau
             throw bad_input("--output-buffer '" + b + "' must be radiance, visibility (of light --set debug.light=K), ao or indirect");
         s.options.settings.debug.view = b == "radiance" ? DebugView::none : *parse_choice(kDebugViews, b);
     }
-    for (const std::string& knob : p.all("--set")) apply_knob(s.options.settings, knob);
+    apply_knobs(s.options.settings, p.all("--set"));
     s.options.verify_state = p.flags.count("--verify-state") > 0;
     s.backend = backend_option(p, true);
     // CANDELA_DEBUG_GL=1 does the same as --debug-gl; the test suite sets it for every command.
@@ -364,6 +366,18 @@ void finish_lighting(SceneSetup& s, const ShaderLibrary& shaders) {
     complete_lighting(s.scene, s.lighting, shaders, s.scene.select_camera(s.options.camera, aspect), aspect);
     if (s.lighting.environment_added) log::warn("lighting: " + s.lighting.reason);
     else log::info("lighting: " + s.lighting.reason);
+}
+
+void warn_idle_knobs(const Parsed& p, const Features& features) {
+    for (const std::string& assignment : p.all("--set")) {
+        const std::string name = assignment.substr(0, assignment.find('='));
+        for (const Effect* e : effect_registry())
+            for (const std::string& group : e->knob_groups())
+                if (name.rfind(group + ".", 0) == 0) {
+                    const EffectDecision& d = features.decision(e->name());
+                    if (!d.planned) log::warn("--set " + assignment + " has no effect: " + e->name() + " is " + d.reason);
+                }
+    }
 }
 
 bool mip_worker_wanted() {

@@ -83,6 +83,9 @@ ContextResult open_context(const SceneSetup& s);
 // view and may add the default environment (render/view_lighting.hpp). Before the scene is
 // uploaded or traced.
 void finish_lighting(SceneSetup& s, const ShaderLibrary& shaders);
+// Says on stderr which of p's --set knobs belong to an effect the planner did not run (switched
+// off, not called for by the scene, or waiting on another knob): such a knob changes nothing.
+void warn_idle_knobs(const Parsed& p, const Features& features);
 // Whether render makes texture mipmaps on a worker context (GlWorker): yes unless the
 // environment sets CANDELA_MIP_WORKER=0 (a switch for comparing; the images are the same).
 bool mip_worker_wanted();

@@ -464,7 +464,7 @@ void Viewer::run_script(int frame) {
             else {
                 RenderSettings s = settings_;
                 if (c.verb == "effects") apply_effects(s, c.args[0]);
-                else if (c.verb == "set") apply_knob(s, c.args[0]);
+                else if (c.verb == "set") apply_knobs(s, {c.args[0]});
                 else if (c.verb == "path") apply_knob(s, "render.path=" + c.args[0]);
                 apply_settings(s);
             }

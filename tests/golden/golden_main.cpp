@@ -89,7 +89,7 @@ int run_job(GoldenJob& job, const ShaderLibrary& shaders, ProgramCache* programs
     std::string name = job.golden.stem().string() + "." + to_string(job.backend);
     try {
         StillOptions& options = job.options;
-        for (const std::string& knob : job.knobs) apply_knob(options.settings, knob);
+        apply_knobs(options.settings, job.knobs);
         name = job_name(job);
         Scene scene = load_gltf(job.scene_path);
         if (!job.animation.empty()) {

@@ -7,6 +7,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/error.hpp"
+#include "effects/aa/aa.hpp"
 #include "effects/registry.hpp"
 #include "gl_fixture.hpp"
 #include "render/features.hpp"
@@ -16,6 +18,44 @@
 
 namespace candela {
 namespace {
+
+// Every effect `info` names is either an --effects switch or refused with a message saying how
+// it is planned instead (never "unknown effect"); a knob that asks for an effect's work turns it on.
+TEST(EffectRegistry, EveryEffectNameIsASwitchOrSaysWhyNot) {
+    for (const Effect* e : effect_registry()) {
+        RenderSettings s;
+        if (e->switchable()) {
+            EXPECT_NO_THROW(apply_effects(s, e->name())) << e->name();
+            EXPECT_TRUE(s.on(e->name()));
+            continue;
+        }
+        try {
+            apply_effects(s, e->name());
+            ADD_FAILURE() << e->name() << " was accepted but switches nothing";
+        } catch (const Error& err) {
+            EXPECT_EQ(err.code(), ExitCode::bad_input);
+            EXPECT_NE(std::string(err.what()).find("is not switched with --effects"), std::string::npos) << err.what();
+            EXPECT_EQ(std::string(err.what()).find("unknown effect"), std::string::npos) << err.what();
+        }
+    }
+}
+
+TEST(EffectRegistry, AskingForSamplesTurnsMultisamplingOn) {
+    RenderSettings s;
+    EXPECT_EQ(s.get<AaOptions>().mode, AaMode::off);
+    apply_knobs(s, {"aa.samples=4"});
+    EXPECT_EQ(s.get<AaOptions>().mode, AaMode::msaa);
+    EXPECT_EQ(static_cast<int>(s.get<AaOptions>().samples), 4);
+    // Given with aa.mode, the mode says: in either order.
+    for (const auto& list : {std::vector<std::string>{"aa.samples=4", "aa.mode=off"}, std::vector<std::string>{"aa.mode=off", "aa.samples=8"}}) {
+        RenderSettings t;
+        apply_knobs(t, list);
+        EXPECT_EQ(t.get<AaOptions>().mode, AaMode::off);
+    }
+    RenderSettings one;
+    apply_knobs(one, {"aa.samples=1"});
+    EXPECT_EQ(one.get<AaOptions>().mode, AaMode::off);
+}
 
 TEST(EffectRegistry, NamesKnobsAndProgramsBelongToTheirEffect) {
     std::set<std::string> names, programs;

@@ -109,10 +109,16 @@ public:
             .choice("mode", &AaOptions::mode, kAaModes,
                     "anti-aliasing: msaa multisamples (forward: every sample covered, shaded once; deferred: edge pixels shaded per sample)")
             .choice("samples", &AaOptions::samples, kAaSampleCounts,
-                    "samples per pixel; counts the device cannot multisample are made of sub-frames (projection shifted per sub-frame)")
+                    "samples per pixel (given alone, more than 1 sets aa.mode=msaa); counts the device cannot multisample are made "
+                    "of sub-frames (projection shifted per sub-frame)")
             .boolean("alpha_to_coverage", &AaOptions::alpha_to_coverage,
                      "forward with msaa: MASK materials cover samples in proportion to their alpha near the cutoff")
             .rows;
+    }
+    // Asking for samples is asking for multisampling, unless aa.mode is given too.
+    void complete_knobs(RenderSettings& s, const std::set<std::string>& given) const override {
+        if (given.count("aa.samples") && !given.count("aa.mode") && static_cast<int>(s.get<AaOptions>().samples) > 1)
+            s.get<AaOptions>().mode = AaMode::msaa;
     }
     EffectDecision decide(const Features& f, const RenderSettings& s) const override {
         const AaOptions& o = s.get<AaOptions>();
