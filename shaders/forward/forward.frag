@@ -39,15 +39,15 @@ void main() {
 #endif
     g_alpha_to_coverage = u_alpha_to_coverage != 0;
     Surface s = fragment_surface();
-    vec3 v = normalize(frame.camera_pos.xyz - v_world_pos);
+    vec3 v = normalize(frame.camera_pos.xyz - s.p);
     vec2 pixel = gl_FragCoord.xy;
 #ifndef FORWARD_NO_DEBUG
     if (frame.debug.x == 3) {
-        out_radiance = vec4(rsm_indirect(s.brdf, pixel, v_world_pos) + shade_gi(s.brdf, v_world_pos, s.n, v, s.occlusion, 0.0), 1.0);
+        out_radiance = vec4(rsm_indirect(s.brdf, pixel, s.p) + shade_gi(s.brdf, s.p, s.n, v, s.occlusion, 0.0), 1.0);
         return;
     }
     if (frame.debug.x != 0) {
-        float value = frame.debug.x == 1 ? light_visibility(v_world_pos, s.n, pixel) : ssao_at(pixel);
+        float value = frame.debug.x == 1 ? light_visibility(s.p, s.n, pixel) : ssao_at(pixel);
         out_radiance = vec4(vec3(value), 1.0);
         return;
     }
@@ -60,16 +60,16 @@ void main() {
 #else
     float transmission = reflections.refraction != 0 ? s.transmission : 0.0;
 #endif
-    for (int i = 0; i < shaded_light_count(); ++i) color += shade_light(i, s.brdf, v_world_pos, s.n, v, pixel, transmission);
+    for (int i = 0; i < shaded_light_count(); ++i) color += shade_light(i, s.brdf, s.p, s.n, v, pixel, transmission);
 #ifndef FORWARD_NO_AREA_LIGHTS
-    color += shade_area_lights(s.brdf, v_world_pos, s.n, v, pixel, transmission);
+    color += shade_area_lights(s.brdf, s.p, s.n, v, pixel, transmission);
 #endif
-    color += shade_ambient(s.brdf, v_world_pos, s.n, v, s.occlusion * ssao_at(pixel), transmission, s.thin);
+    color += shade_ambient(s.brdf, s.p, s.n, v, s.occlusion * ssao_at(pixel), transmission, s.thin);
 #ifndef FORWARD_NO_RSM
-    color += rsm_indirect(s.brdf, pixel, v_world_pos);
+    color += rsm_indirect(s.brdf, pixel, s.p);
 #endif
 #ifndef FORWARD_NO_GI
-    color += shade_gi(s.brdf, v_world_pos, s.n, v, s.occlusion, transmission);
+    color += shade_gi(s.brdf, s.p, s.n, v, s.occlusion, transmission);
 #endif
     float alpha = s.alpha_mode == 2 || (s.alpha_mode == 1 && g_alpha_to_coverage) ? s.alpha : 1.0;
     out_radiance = PEELING ? vec4(color * alpha, alpha) : vec4(color, alpha);

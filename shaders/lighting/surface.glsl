@@ -23,9 +23,20 @@ layout(location = 3) centroid in vec4 v_slot_uv01;  // xy base colour, zw metall
 layout(location = 5) centroid in vec4 v_slot_uv23;  // xy normal, zw occlusion
 layout(location = 6) centroid in vec2 v_slot_uv4;  // emissive
 layout(location = 7) flat in int v_material_bits;  // bits 0-4: slot textured, bit 5: alpha MASK
+// 1 from every vertex (lighting/material_uv.glsl), interpolated like the position. With
+// multisampling, Mesa's llvmpipe (22.3) computes a perspective-correct centroid input as value / w
+// interpolated at the centroid times w at the pixel centre: where the centre lies outside the
+// triangle every such input is scaled by w_centre / w_centroid, and the world position leaves the
+// surface by |p| (w_centre / w_centroid - 1), millimetres a few metres from the origin; a light a
+// few centimetres away then finds the receiver behind its own surface in the shadow map (or a
+// 1 / r^2 far off). This 1 is scaled by the same factor, so the position divided by it is the
+// position at the centroid, on the surface, on any driver. The normal and tangent are only
+// directions; texture coordinates and colour keep the factor, which is close to 1.
+layout(location = 8) centroid in float v_one;
 
 struct Surface {
     BrdfInput brdf;
+    vec3 p;          // world position: the receiver of lights and shadows (v_one above)
     vec3 n;          // shading normal (normal-mapped, facing the viewer's side)
     float occlusion;
     vec3 emission;
@@ -111,8 +122,9 @@ Surface fragment_surface() {
     s.transmission = m.params2.y;
     s.thin = m.volume.x <= 0.0;
 
+    s.p = v_world_pos / v_one;
     // Shading normals facing away from the viewer are bent back to the horizon.
-    vec3 v = normalize(frame.camera_pos.xyz - v_world_pos);
+    vec3 v = normalize(frame.camera_pos.xyz - s.p);
     float nv = dot(n, v);
     if (nv < 1e-4) n = normalize(n + v * (1e-4 - nv));
     s.n = n;
