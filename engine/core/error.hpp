@@ -1,6 +1,6 @@
 #pragma once
 // Errors that reach the user. Thrown only at load and setup time (never in the frame loop);
-// each carries the exit code of shared/DESIGN.md section 4 so the CLI can report it.
+// each carries the exit code of docs/cli.md ("Exit codes") so the CLI can report it.
 #include <stdexcept>
 #include <string>
 

@@ -1,5 +1,5 @@
 #pragma once
-// An effect module (shared/DESIGN.md section 1, docs/effects.md): one folder holding the
+// An effect module (docs/design.md, docs/adding-an-effect.md): one folder holding the
 // effect's options and knob rows, its planning (on/off with the reason, the passes it adds), its
 // passes, programs and persistent GPU resources, its uniform block (a header shared by C++ and
 // GLSL) and its accuracy sweep. The registry (effects/registry.cpp) lists them; the renderer,

@@ -1,6 +1,6 @@
 #pragma once
 // KHR_debug output: GL errors are logged with their message and counted, so a test can fail on
-// any GL error (shared/DESIGN.md section 5).
+// any GL error (docs/testing.md).
 namespace candela::gl {
 
 void enable_debug_output();

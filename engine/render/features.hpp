@@ -1,6 +1,6 @@
 #pragma once
 // analyze(scene, settings): which effects this scene calls for, and which passes therefore run
-// (shared/DESIGN.md section 2). An effect that is switched on but not needed is not planned, and
+// (docs/design.md, "The frame graph"). An effect that is switched on but not needed is not planned, and
 // the reason says why, for `candela info` and the stats.
 #include <string>
 #include <string_view>
@@ -51,7 +51,7 @@ struct Features {
     // the camera's own); aperture 0 is a pinhole. The renderer re-plans when it changes.
     float lens_aperture = 0.0f;
     float lens_focus_distance = 0.0f;
-    // Motion during the shutter (issue 21): the draws that move while camera.shutter is open and
+    // Motion during the shutter: the draws that move while camera.shutter is open and
     // whose bounds (at open or close) meet the camera's view; the renderer counts them from
     // GpuScene's motion (set_motion) and re-plans when the count turns zero or non-zero.
     int moving_draws = 0;

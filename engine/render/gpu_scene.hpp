@@ -162,7 +162,7 @@ public:
     const std::array<glm::vec3, 9>& environment_sh() const { return env_sh_; }
     std::size_t triangle_count() const { return triangles_; }
 
-    // Animation (issue 21). After apply_pose() on the scene: re-uploads the deformable primitives'
+    // Animation. After apply_pose() on the scene: re-uploads the deformable primitives'
     // vertices and updates every draw's model and normal matrix, mirroring and world bounds.
     // Returns whether anything changed (the renderer re-captures probes then).
     bool update_pose();

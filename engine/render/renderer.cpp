@@ -121,7 +121,7 @@ void Renderer::render(const Camera& view_camera, int width, int height, FrameOut
     // (a changed aperture or focus alone does not: the passes read them every frame).
     set_view(view_camera, width, height);
     const Camera camera = with_lens(view_camera, settings_);
-    // Animation (issue 21): a new pose moves the bounds (shadow fitting, auto focus), the lights
+    // Animation: a new pose moves the bounds (shadow fitting, auto focus), the lights
     // and what the probes captured; they re-capture. Motion in view during the shutter plans
     // the motion blur; the renderer re-plans when that turns on or off.
     bool pose_replan = false;

@@ -65,7 +65,7 @@ struct RenderSettings {
     } forward;
     struct Deferred {
         // Light count from which `--path auto` renders deferred. Measured with
-        // `candela bench frame generated:lights:N --path forward|deferred` (README, issue 5 note).
+        // `candela bench frame generated:lights:N --path forward|deferred` (docs/cli.md, render paths).
         int auto_lights = 8;  // [1, 100000]
     } deferred;
     struct Debug {
@@ -93,7 +93,7 @@ struct RenderSettings {
     struct Lens {
         float aperture = -1.0f;        // [-1, 1e9] lens radius in scene units; 0: pinhole
         float focus_distance = -1.0f;  // [-1, 1e9] distance in focus along the view axis; 0: auto
-        // Motion blur (issue 21): the shutter stays open this fraction of a frame, centred on the
+        // Motion blur: the shutter stays open this fraction of a frame, centred on the
         // frame's time (animation.hpp shutter_interval); 0: off. fps sets the frame length.
         float shutter = 0.0f;  // [0, 1]
         float fps = 30.0f;     // [1, 1000] frames per second (render --fps sets it too)
@@ -105,7 +105,7 @@ struct Camera;
 // the camera's own).
 Camera with_lens(Camera camera, const RenderSettings& settings);
 
-// The effect names of `--effects` (shared/DESIGN.md section 4).
+// The effect names of `--effects` (docs/cli.md).
 const std::vector<std::string>& effect_names();
 // Parses "all", "none" or a comma list; throws candela::Error (bad_input) naming an unknown effect.
 void apply_effects(RenderSettings& settings, const std::string& list);

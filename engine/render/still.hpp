@@ -23,7 +23,7 @@ struct StillOptions {
     bool verify_state = false;
     FrameOutput output = FrameOutput::hdr;  // display: also run the GPU tonemap pass
     float exposure_ev = 0.0f;
-    // Animation (issue 21): the scene is already posed at `time` of `animation` (-1: none); with
+    // Animation: the scene is already posed at `time` of `animation` (-1: none); with
     // settings.camera.shutter > 0 the loop adds the motion over the shutter (raster motion blur).
     int animation = -1;
     float time = 0.0f;

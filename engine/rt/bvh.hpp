@@ -1,5 +1,5 @@
 #pragma once
-// CPU bounding volume hierarchy for the compute-shader ray tracer (shared/DESIGN.md section 1, rt/).
+// CPU bounding volume hierarchy for the compute-shader ray tracer (docs/design.md, rt/).
 // The builder sees only primitive boxes: triangles and analytic spheres are alike to it. The node
 // array is uploaded to the GPU unchanged, so its layout is part of the contract with shaders/rt.
 #include <cstdint>
@@ -104,7 +104,7 @@ Bvh build_bvh_binned_sah(const std::vector<Aabb>& prims, const BvhOptions& optio
 // evaluates every split position, O(n log^2 n). Same tree rules and layout as the binned builder.
 Bvh build_bvh_sweep_sah(const std::vector<Aabb>& prims, const BvhOptions& options = {});
 
-// Refit (issue 21, posed geometry): keeps the tree's topology (nodes, prim_indices) and recomputes
+// Refit (posed geometry): keeps the tree's topology (nodes, prim_indices) and recomputes
 // every node's box bottom-up from `prims`, one box per primitive index as at the build (the same
 // count; throws std::invalid_argument otherwise). Primitives whose box is now empty or non-finite
 // widen nothing (a ray never reaches them through their box). stats.sah_cost is recomputed with

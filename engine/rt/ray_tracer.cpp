@@ -141,7 +141,7 @@ void RayTracer::set_max_depth(int depth) {
 }
 
 void RayTracer::select_program(Mode mode) {
-    // Unbiased by default (issue 20): path has no depth cap, only Russian roulette; an explicit
+    // Unbiased by default (a reference must not be dark): path has no depth cap, only Russian roulette; an explicit
     // max_depth is a truncation the caller asked for.
     int depth = requested_max_depth_;
     if (depth < 0) depth = mode == Mode::whitted ? 5 : mode == Mode::direct ? 1 : kUnboundedDepth;
@@ -196,7 +196,7 @@ void RayTracer::set_shard(int shard, int count) {
     options_.shard_count = count;
 }
 
-// --- motion blur (issue 21) ---------------------------------------------------------------
+// --- motion blur ------------------------------------------------------------------------
 
 int RayTracer::slice_count() const {
     if (!options_.pose_at) return 0;

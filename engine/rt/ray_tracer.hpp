@@ -74,7 +74,7 @@ struct Options {
     // same whatever the grouping. With --time-limit the tracer takes fewer near the limit.
     int samples_per_dispatch = 16;
     bool traversal_stats = false;  // count BVH nodes and primitives per ray (slower; benchmarks)
-    // Motion blur (issue 21). With `pose_at` set, the shutter is open: before each time slice the
+    // Motion blur. With `pose_at` set, the shutter is open: before each time slice the
     // tracer calls pose_at(u) with the slice's time u in [0, 1) within the shutter (stratified and
     // jittered from the seed and the slice index only, so shards merge to the single run); the
     // callback poses the Scene this tracer was made with (the caller owns it, e.g.

@@ -56,7 +56,7 @@ RtGeometry build_rt_geometry(const Scene& scene, int default_material, const Bvh
 void rebuild_rt_geometry(RtGeometry& geometry, const Scene& scene, int default_material, const BvhOptions& options = {});
 
 // The scene's (posed) geometry again with `geometry`'s BVH topology, its boxes refit bottom-up
-// (refit_bvh): for posed scenes (issue 21), whose triangles move but keep their count and order.
+// (refit_bvh): for posed scenes (animation), whose triangles move but keep their count and order.
 // Returns the refit's ms (the BVH part; the triangles are rebuilt in full), or -1 with `geometry`
 // unchanged when the triangle or sphere count differs (build again then).
 double refit_rt_geometry(RtGeometry& geometry, const Scene& scene, int default_material, const BvhOptions& options = {});

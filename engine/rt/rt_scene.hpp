@@ -6,7 +6,7 @@
 
 namespace candela::rt {
 
-// How RtScene::update replaces the geometry of a posed scene (issue 21):
+// How RtScene::update replaces the geometry of a posed scene (animation):
 // - rebuild: a new binned-SAH BVH over the posed triangles;
 // - refit: the current BVH's topology with its boxes recomputed bottom-up (refit_bvh), cheaper
 //   to build and as fast to trace while the triangles stay near where the tree was built (the

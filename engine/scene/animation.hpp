@@ -1,5 +1,5 @@
 #pragma once
-// Posing a Scene at a time (issue 21): glTF node animation (translation, rotation, scale, morph
+// Posing a Scene at a time: glTF node animation (translation, rotation, scale, morph
 // weights; LINEAR with slerp for rotations, STEP, CUBICSPLINE), then morph targets and skins.
 //
 // Everything downstream (GpuScene, the ray tracer's geometry, bounds, culling) reads the posed

@@ -1,6 +1,6 @@
 #pragma once
-// What a scene calls for (shared/DESIGN.md section 2). The frame-graph issue plans passes from
-// this; for now `candela info` prints it.
+// What a scene calls for (docs/design.md, "The frame graph"). The planner (render/features.hpp)
+// keeps it in Features::scene and the effects decide from it; `candela info` prints it.
 #include <string>
 #include <vector>
 

@@ -1,4 +1,4 @@
-// generated:dof, the depth-of-field scene (issue 22): an in-focus subject, a near and a far
+// generated:dof, the depth-of-field scene: an in-focus subject, a near and a far
 // out-of-focus object, a checkered floor and back wall, one directional light and a thin-lens
 // camera focused on the subject. Every object is made of two materials in a checker or in bands,
 // so that blurred edges are high-contrast everywhere on screen.

@@ -1,4 +1,4 @@
-// generated:edges (issue 22): the anti-aliasing scene. Thin and high-contrast edges against the
+// generated:edges: the anti-aliasing scene. Thin and high-contrast edges against the
 // tracer's box-filtered pixels: a slanted checkerboard, wires thinner than a pixel, a MASK fence
 // (an alpha-tested texture: alpha to coverage) and the silhouettes of a tilted box, over a white
 // wall, lit by one point light at the camera (Lambert; every shadow hides behind its caster), so

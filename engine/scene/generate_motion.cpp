@@ -1,4 +1,4 @@
-// generated:motion, the motion-blur scene (issue 21): a glTF-style animation (LINEAR samplers)
+// generated:motion, the motion-blur scene: a glTF-style animation (LINEAR samplers)
 // moves two boxes in view over a checkered floor and back wall, lit by one directional light.
 // - "slider": a red and cream banded box that translates along x from -12 to +12 over the
 //   animation's one second (24 units/s: at 30 fps with camera.shutter=1 it moves 0.8 units, about

@@ -1,4 +1,4 @@
-// generated:skinned:N — a skinned tube of about N triangles bending back and forth (issue 21):
+// generated:skinned:N — a skinned tube of about N triangles bending back and forth:
 // the animation cost benchmark (skinning, GPU upload, BVH rebuild or refit, raster) at any size,
 // e.g. generated:skinned:1000000.
 #include <algorithm>

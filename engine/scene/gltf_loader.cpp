@@ -594,7 +594,7 @@ Mesh Loader::build_mesh(size_t mi, Scene& scene) {
             fail(path + ".material", "material " + std::to_string(p.material) + " does not exist (the file has " +
                                          std::to_string(m_.materials.size()) + ")");
         prim.material = p.material;
-        // Deformation data (issue 21), per vertex like the attributes above; what the node it is
+        // Deformation data (skins, morph targets), per vertex like the attributes above; what the node it is
         // drawn by does not use (joints without a skin) is dropped in build_deformation.
         read_skin_attributes(p, path, prim);
         read_morph_targets(p, path, prim);
@@ -1190,7 +1190,7 @@ Scene Loader::build() {
         const std::string cpath = idx("cameras", static_cast<size_t>(node.camera));
         if (cam.orthographic && !(cam.znear >= 0.0f)) fail(cpath + ".orthographic.znear", "must not be negative");
         if (cam.zfar != 0.0f && !(cam.zfar > cam.znear)) fail(cpath + (cam.orthographic ? ".orthographic" : ".perspective") + ".zfar", "must be greater than znear");
-        // The thin lens (issue 22): extras.aperture is the lens radius, extras.focus_distance the
+        // The thin lens (depth of field): extras.aperture is the lens radius, extras.focus_distance the
         // distance in focus along the view axis, both in scene units (0 or absent: a pinhole;
         // auto focus, focus_distance_or_auto).
         auto lens_number = [&](const char* key) {

@@ -2030,7 +2030,7 @@ std::vector<IgnoredFeature> ignored_features(const nlohmann::json& doc) {
         return it != doc.end() && it->is_array() && !it->empty() ? &*it : nullptr;
     };
     auto counted = [](size_t n, const char* one, const char* many) { return std::to_string(n) + " " + (n == 1 ? one : many); };
-    // Skins, animations and POSITION/NORMAL/TANGENT morph targets are implemented (issue 21);
+    // Skins, animations and POSITION/NORMAL/TANGENT morph targets are implemented;
     // morph targets of texture coordinates or colours are not.
     if (const json* meshes = collection("meshes")) {
         size_t n = 0;

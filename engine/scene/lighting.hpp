@@ -1,5 +1,5 @@
 #pragma once
-// Which light a scene is rendered with (shared/DESIGN.md section 3, "Lighting"). A glTF file
+// Which light a scene is rendered with (docs/design.md, "Lighting"). A glTF file
 // with no punctual light, no emissive material and no environment would render black; such a
 // file is lit by Candela's default rig instead, the same for the raster path, every ray-tracer
 // mode and the viewer, because the rig is added to the Scene itself before anything reads it.

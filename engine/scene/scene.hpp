@@ -1,5 +1,5 @@
 #pragma once
-// The Scene: what a glTF file describes, in engine terms (shared/DESIGN.md section 3).
+// The Scene: what a glTF file describes, in engine terms (docs/design.md, "Scene conventions").
 // Plain data; the loader fills it, the renderer and the ray tracer read it.
 #include <array>
 #include <cstdint>
@@ -107,7 +107,7 @@ struct Primitive {
     std::vector<std::uint32_t> indices;  // always indexed (non-indexed input gets 0..n-1)
     int material = -1;                   // -1: the default material
     Bounds bounds;                       // mesh space, of `vertices`
-    // Deformation (issue 21), empty for rigid primitives:
+    // Deformation (skins, morph targets), empty for rigid primitives:
     // - rest: the vertices as the file gives them, before morphing and skinning; `vertices` is
     //   then the pose that pose_scene() computed from them (in the node's own space).
     // - joints/weights: `influence_sets` sets of 4 influences per vertex (JOINTS_n/WEIGHTS_n, n <
@@ -186,7 +186,7 @@ struct Camera {
     float xmag = 1.0f, ymag = 1.0f;
     int node = -1;  // the node that places it; -1 for the computed framing camera
     glm::mat4 world{1.0f};  // camera-to-world
-    // Thin lens (depth of field, issue 22): `aperture` is the lens RADIUS in scene units (0: a
+    // Thin lens (depth of field): `aperture` is the lens RADIUS in scene units (0: a
     // pinhole, everything sharp); `focus_distance` the distance along the view axis that is in
     // focus, in scene units (0: not given; see with_lens in render/settings.hpp). From the glTF
     // camera's extras ("aperture", "focus_distance") or `--set camera.aperture=... `.
@@ -313,7 +313,7 @@ struct Scene {
 Camera framing_camera(const Bounds& bounds);
 glm::mat4 projection_matrix(const Camera& camera, float image_aspect);  // reversed-Z, [0,1] depth
 
-// Depth of field (issue 22), shared by the tracer and the raster approximation so both focus at
+// Depth of field, shared by the tracer and the raster approximation so both focus at
 // the same distance:
 // - has_thin_lens: aperture > 0 on a perspective camera. Orthographic cameras have no depth of
 //   field: their aperture is ignored (the loader and the tracer warn), they stay pinhole-sharp.

@@ -1,5 +1,5 @@
 #pragma once
-// Anti-aliasing (engine/effects/aa/, issue 22): multisampling on both render paths.
+// Anti-aliasing (engine/effects/aa/): multisampling on both render paths.
 //   forward:  the colour and depth targets are multisampled; each fragment is shaded once and
 //             covers the samples it hits (MASK materials write alpha to coverage).
 //   deferred: the G-buffer is multisampled; the lighting pass shades once per pixel where all its

@@ -59,7 +59,7 @@ public:
             pose_version_ = s.gpu.pose_version();
             reset_ = true;
         } else if (pose_version_ != s.gpu.pose_version()) {
-            // Animation (issue 21): the probes trace the posed geometry; they start over.
+            // Animation: the probes trace the posed geometry; they start over.
             rt_scene_->update(s.scene, rt::RtUpdate::rebuild);
             pose_version_ = s.gpu.pose_version();
             reset_ = true;

@@ -1,5 +1,5 @@
 #pragma once
-// Raster motion blur (engine/effects/motion_blur/, issue 21): the approximation of the tracer's
+// Raster motion blur (engine/effects/motion_blur/): the approximation of the tracer's
 // exact motion blur (camera.shutter; the tracer poses the scene at random times in the shutter).
 // After everything is drawn (Stage::post, after the anti-aliasing resolve and before depth of
 // field), a velocity pass redraws the scene's geometry with its positions at shutter open and

@@ -1,5 +1,5 @@
 #pragma once
-// Where reflection probes go (shared/DESIGN.md: the env_probe pass). Declared probes are the
+// Where reflection probes go (the env_probe pass). Declared probes are the
 // nodes with `extras.reflection_probe`; without any (or with probe.placement=auto), one probe at
 // the centre of each reflective object's bounds, with no box: an infinitely distant lookup that
 // covers the object's bounding sphere.

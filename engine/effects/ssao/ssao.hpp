@@ -12,7 +12,7 @@ inline constexpr ChoiceName<SsaoResolution> kSsaoResolutions[] = {{"full", SsaoR
 struct SsaoOptions {
     int samples = 16;  // [1, 256] directions per pixel
     int steps = 4;     // [1, 32] steps marched along each direction
-    // half: a quarter of the cost for +0.002 RMSE (issue 6 note)
+    // half: a quarter of the cost for +0.002 RMSE (the SSAO accuracy sweep)
     SsaoResolution resolution = SsaoResolution::half;
     int blur = 4;         // [0, 16] bilateral blur radius in AO pixels (0: no blur passes)
     float bias = 0.02f;   // [0, 0.5] start offset and depth tolerance, fraction of ao.radius
