@@ -1,4 +1,4 @@
-// `candela batch JOBS`: many `render` jobs in one process (issue 23). Each job is a list of
+// `candela batch JOBS`: many `render` jobs in one process (start-up and compiles paid once). Each job is a list of
 // `render` arguments, parsed and run by the same code as `candela render` (run_render), so a
 // job's image equals `candela render` with the same arguments; the jobs share one GL context and
 // the programs compiled in it (render_job.hpp). A job that fails (bad input, or an internal

@@ -226,7 +226,7 @@ int bench_frame(const Args& args) {
     return check_gl_errors(s);
 }
 
-// `candela bench animation SCENE...`: what animation costs per frame (issue 21): posing on the CPU
+// `candela bench animation SCENE...`: what animation costs per frame: posing on the CPU
 // (evaluate: channels, world matrices, morphing and skinning; apply: into the scene), the upload of
 // the posed vertices, one raster frame at the new pose, and the tracer's geometry update by a full
 // BVH rebuild and by a refit. Medians over --poses poses spread over the animation (--animation, else 0).

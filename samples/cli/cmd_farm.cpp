@@ -1,5 +1,5 @@
 // `candela farm`: the tracer's work that outgrows one machine (converged references, accuracy
-// sweeps) as independent tasks for a batch scheduler (issue 25). Candela does not schedule: it
+// sweeps) as independent tasks for a batch scheduler. Candela does not schedule: it
 // writes a farm directory that Slurm (sbatch array + a dependent finishing job), GNU parallel,
 // Kubernetes indexed jobs or HTCondor run, one command line per task index.
 //

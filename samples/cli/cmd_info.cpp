@@ -71,7 +71,7 @@ int cmd_info(const Args& args) {
     else
         std::printf("bounds: min (%.4g, %.4g, %.4g)  max (%.4g, %.4g, %.4g)\n", b.min.x, b.min.y, b.min.z, b.max.x,
                     b.max.y, b.max.z);
-    // Animation (issue 21): what posing changes, and each animation with its duration.
+    // Animation: what posing changes, and each animation with its duration.
     {
         size_t skinned = 0, morphed = 0;
         for (const Mesh& m : scene.meshes)

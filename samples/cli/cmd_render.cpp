@@ -55,7 +55,7 @@ int raytrace(const Parsed& p, SceneSetup& s, const fs::path& out_path, float exp
     const RtJitter jitter = s.options.settings.rt.jitter;
     o.jitter = jitter == RtJitter::automatic ? -1 : jitter == RtJitter::on ? 1 : 0;
     o.progress = true;
-    // Motion blur (issue 21): each time slice poses the scene at its time in the shutter.
+    // Motion blur: each time slice poses the scene at its time in the shutter.
     const ShutterInterval shutter = shutter_interval(s.options.time, s.options.settings.camera.shutter, s.options.settings.camera.fps);
     if (s.options.animation >= 0 && !shutter.instant()) {
         const int animation = s.options.animation;
@@ -140,7 +140,7 @@ int run_render(const Args& args, BatchSession* batch) {
         if (access(dir.c_str(), W_OK) != 0) throw bad_input(out + ": cannot write: " + dir.string() + " is not writable");
     }
     SceneSetup s = setup_scene(p, p.positional[0], 512, 512);
-    // Sequences (issue 21): --time A:B --fps F writes frames at A, A + 1/F, ... <= B to a path with
+    // Sequences: --time A:B --fps F writes frames at A, A + 1/F, ... <= B to a path with
     // one printf integer conversion (out_%04d.png: the frame index from 0).
     if (p.has("--fps")) s.options.settings.camera.fps = parse_float("--fps", p.get("--fps"), 1.0f, 1000.0f);
     const float fps = s.options.settings.camera.fps;

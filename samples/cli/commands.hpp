@@ -1,7 +1,7 @@
 #pragma once
 // The `candela` command's subcommands, one file each (cmd_render.cpp, cmd_info.cpp, ...; the
 // shared option parser and scene set-up are in options.hpp). Each returns the process exit code
-// (shared/DESIGN.md section 4: 0 ok, 1 internal error, 2 bad input, 3 no usable OpenGL;
+// (docs/cli.md: 0 ok, 1 internal error, 2 bad input, 3 no usable OpenGL;
 // 4: `compare --check` found images beyond tolerance).
 #include <string>
 #include <vector>

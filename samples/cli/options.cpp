@@ -324,7 +324,7 @@ SceneSetup setup_scene(const Parsed& p, const std::string& scene_path, int defau
     s.debug = p.flags.count("--debug-gl") > 0 || (debug_env && std::string(debug_env) == "1");
     const auto t0 = std::chrono::steady_clock::now();
     s.scene = load_scene(scene_path, p.flags.count("--strict") > 0);
-    // Animation (issue 21): --animation N|NAME and --time T pose the scene (render also takes
+    // Animation: --animation N|NAME and --time T pose the scene (render also takes
     // --time A:B, a sequence: the scene is posed at A here). --time alone plays animation 0;
     // --animation alone poses at time 0; neither: the rest pose (skins and morph weights applied).
     if (p.has("--time")) {

@@ -1,5 +1,5 @@
 #pragma once
-// `candela batch` (issue 23): many `render` jobs in one process. What the jobs share: one GL
+// `candela batch`: many `render` jobs in one process. What the jobs share: one GL
 // context and, per shader directory, one ShaderLibrary and the programs compiled from it (built
 // once, reused by every job's renderer; llvmpipe compiles a program's code at its first draw).
 // Everything else (scene, GPU scene, renderer, textures) is made and freed per job.

@@ -1,7 +1,7 @@
 #pragma once
 // What a `render --spp-shard K/N` output is a shard of, written into its .exr header as tags
 // (ImageF::tags), and the checks built on them: `candela merge` refuses shards of different
-// renders, and `candela farm` skips a shard whose output is already complete (issue 25).
+// renders, and `candela farm` skips a shard whose output is already complete (resumable farms).
 //
 // Tags: candela:shard "K/N" (a merge: the shard indices it holds, "0,1,3/4"), candela:scene (the
 // file name as given), candela:scene_hash (FNV-1a 64 of the scene file's bytes: the same scene

@@ -11,7 +11,7 @@ buffer per scene, plus fence.png for the transparency scene):
   transparency.gltf   alpha-BLEND panes (overlapping and interpenetrating) + alpha-MASK fence
   reflections.gltf    small room with a mirror sphere, a glass sphere and a glossy floor
 
-Conventions (see DESIGN.md section 3): right-handed, +Y up, meters, linear RGB; light
+Conventions (see docs/design.md, "Scene conventions"): right-handed, +Y up, meters, linear RGB; light
 intensities are radiometric (point/spot W/sr, directional W/m^2); constant environment radiance
 goes in scenes[0].extras.environment_radiance; the spheres of reflections.gltf carry extras.reflection_probe; sphere nodes carry extras.sphere.radius (world
 radius, the node has no scale) so a ray tracer can intersect the exact sphere.

@@ -60,7 +60,7 @@ inline EffectStatus effect_status(bool switch_on, const EffectDecision& d) {
     return s;
 }
 
-// GI probes in the viewer (issue 24): a still converges them before its frame (gi.budget 0);
+// GI probes in the viewer: a still converges them before its frame (gi.budget 0);
 // the viewer spreads their updates over frames so that the first frame and every frame after a
 // change stay interactive. 16384 rays per frame is 256 probes of 64 rays (the default; 128 of 128):
 // whole 64-probe batches of the GI pass, so the updates happen in the same batches as in a still

@@ -1,5 +1,5 @@
 #pragma once
-// The viewer's animation clock (issue 21): which animation plays, where its time is, and whether
+// The viewer's animation clock: which animation plays, where its time is, and whether
 // the scene must be posed again this frame. Pure logic (no GL), so the unit tests drive it
 // (tests/viewer/test_playback.cpp); viewer.cpp poses the scene when needs_pose() says so.
 //

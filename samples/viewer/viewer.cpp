@@ -168,7 +168,7 @@ private:
     }
     void run_script(int frame);
     void handle_input(float dt);
-    // Animation (issue 21): poses the scene when the animation, its time or the shutter changed
+    // Animation: poses the scene when the animation, its time or the shutter changed
     // since the last pose (paused: no work), then the GPU copy and the shutter's motion.
     void update_pose();
     // The reference tracer's Options::pose_at: the scene at time u in [0, 1) of the shutter.

@@ -4,7 +4,7 @@
 // --set), the planned and culled passes with their reasons, per-pass GPU times and counters,
 // and shader errors. Shaders under --shader-dir reload when saved. GI probes update over frames
 // (gi.budget rays per frame, kViewerGiBudget unless --set gives it) and the panel says how far.
-// Animated scenes (issue 21) play their first animation, looping; the panel's Animation section
+// Animated scenes play their first animation, looping; the panel's Animation section
 // chooses the animation, plays, pauses, scrubs and sets the speed (viewer/playback.hpp).
 #include <filesystem>
 #include <string>

@@ -42,7 +42,7 @@ float power_heuristic(float a, float b) {
 // A shading normal ns (interpolated, or from a normal map) differs from the geometric normal ng,
 // so the BRDF evaluated about ns sends part of its light to directions below the geometric
 // surface: a mirror reflection about ns can point into the object. Tracing those rays, or
-// dropping them, gave the black rings on normal-mapped metal (issue 17). Here the BRDF the tracer
+// dropping them, gave the black rings on normal-mapped metal. Here the BRDF the tracer
 // integrates is folded at the geometric tangent plane: for l above it,
 //     f_fold(v, l) cos = f(v, l) (ns.l) + f(v, M l) (ns.M l),   M l = l - 2 (ng.l) ng,
 // i.e. the light the ns-BRDF would reflect below the surface leaves at its mirror image about

@@ -10,7 +10,7 @@
 // scene lacks: RT_NO_TEXTURES (no material has a texture), RT_NO_SPHERES (no sphere primitives).
 // llvmpipe runs both sides of a branch for its 8 SIMD lanes, masked, so code a scene never
 // takes still costs every bounce unless it is compiled out: without the texture reads the
-// Cornell box's path program runs 1.3x faster (issue 23).
+// Cornell box's path program runs 1.3x faster.
 #ifdef RT_STATS
 // Lane utilisation: one lane per subgroup counts each traversal step (see scene.glsl).
 #extension GL_ARB_gpu_shader_int64 : enable

@@ -13,7 +13,7 @@ vec3 shadow_visibility(Ray ray, float tmax) { return opaque_visibility(ray, tmax
 // Unidirectional path tracing with next-event estimation (punctual lights always, emissive
 // triangles with MIS against BRDF sampling), Russian roulette after three bounces.
 //
-// Scheduling (issue 23): each invocation traces its pixel's dispatch_samples() samples one after
+// Scheduling (llvmpipe's SIMD lanes stay busy): each invocation traces its pixel's dispatch_samples() samples one after
 // the other, one bounce per iteration of one loop, and starts its next sample as soon as a path
 // ends. llvmpipe runs 8 invocations in the SIMD lanes of a thread, and a lane whose path the
 // roulette ended early used to idle until the longest path of its 8 was done; here it starts its
