@@ -1,4 +1,4 @@
-// The tracer's posed geometry (issue 21): BVH rebuild against refit, on the Khronos Fox (1.7k
+// The tracer's posed geometry: BVH rebuild against refit, on the Khronos Fox (1.7k
 // triangles, skinned, "Walk") and on a generated ~1M-triangle skinned tube bent by two bones.
 //
 //   build/bin/bench_rt_motion [--size WxH] [--spp N] [--repeats N] [--triangles N] [--fox PATH]

@@ -1,4 +1,4 @@
-# The peer of `candela render SCENE --raytrace path --spp N --size WxH` (issue 23): Blender Cycles,
+# The peer of `candela render SCENE --raytrace path --spp N --size WxH`: Blender Cycles,
 # CPU, the same glTF scene, camera, sample count and size, no denoiser, a box pixel filter (what
 # the tracer averages) and no bounce cap but Russian roulette (Candela's path default), to PNG.
 #

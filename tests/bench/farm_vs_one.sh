@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# What the scheduler costs (issue 25): a path-traced reference split into shards through a
+# What the scheduler costs: a path-traced reference split into shards through a
 # single-node Slurm cluster on localhost (tests/cluster/slurm_cluster.sh) against one process of
 # the same seed and spp, with the merged image checked against the single one.
 #   tests/bench/farm_vs_one.sh CANDELA [SCENE] [SPP] [WxH] [SHARDS]

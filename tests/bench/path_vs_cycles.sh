@@ -1,9 +1,9 @@
 #!/bin/sh
 # Whole-process time of `candela render --raytrace path` against Blender Cycles (CPU) on the same
-# scene, sample count and size (issue 23), alternating in one run; prints each run and the medians.
+# scene, sample count and size, alternating in one run; prints each run and the medians.
 #   tests/bench/path_vs_cycles.sh [ROUNDS] [SPP] [WxH] [SCENE] [NAME=ENV:SHADER_DIR ...]
 # Extra candela variants: NAME=ENV:DIR runs `env ENV candela ... --shader-dir DIR` (e.g. the
-# schedule before issue 23: "before=CANDELA_RT_SAMPLES_PER_DISPATCH=1:../old/shaders", a checkout of an earlier commit beside this one).
+# one-sample-per-dispatch schedule: "before=CANDELA_RT_SAMPLES_PER_DISPATCH=1:../old/shaders", a checkout of an earlier commit beside this one).
 # Needs blender (Debian's 3.4: apt-get install blender python3-numpy) and build/bin/candela.
 set -eu
 cd "$(dirname "$0")/../.."

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Issue 25's integration test: `candela farm` on a real single-node Slurm cluster.
+# The farm's integration test: `candela farm` on a real single-node Slurm cluster.
 #
 #   slurm_farm_test.sh CANDELA SCENE WORKDIR
 #

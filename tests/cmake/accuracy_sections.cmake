@@ -1,4 +1,4 @@
-# Issue 25: `bench accuracy` run one section per process (as cluster array tasks) and assembled
+# Accuracy sweeps on a cluster: `bench accuracy` run one section per process (as cluster array tasks) and assembled
 # gives the results.csv of the run in one process, and the same plots and strips. Also: assembly
 # with a section missing fails (exit 1) naming its directory and label and writes nothing; a
 # section run again on a complete directory skips it.

@@ -1,4 +1,4 @@
-# `candela batch` (issue 23): six jobs in one process, two of them bad (a missing scene, an
+# `candela batch`: six jobs in one process, two of them bad (a missing scene, an
 # unknown knob). The bad ones are reported with their index and the batch goes on (exit 2); every
 # GL object a job made is freed after it; each good job's image is pixel-identical to `candela
 # render` with the same arguments (a raster .png on the deferred path, a .exr with peeling, a

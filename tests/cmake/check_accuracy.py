@@ -51,12 +51,12 @@ def aa_key(v):
     return (int(m.group(2)), m.group(1) + m.group(3).replace(" (aa off)", "")) if m else (0, v)
 
 monotone("ssao", samples_key)
-# Anti-aliasing (issue 22): the edge error falls with the sample count on each path.
+# Anti-aliasing: the edge error falls with the sample count on each path.
 monotone("aa", aa_key)
 monotone("rsm", samples_key)
 monotone("ray_tracer", samples_key)
 
-# Indirect light in a closed room (issue 24): the probes (every bounce) beat one-bounce RSM, which
+# Indirect light in a closed room: the probes (every bounce) beat one-bounce RSM, which
 # beats no indirect light; one bounce of the probes is worse than all of them.
 gi = {r["variant"]: f(r, "rmse") for r in rows if r["effect"] == "gi"}
 order = ["probes 8 rays 64", "rsm one bounce", "no indirect"]
@@ -69,7 +69,7 @@ if all(v in gi for v in order):
 else:
     problems.append(f"gi: missing variants (have {sorted(gi)})")
 
-# Depth of field (issue 22): the shipped gather is closer to the traced thin lens than the pinhole image.
+# Depth of field: the shipped gather is closer to the traced thin lens than the pinhole image.
 dof = {r["variant"]: f(r, "rmse") for r in rows if r["effect"] == "dof"}
 if "32 samples" in dof and "pinhole (no DOF)" in dof:
     if not dof["32 samples"] < dof["pinhole (no DOF)"]:
@@ -77,7 +77,7 @@ if "32 samples" in dof and "pinhole (no DOF)" in dof:
 else:
     problems.append(f"dof: missing variants (have {sorted(dof)})")
 
-# Motion blur (issue 21): the shipped reconstruction is closer to the tracer's exact motion blur
+# Motion blur: the shipped reconstruction is closer to the tracer's exact motion blur
 # than the sharp frame at the shutter's centre.
 mb = {r["variant"]: f(r, "rmse") for r in rows if r["effect"] == "motion_blur"}
 if "15 samples" in mb and "no motion blur" in mb:

@@ -1,4 +1,4 @@
-# `candela compare --batches` on real renders (issue 20): three sets of 4 `--spp-shard K/4`
+# `candela compare --batches` on real renders: three sets of 4 `--spp-shard K/4`
 # batches of a scene at 64x64, 8 spp each: a and b differ only in --seed, d is biased dark
 # (--max-depth 2 instead of the default). a vs b (and b vs a's saved mean with its standard
 # error) must pass; a vs d must show a clearly positive z of the mean.

@@ -1,4 +1,4 @@
-# Issue 25: `candela farm reference` without a scheduler (the plain mode that GNU parallel,
+# References on a cluster: `candela farm reference` without a scheduler (the plain mode that GNU parallel,
 # Kubernetes indexed jobs and HTCondor use): the scripts it writes, tasks run by index in any
 # order, the merge equal to one process, idempotent reruns, and the refusals.
 #   cmake -DCANDELA=... -DSCENE=cornell_box.gltf -DOUT=... -P farm_plain.cmake

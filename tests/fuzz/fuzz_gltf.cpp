@@ -37,7 +37,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
             std::fprintf(stderr, "fuzz_gltf: the loaded scene breaks a promise: %s\n", broken.c_str());
             std::abort();
         }
-        // Posing (issue 21) reads what the loader built: each animation at its start, middle and
+        // Posing reads what the loader built: each animation at its start, middle and
         // end must not read out of bounds (the sanitizers watch; extreme keyframes may overflow).
         for (std::size_t a = 0; a < scene.animations.size() && a < 4; ++a) {
             const Animation& anim = scene.animations[a];

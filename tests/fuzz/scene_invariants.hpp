@@ -21,7 +21,7 @@ inline bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfin
 inline bool finite(const glm::vec4& v) { return finite(glm::vec3(v)) && std::isfinite(v.w); }
 inline bool finite(const glm::mat4& m) { return finite(m[0]) && finite(m[1]) && finite(m[2]) && finite(m[3]); }
 
-// Skins, morph targets and animations (issue 21): what posing and sampling rely on.
+// Skins, morph targets and animations: what posing and sampling rely on.
 inline std::string deformation_violation(const Scene& scene) {
     const auto in = [](int i, std::size_t n) { return i >= 0 && static_cast<std::size_t>(i) < n; };
     for (std::size_t k = 0; k < scene.skins.size(); ++k) {

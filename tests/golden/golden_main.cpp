@@ -3,13 +3,13 @@
 //                  [--path forward|deferred|auto] [--set KNOB=V] [--animation N|NAME --time T]
 //                  [--orbit DEGREES]
 //   candela_golden --jobs FILE   (one golden per line: the arguments above, '#' comments)
-// --animation/--time pose the scene (issue 21); --orbit turns the framing camera about the bounds'
+// --animation/--time pose the scene; --orbit turns the framing camera about the bounds'
 // vertical axis (a side view of an animated model).
 // Renders with GL debug output on; fails on any GL error, any non-finite pixel, or more than
-// 0.1 % of pixels differing by more than 2/255 from the golden (shared/DESIGN.md section 5).
+// 0.1 % of pixels differing by more than 2/255 from the golden (docs/testing.md).
 // On failure the actual image and a heat-map diff are written to OUT_DIR and their paths printed.
 // --update (used only by the `update-goldens` target) overwrites the golden instead.
-// --jobs (issue 23, the ctest golden suites): every line's golden in one process, one GL context
+// --jobs (the ctest golden suites): every line's golden in one process, one GL context
 // and one set of compiled programs (llvmpipe compiles a program's code at its first draw: about
 // half of a one-golden process); all lines name the same backend. Each golden is reported by
 // name ("ok NAME" or "FAIL NAME: why"); exit 1 if any failed, 2 for a bad jobs file.

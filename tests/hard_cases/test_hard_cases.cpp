@@ -1,4 +1,4 @@
-// Hard cases that must stay numerically stable (shared/DESIGN.md's second promise): the same
+// Hard cases that must stay numerically stable (an image must not depend on units or placement): the same
 // scene at very different scales and far from the origin, depth precision at a distance,
 // watertight meshes seen from inside, light and view at grazing angles, degenerate input data and
 // materials at their limits.

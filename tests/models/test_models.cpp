@@ -1,4 +1,4 @@
-// Real content (issue 17): the public glTF models in tests/data/models, rendered as a new user
+// Real content: the public glTF models in tests/data/models, rendered as a new user
 // renders them (default options, default lighting), and the sample scenes.
 // - Raster against the path tracer, per model: the raster's image must agree with the tracer's in
 //   brightness and, pixel by pixel after a 4x4 box filter (which takes out most of the tracer's
@@ -61,7 +61,7 @@ Scene load_as_user(const fs::path& file, int w, int h) {
 
 // Bounds of the raster-vs-tracer agreement. The raster lacks multiple bounces and shadows the
 // sky only by SSAO, so it is not expected to match; these bounds sit above the measured values
-// of every model (the note of issue 17 lists them) and far below what a black, unlit or speckled
+// of every model (measured as below) and far below what a black, unlit or speckled
 // image gives.
 constexpr double kMinMeanRatio = 0.85, kMaxMeanRatio = 1.15;
 constexpr double kMinTracerDisplay = 0.3;  // the model is lit: not a black image
@@ -70,8 +70,8 @@ struct Bound {
     double mean_abs, p99_abs;
 };
 // Display-value differences: the default, and the models whose raster differs more for known
-// reasons, each about 1.5x its measured value. Measured at 128x128, 16 spp (issue 17 note): most
-// models 0.001-0.008 mean / 0.02-0.13 p99. Before the fixes of issue 17, FlightHelmet's texture
+// reasons, each about 1.5x its measured value. Measured at 128x128, 16 spp: most
+// models 0.001-0.008 mean / 0.02-0.13 p99. Before the texture and shading-normal fixes, FlightHelmet's texture
 // speckle measured 0.0147 / 0.185 and NormalTangentMirrorTest's black rings 0.0183 / 0.233:
 // both fail the default bound.
 constexpr Bound kDefaultBound{"", 0.010, 0.15};

@@ -1,5 +1,5 @@
 #pragma once
-// The tracer's box-filtered pixels as a statistical reference (anti-aliasing tests, issue 22):
+// The tracer's box-filtered pixels as a statistical reference (anti-aliasing tests):
 // `batches` independent `direct` traces (seeds first_seed, first_seed + 1, ...) of `spp` jittered
 // camera rays per pixel, and per pixel the mean of channel 0 and its standard error from the
 // spread of the batch means.

@@ -1,4 +1,4 @@
-// Anti-aliasing (issue 22): the raster edge profile converges to the tracer's box-filtered pixels
+// Anti-aliasing: the raster edge profile converges to the tracer's box-filtered pixels
 // as the sample count grows, on both backends and both render paths.
 //
 // The scene is a slanted square (rotated 5 degrees about the view axis) of emission 1 on black:

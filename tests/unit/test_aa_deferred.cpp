@@ -1,4 +1,4 @@
-// Anti-aliasing on the deferred path (issue 22): a multisampled G-buffer, shaded once per pixel
+// Anti-aliasing on the deferred path: a multisampled G-buffer, shaded once per pixel
 // where the samples see one surface and once per surface (group of samples) at the edge pixels
 // only (shaders/deferred/light.comp, MULTISAMPLED).
 //

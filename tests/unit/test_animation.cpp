@@ -1,4 +1,4 @@
-// Animation, skins and morph targets (issue 21): known keyframes give known transforms at chosen
+// Animation, skins and morph targets: known keyframes give known transforms at chosen
 // times (LINEAR with slerp, STEP, CUBICSPLINE with its tangents scaled by the keyframe interval),
 // a two-bone skin bends a bar to a known shape, and raster and tracer draw the same bent bar.
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-// Area lights in the raster path (issue 19): emissive triangles shaded as polygon lights by
+// Area lights in the raster path: emissive triangles shaded as polygon lights by
 // linearly transformed cosines, judged against the ray tracer's `direct` mode (exact), and the
 // energy bound: no passive surface is brighter than the brightest emitter it reflects.
 #include <gtest/gtest.h>

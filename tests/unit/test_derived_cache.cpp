@@ -1,5 +1,5 @@
 // The derived-data cache (core/derived_cache.hpp) and the prefiltered environment cube kept in it
-// (render/environment.hpp, issue 23). The promise is that a cached cube is the computed one, bit
+// (render/environment.hpp). The promise is that a cached cube is the computed one, bit
 // for bit, and that any changed input (texels, sizes, shader sources) or a damaged entry means
 // computing it again, never a stale or broken cube.
 #include <gtest/gtest.h>

@@ -87,7 +87,7 @@ TEST(FuzzCorpus, NonArraySkinsIsBadInputNotAnInternalError) {
     // Found by the fuzzer: "skins": 0 passed tinygltf and the structure checks (a warning), and
     // the buffer-data checks then indexed it as an array: a json type_error escaped as an internal
     // error (exit 1). The data checks now look only at well-formed parts; since skins are
-    // implemented (issue 21) a non-array is an error of the structure checks, like "meshes": 0.
+    // implemented a non-array is an error of the structure checks, like "meshes": 0.
     std::string message;
     EXPECT_EQ(replay(kSource / "tests" / "fuzz" / "regressions" / "skins_not_an_array.gltf", &message), Outcome::rejected) << message;
     EXPECT_NE(message.find("skins: must be an array of objects, not number"), std::string::npos) << message;

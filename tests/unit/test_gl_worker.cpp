@@ -1,4 +1,4 @@
-// Texture mipmaps on a worker context (issue 23): platform/gl_worker.hpp, gl/mipmaps.hpp and
+// Texture mipmaps on a worker context: platform/gl_worker.hpp, gl/mipmaps.hpp and
 // GpuScene's prefetch. The promise is that the images are the same as without the worker, so
 // the tests compare bytes: drawn mipmaps against glGenerateTextureMipmap level by level, and
 // renders of textured Khronos models with and without the worker.

@@ -119,7 +119,7 @@ TEST(Loader, MissingTextureWarnsAndUsesVisibleFallback) {
     expect_fallback_base_color(scene);
 }
 
-// Bad texture files (issue 10): truncated, not an image, a header that claims 65536x65536 or
+// Bad texture files: truncated, not an image, a header that claims 65536x65536 or
 // 0x0, an unsupported format. Each is a warning naming the image and the fallback texture.
 TEST(Loader, BadTextureFilesFallBackWithAWarning) {
     const fs::path dir = test::test_dir("bad_textures");
@@ -468,7 +468,7 @@ TEST(Loader, BinaryGlbLoadsLikeGltf) {
     EXPECT_THROW(load_gltf(cut), Error);
 }
 
-// Issue 17: every glTF feature Candela ignores is named once per kind, in Scene::ignored and as
+// An honest loader: every glTF feature Candela ignores is named once per kind, in Scene::ignored and as
 // one warning naming the file and the JSON path of its first occurrence.
 const fs::path kModels = fs::path(CANDELA_SOURCE_DIR) / "tests" / "data" / "models";
 
@@ -496,7 +496,7 @@ Loaded load_capturing(const fs::path& file) {
     return out;
 }
 
-// Skins, animations and morph targets are implemented (issue 21): not among the ignored features.
+// Skins, animations and morph targets are implemented: not among the ignored features.
 TEST(Loader, SkinAndAnimationsAreNotIgnored) {
     const Loaded fox = load_capturing(kModels / "Fox" / "Fox.glb");
     EXPECT_TRUE(fox.scene.ignored.empty());

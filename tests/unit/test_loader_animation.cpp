@@ -1,4 +1,4 @@
-// Loader, issue 21: node TRS, skins (JOINTS_n/WEIGHTS_n sets, inverse bind matrices), morph
+// Loader, animation: node TRS, skins (JOINTS_n/WEIGHTS_n sets, inverse bind matrices), morph
 // targets and animations as the file gives them; the rejections (exit 2, the file and the JSON
 // path named); meshes duplicated per deformed instance; the rest pose applied at load.
 // Test data: tests/data/models (Khronos samples) and tests/data/animation (written for these

@@ -67,7 +67,7 @@ TEST_P(RsmTest, ErrorAgainstRayTracedIndirectFallsWithSamples) {
         EXPECT_LT(e, last);
         last = e;
     }
-    // Default settings: within the stated bound (README, issue 6 note).
+    // Default settings: within the bound below.
     const double e = rmse(indirect(n, n, {"debug.view=indirect"}), reference);
     std::printf("rsm defaults: rmse %.4f\n", e);
     EXPECT_LT(e, 0.09);

@@ -1,4 +1,4 @@
-// RSM for area lights (issue 24): the Cornell box lit only by its emissive ceiling quad bounces
+// RSM for area lights: the Cornell box lit only by its emissive ceiling quad bounces
 // light through the reflective shadow maps of the quad's shadowed pieces. Judged against the ray
 // tracer's `indirect` mode (exactly one diffuse bounce) at low spp:
 // - the ceiling beside the light gets no direct light (the quad emits downwards), so whatever

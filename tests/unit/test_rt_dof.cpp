@@ -1,4 +1,4 @@
-// Depth of field in the tracer (issue 22) against the thin lens's closed form.
+// Depth of field in the tracer against the thin lens's closed form.
 //
 // A thin lens of RADIUS A (Camera::aperture) focused at distance F along the view axis images a
 // plane at distance d (parallel to the lens) as its pinhole image convolved with a uniform disk,

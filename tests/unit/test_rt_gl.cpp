@@ -890,7 +890,7 @@ TEST_P(RtTest, ProgressiveStepsEqualOneRender) {
     EXPECT_EQ(tracer.progressive_image().pixels[3], 0.0f);
 }
 
-// Issue 23: a dispatch traces several samples per pixel (path mode: each lane starts its next path
+// Scheduling: a dispatch traces several samples per pixel (path mode: each lane starts its next path
 // when one ends). The grouping must not change a sample: one per dispatch, chunks that do not
 // divide the count, and a shard's strided samples give the same image.
 TEST_P(RtTest, SamplesPerDispatchDoNotChangeTheImage) {

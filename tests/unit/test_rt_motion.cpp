@@ -1,4 +1,4 @@
-// The tracer's motion blur (issue 21) against its closed form, and the BVH refit it relies on.
+// The tracer's motion blur against its closed form, and the BVH refit it relies on.
 //
 // The scene: an emissive quad (radiance 1, black albedo, black background) W = 20 units wide and
 // taller than the image, moved along +X by a glTF node animation with a LINEAR translation

@@ -1,4 +1,4 @@
-// The tracer's shading normals (issue 17): a white furnace with normal maps. A white metal sphere
+// The tracer's shading normals: a white furnace with normal maps. A white metal sphere
 // (base colour 1, metallic 1) with a strong bumpy normal map, alone in a constant environment of
 // radiance 1 with no lights, under `path`, `whitted` and the raster.
 //

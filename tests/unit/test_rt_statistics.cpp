@@ -1,4 +1,4 @@
-// The tracer judged against closed forms, statistically (issue 20). Each case renders
+// The tracer judged against closed forms, statistically (a reference must be unbiased). Each case renders
 // kBatches independent batches (the --spp-shard k/N sample sets of one render), estimates each
 // pixel's standard error from them and compares with the closed form (engine/image/batch_stats):
 // - at least kPassRate of the pixels pass |z| < kPixelZ, and

@@ -111,7 +111,7 @@ TEST_P(SsaoTest, ErrorAgainstRayTracedAoFallsWithSamples) {
         EXPECT_LT(e, last);
         last = e;
     }
-    // Default settings (16 samples, blur 4): within the stated bound (README, issue 6 note).
+    // Default settings (16 samples, blur 4): within the bound below.
     const double e = rmse(ao_buffer(scene, n, n), reference);
     std::printf("ssao defaults: rmse %.4f\n", e);
     EXPECT_LT(e, 0.045);

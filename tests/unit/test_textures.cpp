@@ -1,4 +1,4 @@
-// Raster textures on every path (issue 17): mip selection must not depend on how a surface is cut
+// Raster textures on every path: mip selection must not depend on how a surface is cut
 // into triangles, for every texture slot, texcoord set and KHR_texture_transform, and the
 // raster's texel lookups must agree with the ray tracer's.
 //
@@ -29,7 +29,7 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 
 constexpr double kPi = 3.14159265358979;
-// The golden tolerance (shared/DESIGN.md section 5): 2/255 per channel on at most 0.1 % of pixels.
+// The golden tolerance (docs/testing.md): 2/255 per channel on at most 0.1 % of pixels.
 constexpr double kTolerance = 2.0 / 255.0;
 constexpr double kMaxFailing = 0.001;
 // Raster against tracer, linear radiance of an emissive texture in [0,1]: both bilinearly filter

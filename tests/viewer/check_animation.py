@@ -1,4 +1,4 @@
-"""Screenshots of the viewer playing Fox (issue 21; tests/viewer/viewer_animation.cmake).
+"""Screenshots of the viewer playing Fox (tests/viewer/viewer_animation.cmake).
 
     check_animation.py DIR
 

@@ -1,4 +1,4 @@
-"""The viewer's panel does not hide the scene (issue 17).
+"""The viewer's panel does not hide the scene.
 
     check_window_shot.py WINDOW.png SCREENSHOT.png
 

@@ -1,4 +1,4 @@
-// The viewer's effect rows (issue 17): the checkbox is the user's switch, the status beside it is
+// The viewer's effect rows: the checkbox is the user's switch, the status beside it is
 // what the planner made of it, and the two never contradict each other. Checked over every
 // decision the planner can produce, plus the real planner on a sample scene.
 #include <gtest/gtest.h>
@@ -66,7 +66,7 @@ TEST(ViewerEffectStatus, PlannerReasonsOnTheCornellBox) {
     EXPECT_EQ(switched.detail.find("--effects"), std::string::npos) << switched.detail;
 }
 
-// Issue 24: the viewer spreads the GI probe updates over frames unless the user's --set says
+// GI in the viewer: it spreads the GI probe updates over frames unless the user's --set says
 // otherwise (0 there: converge before each frame, as a still does).
 TEST(ViewerGi, BudgetDefaultsToTheViewersUnlessSetOnTheCommandLine) {
     RenderSettings s;

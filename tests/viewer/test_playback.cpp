@@ -1,4 +1,4 @@
-// The viewer's animation clock (issue 21, samples/viewer/playback.hpp): playing advances by
+// The viewer's animation clock (samples/viewer/playback.hpp): playing advances by
 // dt * speed and wraps or stops at the end, scrubbing clamps, and the scene is posed again only
 // when the animation, its time or the shutter changed (paused: no work).
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-# The viewer plays glTF animation (issue 21): Fox under xvfb-run with tests/viewer/animation.script
+# The viewer plays glTF animation: Fox under xvfb-run with tests/viewer/animation.script
 # (walk at 0.25 s and 0.5 s, scrub back, play at 4x, pause), then `view --animation Walk --time
 # 0.5` from the command line, which must equal `candela render --animation Walk --time 0.5` (the
 # golden tolerance); check_animation.py compares the screenshots (the fox's region changes

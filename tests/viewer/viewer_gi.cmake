@@ -1,4 +1,4 @@
-# The viewer updates the GI probes over frames (issue 24): on cornell_point, whose indirect light
+# The viewer updates the GI probes over frames: on cornell_point, whose indirect light
 # plans the probes, the viewer's default gi.budget leaves frame 1 unconverged (its screenshot
 # differs from `candela render`, a still that converges before its frame), the log says
 # "converging" at frame 0 and "converged" later, and the last frame equals `candela render` at the

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Writes the small animated, skinned and morphed glTF files of tests/data/animation (issue 21),
+"""Writes the small animated, skinned and morphed glTF files of tests/data/animation,
 each with its buffer embedded as a base64 data: URI. Written for Candela's tests (no third-party
 data). The valid files are also fuzz seeds (tests/fuzz/seeds). Run from this folder; the .gltf
 files are committed, this script says how they were made.
