@@ -26,7 +26,7 @@ const std::vector<const Effect*>& effect_registry() {
         &rsm_effect(),
         &transparency_effect(),
         &aa_effect(),
-        &motion_blur_effect(),  // before dof: see docs/motion_blur.md (its velocity and depth match the sharp image)
+        &motion_blur_effect(),  // before dof: see docs/effects/motion_blur.md (its velocity and depth match the sharp image)
         &dof_effect(),
     };
     return all;

@@ -353,7 +353,7 @@ FarmFiles farm_files(const Farm& f) {
         tasks += sh_quote(exe) + " farm task " + sh_quote(dir) + " " + std::to_string(i) + " >> " + sh_quote(f.log(i).string()) + " 2>&1\n";
     out.files.emplace_back(f.dir / "tasks.txt", tasks);
     // Any scheduler with a task index: run-task.sh INDEX (GNU parallel, Kubernetes indexed jobs,
-    // HTCondor's $(Process); README "Running references on a cluster").
+    // HTCondor's $(Process); docs/farm.md).
     out.files.emplace_back(f.dir / "run-task.sh", "#!/bin/sh\n# Task INDEX of this farm (0.." + std::to_string(n - 1) +
                                                       "), its output appended to logs/task_INDEX.log.\n"
                                                       "exec " + sh_quote(exe) + " farm task " + sh_quote(dir) + " \"$1\" >> " +

@@ -28,7 +28,7 @@ inline constexpr ChoiceName<AaSamples> kAaSampleCounts[] = {
     {"1", AaSamples::x1}, {"2", AaSamples::x2}, {"4", AaSamples::x4}, {"8", AaSamples::x8}};
 
 struct AaOptions {
-    AaMode mode = AaMode::off;  // off by default: see docs/antialiasing.md (the goldens and every
+    AaMode mode = AaMode::off;  // off by default: see docs/effects/aa.md (the goldens and every
                                 // effect's accuracy sweep compare pixel-centre samples)
     AaSamples samples = AaSamples::x4;  // samples per pixel
     bool alpha_to_coverage = true;  // forward: MASK materials' coverage from their alpha

@@ -3,7 +3,7 @@
 // (Camera::aperture, Camera::focus_distance; the tracer samples the lens exactly). After
 // everything is drawn (Stage::post, after the anti-aliasing resolve), a gather blurs the HDR image
 // by each pixel's circle of confusion, sized by the same thin-lens formula as the tracer's, with
-// separate near and far fields composited in one pass (docs/dof.md). Planned only when the
+// separate near and far fields composited in one pass (docs/effects/dof.md). Planned only when the
 // camera has an aperture.
 #include "effects/effect.hpp"
 

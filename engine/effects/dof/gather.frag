@@ -1,6 +1,6 @@
 #version 450 core
 // Depth of field, pass 4: scatter-as-gather with separate near and far fields, composited into
-// the HDR target (docs/dof.md).
+// the HDR target (docs/effects/dof.md).
 //
 // Every pixel q of the sharp image spreads its radiance evenly over its blur circle (radius r_q,
 // the signed CoC of pass 1). A pixel p gathers the circles that cover it, from samples on a

@@ -6,7 +6,7 @@
 // close (GpuScene::set_motion) and a reconstruction filter after McGuire, Hennessy, Bukowski and
 // Osman 2012, "A Reconstruction Filter for Plausible Motion Blur" (TileMax, NeighborMax and a
 // gather along the dominant velocity with soft depth comparisons and cone/cylinder weights)
-// blurs the HDR image (docs/motion_blur.md). Planned only when the shutter is open and something
+// blurs the HDR image (docs/effects/motion_blur.md). Planned only when the shutter is open and something
 // in view moves during it (Features::moving_draws).
 #include "effects/effect.hpp"
 
