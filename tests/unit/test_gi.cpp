@@ -1,4 +1,4 @@
-// GI probes and their planning (issue 24), judged against the tracer's `path` (every bounce):
+// GI probes and their planning, judged against the tracer's `path` (every bounce):
 // - in the two closed sample rooms, the default raster image's mean is within 5 % of `path`, and
 //   its RMSE is lower than with one-bounce RSM alone (the numbers are printed);
 // - scenes whose indirect light is small (open scenes under a sky) plan no indirect pass;
