@@ -90,6 +90,7 @@ TEST_P(GiTest, DefaultImageMatchesPathAndBeatsOneBounceRsm) {
         {
             GpuScene gpu(scene);
             Renderer renderer(lib_, scene, gpu, RenderSettings{});
+            renderer.set_view(scene.select_camera("", 1.0f), kSize, kSize);  // the view the estimate measures
             const EffectDecision& d = renderer.features().decision("gi");
             EXPECT_TRUE(d.planned) << d.reason;
             ASSERT_TRUE(renderer.features().indirect.has_value());
@@ -124,6 +125,7 @@ TEST_P(GiTest, SmallIndirectLightPlansNoProbes) {
         const Scene scene = load_sample(name);
         GpuScene gpu(scene);
         Renderer renderer(lib_, scene, gpu, RenderSettings{});
+        renderer.set_view(scene.select_camera("", 1.0f), 32, 32);
         const EffectDecision& d = renderer.features().decision("gi");
         EXPECT_FALSE(d.planned);
         EXPECT_NE(d.reason.find("below gi.threshold"), std::string::npos) << d.reason;
