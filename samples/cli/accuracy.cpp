@@ -26,6 +26,7 @@
 #include "render/renderer.hpp"
 #include "render/still.hpp"
 #include "rt/ray_tracer.hpp"
+#include "rt/tracer_options.hpp"
 #include "scene/animation.hpp"
 #include "scene/generate.hpp"
 #include "scene/gltf_loader.hpp"
@@ -161,13 +162,12 @@ void set_sweep_motion(GpuScene& gpu, const SceneTime& t) {
 
 rt::Result trace(const Run& c, const Scene& scene, GpuScene& gpu, const AccuracySweep::Reference& r, int spp, std::uint32_t seed,
                  const RenderSettings& settings, const SceneTime* motion = nullptr) {
-    rt::Options o;
+    rt::Options o = rt::tracer_options(settings);
     if (motion && motion->moving()) {
         // The exact motion blur: each time slice of the shutter poses the scene (the tracer leaves
         // it at the shutter's centre, the sweep's time, when it is done).
         const SceneTime m = *motion;
         o.pose_at = [m](float u) { pose_scene(*m.scene, m.animation, m.shutter.open + u * (m.shutter.close - m.shutter.open)); };
-        o.shutter_slices = settings.rt.shutter_slices;
     }
     o.mode = r.mode;
     o.spp = spp;
@@ -175,9 +175,7 @@ rt::Result trace(const Run& c, const Scene& scene, GpuScene& gpu, const Accuracy
     o.jitter = r.jitter;
     o.seed = seed;
     o.indirect_occlusion = r.indirect_occlusion;
-    o.ao_radius = settings.ao.radius;
-    o.whitted_max_roughness = settings.rt.whitted_max_roughness;
-    o.visibility_light = 0;
+    o.visibility_light = 0;  // the references are radiance, whatever debug.light says
     rt::RayTracer tracer(c.shaders, scene, gpu, o);
     // The variant's lens (camera.aperture / camera.focus_distance) over the camera's own, as the
     // raster renderer applies it.

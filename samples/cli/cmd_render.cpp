@@ -13,6 +13,7 @@
 
 #include "core/error.hpp"
 #include "image/image_io.hpp"
+#include "rt/tracer_options.hpp"
 #include "core/log.hpp"
 #include "image/image.hpp"
 #include "options.hpp"
@@ -31,7 +32,10 @@ namespace {
 // --raytrace MODE: the image comes from the compute-shader ray tracer. Its options come from the
 // command line and from the rt.* knobs, debug.light (visibility mode) and the AO radius.
 int raytrace(const Parsed& p, SceneSetup& s, const fs::path& out_path, float exposure) {
-    rt::Options o;
+    rt::Options o = rt::tracer_options(s.options.settings);
+    for (const std::string& assignment : p.all("--set"))
+        if (!rt::tracer_reads_knob(assignment.substr(0, assignment.find('='))))
+            log::warn("--set " + assignment + " has no effect on --raytrace (the tracer reads rt.*, camera.*, ao.radius and debug.light)");
     const auto mode = rt::parse_mode(p.get("--raytrace"));
     if (!mode) throw bad_input("--raytrace '" + p.get("--raytrace") + "' must be whitted, path, direct, indirect, ao, primary or visibility");
     o.mode = *mode;
@@ -47,13 +51,6 @@ int raytrace(const Parsed& p, SceneSetup& s, const fs::path& out_path, float exp
         o.shard = k;
         o.shard_count = n;
     }
-    o.ao_radius = s.options.settings.ao.radius;
-    o.whitted_max_roughness = s.options.settings.rt.whitted_max_roughness;
-    o.indirect_occlusion = s.options.settings.rt.indirect_occlusion;
-    o.visibility_light = s.options.settings.debug.light;
-    o.env_importance = s.options.settings.rt.env_importance;
-    const RtJitter jitter = s.options.settings.rt.jitter;
-    o.jitter = jitter == RtJitter::automatic ? -1 : jitter == RtJitter::on ? 1 : 0;
     o.progress = true;
     // Motion blur: each time slice poses the scene at its time in the shutter.
     const ShutterInterval shutter = shutter_interval(s.options.time, s.options.settings.camera.shutter, s.options.settings.camera.fps);
@@ -61,7 +58,6 @@ int raytrace(const Parsed& p, SceneSetup& s, const fs::path& out_path, float exp
         const int animation = s.options.animation;
         Scene& scene = s.scene;
         o.pose_at = [&scene, animation, shutter](float u) { pose_scene(scene, animation, shutter.open + u * (shutter.close - shutter.open)); };
-        o.shutter_slices = s.options.settings.rt.shutter_slices;
     }
     const ShaderLibrary shaders(s.shader_dir);
     GpuScene gpu(s.scene);

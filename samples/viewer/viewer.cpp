@@ -29,6 +29,7 @@
 #include "render/renderer.hpp"
 #include "render/view_lighting.hpp"
 #include "rt/ray_tracer.hpp"
+#include "rt/tracer_options.hpp"
 #include "scene/animation.hpp"
 #include "script.hpp"
 #include "shader/program_catalog.hpp"
@@ -292,12 +293,9 @@ void Viewer::update_reference(const Camera& camera, int w, int h) {
     // then poses the scene itself per time slice (Options::pose_at) and rebuilds on restart.
     const bool motion = anim_.animation >= 0 && !shutter_.instant();
     if (!r.tracer || r.built_mode != r.mode || r.built_motion != motion) {
-        rt::Options o;
+        rt::Options o = rt::tracer_options(settings_);
         o.mode = *rt::parse_mode(Reference::kModes[r.mode]);
         o.spp = 1 << 16;
-        o.ao_radius = settings_.ao.radius;
-        o.whitted_max_roughness = settings_.rt.whitted_max_roughness;
-        o.env_importance = settings_.rt.env_importance;
         o.tile_rows = 16;
         if (motion) {
             // A time per sample (rt.shutter_slices is for `render`: with N slices over the

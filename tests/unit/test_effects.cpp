@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <set>
+#include <tuple>
 
 #include <nlohmann/json.hpp>
 
@@ -14,6 +15,7 @@
 #include "render/features.hpp"
 #include "render/gpu_scene.hpp"
 #include "render/settings.hpp"
+#include "rt/tracer_options.hpp"
 #include "shader/program_catalog.hpp"
 
 namespace candela {
@@ -148,6 +150,45 @@ TEST_P(EffectBlocks, CxxStructsMatchTheGlslBlocks) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Backends, EffectBlocks, ::testing::Values(Backend::egl), test::backend_name);
+
+}  // namespace
+}  // namespace candela
+
+namespace candela {
+namespace {
+
+// The tracer's options as a comparable tuple of what knobs can set.
+auto tracer_fields(const rt::Options& o) {
+    return std::make_tuple(o.ao_radius, o.whitted_max_roughness, o.indirect_occlusion, o.env_importance, o.visibility_light, o.jitter,
+                           o.shutter_slices);
+}
+
+// One home for the tracer's settings: every knob the tracer reads (but the camera's, which reach
+// it through the camera: with_lens, the shutter) changes what rt::tracer_options gives render,
+// the viewer, bench accuracy and the farm; no rasterizer knob does.
+TEST(TracerOptions, EveryTracerKnobReachesTheOptions) {
+    const auto base = tracer_fields(rt::tracer_options(RenderSettings{}));
+    int tracer_knobs = 0;
+    for (const Knob& k : knobs()) {
+        SCOPED_TRACE(k.info.name);
+        RenderSettings s;
+        const nlohmann::json now = k.get(s);
+        std::string other;
+        if (k.info.type == "bool") other = now.get<bool>() ? "0" : "1";
+        else if (k.info.type == "int") other = std::to_string(static_cast<long long>(now.get<double>() == k.info.hi ? k.info.lo : k.info.hi));
+        else if (k.info.type == "float") other = std::to_string(now.get<double>() == k.info.hi ? k.info.lo : k.info.hi);
+        else
+            for (const std::string& c : k.info.choices)
+                if (c != now.get<std::string>()) other = c;
+        ASSERT_FALSE(other.empty());
+        apply_knob(s, k.info.name + "=" + other);
+        const bool changed = tracer_fields(rt::tracer_options(s)) != base;
+        if (k.info.name.rfind("camera.", 0) == 0) continue;
+        EXPECT_EQ(changed, rt::tracer_reads_knob(k.info.name)) << "set to " << other;
+        tracer_knobs += changed;
+    }
+    EXPECT_GE(tracer_knobs, 7);  // rt.* (5), ao.radius, debug.light
+}
 
 }  // namespace
 }  // namespace candela
