@@ -139,9 +139,15 @@ public:
             .real("bias", &SsaoOptions::bias, 0.0f, 0.5f, "SSAO start offset and depth tolerance, as a fraction of ao.radius")
             .rows;
     }
+    // SSAO scales the ambient term (shade_ambient): the environment's light and, where reflection
+    // probes run, the surroundings they captured, which a scene without an environment still
+    // reflects (a closed room with a glass or metal object).
     EffectDecision decide(const Features& f, const RenderSettings& s) const override {
-        return decide_effect(name(), s.on(name()) || s.debug.view == DebugView::ao, f.environment,
-                             f.environment ? "ambient/environment light to occlude" : "no ambient or environment light to occlude",
+        const bool probes = f.decision("reflections").planned;
+        return decide_effect(name(), s.on(name()) || s.debug.view == DebugView::ao, f.environment || probes,
+                             f.environment ? "ambient/environment light to occlude"
+                             : probes      ? "reflection probes' light to occlude"
+                                           : "no ambient or environment light to occlude",
                              s.gating);
     }
     void plan(Stage stage, const Features& f, const RenderSettings& s, std::vector<PlannedPass>& out) const override {
