@@ -226,7 +226,10 @@ Scene make_random_scene(std::uint32_t seed) {
     enum class Room { closed, open, none };
     const float r_room = rng.uniform();
     const Room room = r_room < 0.4f ? Room::closed : r_room < 0.75f ? Room::open : Room::none;
-    const float w = rng.range(4.0f, 9.0f), d = rng.range(4.0f, 9.0f), h = rng.range(2.5f, 4.5f);
+    // Without a room the objects gather on a smaller patch, so that a camera framing them all
+    // still sees each one at more than a few pixels.
+    const float extent = room == Room::none ? 0.6f : 1.0f;
+    const float w = extent * rng.range(4.0f, 9.0f), d = extent * rng.range(4.0f, 9.0f), h = rng.range(2.5f, 4.5f);
     const float t = 0.15f;  // wall thickness
     const char* room_name = room == Room::closed ? "closed_room" : room == Room::open ? "open_room" : "no_room";
     auto wall_material = [&](const char* name) {
@@ -336,8 +339,18 @@ Scene make_random_scene(std::uint32_t seed) {
                 // from the open side for an open room.
                 const float az = room == Room::open ? rng.range(-1.1f, 1.1f) : rng.range(-kPi, kPi);
                 const float el = rng.range(0.09f, 0.8f);
-                const float dist = rng.range(1.2f, 2.2f) * 0.5f * std::sqrt(w * w + d * d + h * h);
-                eye = glm::vec3(std::sin(az) * std::cos(el), std::sin(el), std::cos(az) * std::cos(el)) * dist;
+                const glm::vec3 dir(std::sin(az) * std::cos(el), std::sin(el), std::cos(az) * std::cos(el));
+                if (room == Room::none) {
+                    // Framing the objects' bounding sphere, from just inside it to a little beyond.
+                    glm::vec3 c(0.0f);
+                    for (const Footprint& o : objects) c += o.center / s / static_cast<float>(objects.size());
+                    float r = 0.0f;
+                    for (const Footprint& o : objects) r = std::max(r, glm::length(o.center / s - c) + glm::length(o.half / s));
+                    eye = c + dir * (r / std::sin(0.5f * yfov) * rng.range(0.7f, 1.4f));
+                    target = c + (target - c) * 0.3f;
+                } else {
+                    eye = dir * (rng.range(1.2f, 2.2f) * 0.5f * std::sqrt(w * w + d * d + h * h));
+                }
                 if (room == Room::closed) target = glm::vec3(0.0f, 0.5f * h, 0.0f);
             }
             ok = clear_of_solids(eye * s, 3.0f * znear + 0.2f * s) && glm::length(target - eye) > 0.5f;
