@@ -1,0 +1,679 @@
+// Random scenes (generated:random:SEED, engine/scene/generate_random.cpp) as statistical property
+// tests: the engine's rules were tuned on scenes someone wrote; these hold them to the ray tracer
+// on scenes nobody wrote. For every seed, small images (kW x kH), the tracer in kBatches
+// independent batches (per-pixel standard errors, engine/image/batch_stats.hpp):
+// - mean: the default raster image's mean luminance within kMeanTolerance of `path`'s, plus the
+//   reference's statistical error; and its 4x4-block display agreement (`compare --blocks 4`)
+//   within bounds over the tracer's own block noise;
+// - indirect: the GI effect runs exactly when the measured share of indirect light on the
+//   diffuse surfaces in view ((path - direct) / path there) is at least gi.threshold, except
+//   within a margin around it;
+// - gating: forcing on the effects the planner skipped leaves the display image unchanged;
+// - msaa: 4 samples do not increase the error against the tracer's box-filtered pixels;
+// - energy: in scenes lit only by emitters and the sky, no pixel is brighter than the brightest of
+//   them; no NaN, Inf or negative value anywhere.
+// kSeeds seeds in kShards gtest cases (ctest runs them in parallel); CANDELA_RANDOM_SEEDS=N runs N
+// seeds instead (a nightly run). A failing seed's scene is written as glTF (the path is printed):
+// committed to tests/data/random_regressions/, it is re-rendered by every run (RandomRegressionTest).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <map>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "effects/gi/gi.hpp"
+#include "gl_fixture.hpp"
+#include "gltf_builder.hpp"
+#include "image/batch_stats.hpp"
+#include "image/image.hpp"
+#include "render/features.hpp"
+#include "render/program_cache.hpp"
+#include "render/view_lighting.hpp"
+#include "render/still.hpp"
+#include "rt/ray_tracer.hpp"
+#include "scene/generate.hpp"
+#include "scene/gltf_loader.hpp"
+#include "scene/gltf_writer.hpp"
+#include "scene/lighting.hpp"
+
+namespace candela {
+namespace {
+namespace fs = std::filesystem;
+
+constexpr int kW = 64, kH = 48;
+constexpr int kSeeds = 64, kShards = 8;
+// The tracer's references: kBatches batches of kSpp / kBatches samples each. At 64 samples the
+// standard error of a reference's image mean is typically 0.1-0.5 % of it, far below the 8 % it
+// is compared with; half of the time went into these renders at 128.
+constexpr int kBatches = 16, kSpp = 64;
+// A per-seed false alarm rate of 1e-4 (so that a 1000-seed nightly run expects 0.1 of them)
+// with standard errors estimated from 16 batches: Student's t with 15 degrees of freedom,
+// two-sided 1e-4 quantile.
+constexpr double kT = 5.24;
+constexpr double kMeanTolerance = 0.08;
+// The share of indirect light decides GI within this margin of gi.threshold either way: the
+// planner's estimate is a small image from 8 samples with the later bounces extrapolated as a
+// geometric series; a scene at 14 % or 16 % may go either way.
+constexpr double kIndirectMargin = 0.05;
+
+double luminance(const float* p) { return 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2]; }
+
+double mean_lum(const ImageF& a) {
+    double s = 0.0;
+    for (int y = 0; y < a.height; ++y)
+        for (int x = 0; x < a.width; ++x) s += luminance(a.at(x, y));
+    return s / (static_cast<double>(a.width) * a.height);
+}
+
+std::vector<std::uint32_t> seeds_of_shard(int shard) {
+    int n = kSeeds;
+    if (const char* e = std::getenv("CANDELA_RANDOM_SEEDS")) n = std::max(1, std::atoi(e));
+    std::vector<std::uint32_t> seeds;
+    for (int s = shard; s < n; s += kShards) seeds.push_back(static_cast<std::uint32_t>(s));
+    return seeds;
+}
+
+fs::path out_dir() {
+    const char* e = std::getenv("CANDELA_RANDOM_OUT");
+    const fs::path dir = e ? fs::path(e) : fs::temp_directory_path() / "candela-random-out";
+    fs::create_directories(dir);
+    return dir;
+}
+
+// The scene as `candela render --size 64x48` sees it (--lighting auto): its own lights, and the
+// default sky where they leave most of the view unlit.
+Scene as_user(Scene scene, const ShaderLibrary& lib) {
+    const float aspect = static_cast<float>(kW) / kH;
+    LightingChoice choice = apply_lighting(scene, LightingMode::auto_select, scene.select_camera("", aspect));
+    complete_lighting(scene, choice, lib, scene.select_camera("", aspect), aspect);
+    return scene;
+}
+
+// The pixels whose first surface is diffuse (not metal, glass or an emitter) as the tracer's
+// `direct` image of a copy of the scene in which those surfaces emit 1 and reflect nothing and
+// everything else is black, with no lights and no sky: 1 there, 0 elsewhere (at pixel centres).
+Scene diffuse_mask_scene(const Scene& scene) {
+    Scene e = scene;
+    for (Material& m : e.materials) {
+        const bool diffuse = m.metallic < 0.5f && m.transmission == 0.0f && !m.is_emissive() && m.alpha_mode != AlphaMode::blend;
+        m.base_color = glm::vec4(0.0f, 0.0f, 0.0f, 1.0f);
+        m.metallic = 0.0f;
+        m.specular_factor = 0.0f;
+        m.transmission = 0.0f;
+        m.emissive = glm::vec3(diffuse ? 1.0f : 0.0f);
+        m.emissive_strength = 1.0f;
+        m.alpha_mode = AlphaMode::opaque;
+    }
+    e.lights.clear();
+    for (Node& n : e.nodes) n.light = -1;
+    e.environment = Environment{};
+    return e;
+}
+
+struct Batches {
+    std::vector<ImageF> images;
+    ImageF mean, se;
+    std::vector<double> means;  // each batch's image mean luminance
+    unsigned nonfinite = 0;
+};
+
+Batches trace_batches(rt::RayTracer& tracer, const Camera& camera, int batches) {
+    Batches b;
+    for (int k = 0; k < batches; ++k) {
+        tracer.set_shard(k, batches);
+        rt::Result r = tracer.render(camera, kW, kH);
+        b.nonfinite += r.nonfinite_samples + static_cast<unsigned>(count_nonfinite(r.image));
+        b.means.push_back(mean_lum(r.image));
+        b.images.push_back(std::move(r.image));
+    }
+    batch_mean_and_stderr(b.images, b.mean, b.se);
+    return b;
+}
+
+double mean_of(const std::vector<double>& v) {
+    double s = 0.0;
+    for (double x : v) s += x;
+    return s / static_cast<double>(v.size());
+}
+double stderr_of(const std::vector<double>& v) {
+    const double m = mean_of(v);
+    double s = 0.0;
+    for (double x : v) s += (x - m) * (x - m);
+    return std::sqrt(s / static_cast<double>(v.size() - 1) / static_cast<double>(v.size()));
+}
+
+ImageF display_of(const StillResult& r) {
+    ImageF d(kW, kH, 3);
+    for (size_t i = 0; i < static_cast<size_t>(kW) * kH; ++i)
+        for (int c = 0; c < 3; ++c) d.pixels[i * 3 + static_cast<size_t>(c)] = r.display[i * 4 + static_cast<size_t>(c)] / 255.0f;
+    return d;
+}
+
+// --- the generator and the writer, without GL ----------------------------------------------
+
+bool named(const std::string& name, const char* prefix) { return name.rfind(prefix, 0) == 0; }
+
+// A seed's scene is a function of the seed: twice the same, written the same.
+TEST(RandomSceneGenerator, IsDeterministic) {
+    for (std::uint32_t seed : {0u, 1u, 17u, 4000000000u}) {
+        EXPECT_EQ(gltf_text(make_random_scene(seed)), gltf_text(make_random_scene(seed))) << seed;
+    }
+    EXPECT_NE(gltf_text(make_random_scene(1)), gltf_text(make_random_scene(2)));
+}
+
+// Every scene is valid: triangles of non-zero area, the camera outside every solid (and inside
+// a closed room unless it looks at its outside), punctual lights outside every solid and inside
+// a closed room with the camera, emitters brighter than 1 facing the camera, light colours <= 1.
+TEST(RandomSceneGenerator, EverySceneIsValid) {
+    for (std::uint32_t seed = 0; seed < 2000; ++seed) {
+        SCOPED_TRACE("generated:random:" + std::to_string(seed));
+        const Scene scene = make_random_scene(seed);
+        ASSERT_EQ(scene.cameras.size(), 1u);
+        const Camera& camera = scene.cameras[0];
+        const glm::vec3 eye(camera.world[3]);
+        ASSERT_GT(scene.triangle_count(), 0u);
+        bool closed = false;
+        std::vector<Bounds> solids;
+        for (const Node& n : scene.nodes) {
+            if (n.mesh < 0) continue;
+            for (const Primitive& p : scene.meshes[static_cast<size_t>(n.mesh)].primitives) {
+                ASSERT_FALSE(p.indices.empty()) << n.name;
+                for (size_t i = 0; i < p.indices.size(); i += 3) {
+                    const glm::vec3 a = p.vertices[p.indices[i]].position, b = p.vertices[p.indices[i + 1]].position,
+                                    c = p.vertices[p.indices[i + 2]].position;
+                    const float scale = std::max(glm::length(b - a), glm::length(c - a));
+                    ASSERT_GT(glm::length(glm::cross(b - a, c - a)), 1e-6f * scale * scale) << n.name << " triangle " << i / 3;
+                }
+                Bounds wb;
+                for (const Vertex& v : p.vertices) wb.extend(glm::vec3(n.world * glm::vec4(v.position, 1.0f)));
+                if (scene.material(p.material).is_emissive()) {
+                    const Material& m = scene.material(p.material);
+                    EXPECT_GT(std::max({m.emission().r, m.emission().g, m.emission().b}), 1.0f) << n.name;
+                    // One-sided, facing -Y: the camera below it.
+                    EXPECT_LT(eye.y, wb.min.y) << n.name << ": the camera sees the emitter's back";
+                    continue;
+                }
+                solids.push_back(wb);
+            }
+            if (named(n.name, "closed_room.")) closed = true;
+        }
+        // Camera: outside every solid's box by more than its near distance.
+        for (const Bounds& b : solids)
+            EXPECT_FALSE(glm::all(glm::greaterThan(eye, b.min - glm::vec3(camera.znear))) && glm::all(glm::lessThan(eye, b.max + glm::vec3(camera.znear))))
+                << "camera inside a solid";
+        Bounds walls;
+        for (const Node& n : scene.nodes)
+            if (named(n.name, "closed_room.") && n.mesh >= 0) walls.extend(scene.meshes[static_cast<size_t>(n.mesh)].primitives[0].bounds);
+        const bool inside_room = closed && glm::all(glm::greaterThan(eye, walls.min)) && glm::all(glm::lessThan(eye, walls.max));
+        if (closed) EXPECT_EQ(inside_room, camera.name == "inside");
+        for (const auto& pl : scene.placed_lights()) {
+            EXPECT_LE(std::max({pl.light->color.r, pl.light->color.g, pl.light->color.b}), 1.0f);
+            EXPECT_GT(pl.light->intensity, 0.0f);
+            if (pl.light->type == LightType::directional) {
+                EXPECT_FALSE(inside_room) << "a directional light cannot reach into a closed room";
+                continue;
+            }
+            for (const Bounds& b : solids)
+                EXPECT_FALSE(glm::all(glm::greaterThan(pl.position, b.min)) && glm::all(glm::lessThan(pl.position, b.max))) << pl.light->name << " inside a solid";
+            if (closed) {
+                const bool lamp_inside = glm::all(glm::greaterThan(pl.position, walls.min)) && glm::all(glm::lessThan(pl.position, walls.max));
+                EXPECT_EQ(lamp_inside, inside_room) << pl.light->name << ": the camera and the light on different sides of a closed room's walls";
+            }
+        }
+        if (inside_room) EXPECT_FALSE(scene.environment.present()) << "a sky cannot reach into a closed room";
+        EXPECT_TRUE(!scene.placed_lights().empty() || scene.environment.present() ||
+                    std::any_of(scene.materials.begin(), scene.materials.end(), [](const Material& m) { return m.is_emissive(); }))
+            << "no light";
+    }
+}
+
+// The default seeds cover what the generator promises: every room, shape, material and light
+// kind, cameras inside and outside, scales from small to large.
+TEST(RandomSceneGenerator, DefaultSeedsCoverEveryFeature) {
+    std::map<std::string, int> seen;
+    float smallest = 1e30f, largest = 0.0f;
+    for (std::uint32_t seed = 0; seed < kSeeds; ++seed) {
+        const Scene scene = make_random_scene(seed);
+        std::set<std::string> here;
+        for (const Node& n : scene.nodes) {
+            for (const char* p : {"closed_room", "open_room", "box_", "sphere_", "thin_wall_"})
+                if (named(n.name, p)) here.insert(p);
+            if (n.sphere_radius) here.insert("exact sphere");
+        }
+        if (!here.count("closed_room") && !here.count("open_room")) here.insert("no room");
+        for (const Material& m : scene.materials) {
+            for (const char* p : {"diffuse_", "glossy_", "metal_", "rough_metal_", "glass_"})
+                if (named(m.name, p)) here.insert(p);
+            if (m.transmission > 0.0f) here.insert(m.thickness > 0.0f ? "solid glass" : "thin glass");
+            if (m.is_emissive()) here.insert("quad emitter");
+        }
+        for (const Light& l : scene.lights)
+            here.insert(l.type == LightType::point ? "point" : l.type == LightType::spot ? "spot" : "directional");
+        if (scene.environment.present()) here.insert("environment");
+        here.insert("camera " + scene.cameras[0].name);
+        for (const std::string& f : here) ++seen[f];
+        const Bounds b = scene.world_bounds();
+        const float size = glm::length(b.extent());
+        smallest = std::min(smallest, size), largest = std::max(largest, size);
+    }
+    for (const char* f : {"closed_room", "open_room", "no room", "box_", "sphere_", "exact sphere", "thin_wall_", "diffuse_",
+                          "glossy_", "metal_", "rough_metal_", "glass_", "solid glass", "thin glass", "quad emitter", "point",
+                          "spot", "directional", "environment", "camera inside", "camera outside"})
+        EXPECT_GE(seen[f], 2) << f << " appears in " << seen[f] << " of the " << kSeeds << " default seeds";
+    EXPECT_GT(largest / smallest, 20.0f) << "scene sizes from " << smallest << " to " << largest;
+    for (const auto& [f, n] : seen) std::printf("%-16s %d\n", f.c_str(), n);
+}
+
+// The writer: a written scene loads back to the same scene (what the tracer and the raster read:
+// world triangles, materials, lights, cameras, environment, exact spheres).
+TEST(GltfWriter, WrittenSceneLoadsBackTheSame) {
+    const fs::path dir = test::test_dir("gltf_writer");
+    for (std::uint32_t seed = 0; seed < 24; ++seed) {
+        SCOPED_TRACE(seed);
+        const Scene a = make_random_scene(seed);
+        const fs::path file = dir / ("random_" + std::to_string(seed) + ".gltf");
+        write_gltf(a, file);
+        const Scene b = load_gltf(file);
+        const auto ta = a.world_triangles(), tb = b.world_triangles();
+        ASSERT_EQ(ta.size(), tb.size());
+        for (size_t i = 0; i < ta.size(); ++i)
+            for (int k = 0; k < 3; ++k) {
+                ASSERT_EQ(ta[i].p[static_cast<size_t>(k)], tb[i].p[static_cast<size_t>(k)]) << "triangle " << i;
+                ASSERT_LT(glm::length(ta[i].n[static_cast<size_t>(k)] - tb[i].n[static_cast<size_t>(k)]), 1e-6f);
+                ASSERT_EQ(ta[i].material, tb[i].material);
+            }
+        ASSERT_EQ(a.materials.size(), b.materials.size());
+        for (size_t i = 0; i < a.materials.size(); ++i) {
+            const Material &x = a.materials[i], &y = b.materials[i];
+            EXPECT_EQ(x.name, y.name);
+            EXPECT_EQ(x.base_color, y.base_color);
+            EXPECT_EQ(x.metallic, y.metallic);
+            EXPECT_EQ(x.roughness, y.roughness);
+            EXPECT_EQ(x.emission(), y.emission());
+            EXPECT_EQ(x.transmission, y.transmission);
+            EXPECT_EQ(x.ior, y.ior);
+            EXPECT_EQ(x.thickness, y.thickness);
+            EXPECT_EQ(x.specular_factor, y.specular_factor);
+        }
+        const auto la = a.placed_lights(), lb = b.placed_lights();
+        ASSERT_EQ(la.size(), lb.size());
+        for (size_t i = 0; i < la.size(); ++i) {
+            EXPECT_EQ(la[i].light->type, lb[i].light->type);
+            EXPECT_EQ(la[i].light->intensity, lb[i].light->intensity);
+            EXPECT_EQ(la[i].light->color, lb[i].light->color);
+            EXPECT_EQ(la[i].light->outer_cone, lb[i].light->outer_cone);
+            EXPECT_EQ(la[i].light->inner_cone, lb[i].light->inner_cone);
+            EXPECT_EQ(la[i].position, lb[i].position);
+            EXPECT_LT(glm::length(la[i].direction - lb[i].direction), 1e-6f);
+        }
+        ASSERT_EQ(b.cameras.size(), 1u);
+        EXPECT_EQ(a.cameras[0].world, b.cameras[0].world);
+        EXPECT_EQ(a.cameras[0].yfov, b.cameras[0].yfov);
+        EXPECT_EQ(a.cameras[0].znear, b.cameras[0].znear);
+        EXPECT_EQ(a.environment.radiance * a.environment.intensity, b.environment.radiance * b.environment.intensity);
+        int spheres_a = 0, spheres_b = 0;
+        for (const Node& n : a.nodes) spheres_a += n.sphere_radius.has_value();
+        for (const Node& n : b.nodes) spheres_b += n.sphere_radius.has_value();
+        EXPECT_EQ(spheres_a, spheres_b);
+    }
+}
+
+// One seed's (or regression file's) outcome: the rules that failed, with their numbers.
+struct Outcome {
+    std::string label;
+    std::map<std::string, std::string> failed;  // rule -> numbers
+    std::string summary;
+    double seconds = 0.0;
+};
+
+class RandomSceneCheck {
+public:
+    RandomSceneCheck(const ShaderLibrary& lib, ProgramCache& programs) : lib_(lib), programs_(programs) {}
+
+    Outcome run(const Scene& original, const std::string& label) {
+        const auto t0 = std::chrono::steady_clock::now();
+        Outcome out;
+        out.label = label;
+        const Scene scene = as_user(original, lib_);
+        const Camera camera = scene.select_camera("", static_cast<float>(kW) / kH);
+        auto fail = [&](const std::string& rule, const std::string& numbers) { out.failed[rule] += numbers; };
+        char buf[512];
+
+        auto lap = [t = std::chrono::steady_clock::now()](std::string& log, const char* what) mutable {
+            const auto now = std::chrono::steady_clock::now();
+            char b[64];
+            std::snprintf(b, sizeof b, " %s %.2f", what, std::chrono::duration<double>(now - t).count());
+            log += b;
+            t = now;
+        };
+        std::string times = " [s:";
+        // The default raster image, then in the same renderer (the planner's estimate and the
+        // converged GI probes are kept: a frame costs a frame) with 4x MSAA and with skipped
+        // effects forced on (below).
+        StillOptions o;
+        o.width = kW;
+        o.height = kH;
+        o.output = FrameOutput::display;
+        o.programs = &programs_;
+        FrameLoop loop(scene, lib_, o);
+        loop.measure_frame();
+        const StillResult raster = loop.finish();
+        auto rerender = [&](const RenderSettings& settings) {
+            loop.renderer().set_settings(settings);
+            loop.measure_frame();
+            StillResult r = loop.finish();
+            loop.renderer().set_settings(o.settings);
+            return r;
+        };
+        lap(times, "raster");
+        RenderSettings msaa_settings = o.settings;
+        apply_knob(msaa_settings, "aa.mode=msaa");
+        apply_knob(msaa_settings, "aa.samples=4");
+        const StillResult msaa = rerender(msaa_settings);
+        lap(times, "msaa");
+
+        // The tracer. Through pixel centres, as the raster samples without MSAA (a sliver of an
+        // emitter then shows in both or in neither): path, direct, and what the camera sees of
+        // emitters and sky. Box-filtered (jittered) path for MSAA.
+        GpuScene gpu(scene);
+        rt::Options ro;
+        ro.mode = rt::Mode::path;
+        ro.spp = kSpp;
+        ro.seed = 7;
+        ro.jitter = 0;
+        rt::RayTracer tracer(lib_, scene, gpu, ro);
+        const Batches path = trace_batches(tracer, camera, kBatches);
+        lap(times, "path");
+        tracer.set_mode(rt::Mode::direct);
+        const Batches direct = trace_batches(tracer, camera, kBatches);
+        lap(times, "direct");
+        rt::Options bo = ro;
+        bo.jitter = 1;
+        bo.seed = 8;
+        rt::RayTracer box_tracer(lib_, scene, gpu, bo);
+        const Batches path_box = trace_batches(box_tracer, camera, kBatches);
+        lap(times, "box");
+        const Scene mask_scene = diffuse_mask_scene(scene);
+        GpuScene mask_gpu(mask_scene);
+        rt::Options mo = ro;
+        mo.mode = rt::Mode::direct;
+        mo.spp = 1;
+        const ImageF mask = rt::RayTracer(lib_, mask_scene, mask_gpu, mo).render(camera, kW, kH).image;
+        lap(times, "mask");
+
+        // NaN / Inf.
+        const std::size_t nonfinite = count_nonfinite(raster.radiance) + count_nonfinite(msaa.radiance) + path.nonfinite + direct.nonfinite +
+                                      path_box.nonfinite;
+        if (nonfinite) fail("finite", std::to_string(nonfinite) + " non-finite values/samples; ");
+        // Radiance is never negative (the tracer's estimators and every raster term add
+        // non-negative light).
+        for (const auto& [what, img] : {std::pair<const char*, const ImageF*>{"raster", &raster.radiance}, {"msaa", &msaa.radiance},
+                                        {"path", &path.mean}, {"direct", &direct.mean}, {"path (box-filtered)", &path_box.mean}}) {
+            int negative = 0;
+            double lowest = 0.0;
+            glm::ivec2 where(0);
+            for (int y = 0; y < kH; ++y)
+                for (int x = 0; x < kW; ++x)
+                    for (int c = 0; c < 3; ++c)
+                        if (img->at(x, y)[c] < -1e-6f) {
+                            ++negative;
+                            if (img->at(x, y)[c] < lowest) lowest = img->at(x, y)[c], where = {x, y};
+                        }
+            if (negative) {
+                std::snprintf(buf, sizeof buf, "%s: %d negative channel values, lowest %.4g at (%d, %d); ", what, negative, lowest, where.x, where.y);
+                fail("finite", buf);
+            }
+        }
+
+        // Mean within kMeanTolerance of path plus kT standard errors of path's mean.
+        const double r_mean = mean_lum(raster.radiance), p_mean = mean_of(path.means), p_se = stderr_of(path.means);
+        const double rel = p_mean > 0 ? (r_mean - p_mean) / p_mean : 0.0;
+        std::snprintf(buf, sizeof buf, "raster %.4g path %.4g +- %.2g (%+.1f %%)", r_mean, p_mean, p_se, 100.0 * rel);
+        out.summary += buf;
+        if (std::abs(r_mean - p_mean) > kMeanTolerance * p_mean + kT * p_se) fail("mean", buf);
+
+        // Block agreement (4x4 blocks of display values). The tracer's own share of the
+        // difference: two halves of the batches compared the same way differ by about twice
+        // the noise of the whole mean (each half has sqrt(2) x its standard error, and they add
+        // in quadrature), so half of their difference is added to the bounds.
+        {
+            std::vector<ImageF> first(path.images.begin(), path.images.begin() + kBatches / 2),
+                second(path.images.begin() + kBatches / 2, path.images.end());
+            ImageF m1, s1, m2, s2;
+            batch_mean_and_stderr(first, m1, s1);
+            batch_mean_and_stderr(second, m2, s2);
+            const BlockAgreement noise = block_agreement(m1, m2, 4);
+            const BlockAgreement a = block_agreement(raster.radiance, path.mean, 4);
+            const double mean_bound = kBlockMeanAbs + 0.5 * noise.mean_abs, p99_bound = kBlockP99 + 0.5 * noise.p99_abs;
+            std::snprintf(buf, sizeof buf, "; blocks |d| mean %.4f (bound %.4f) p99 %.3f (bound %.3f)", a.mean_abs, mean_bound, a.p99_abs, p99_bound);
+            out.summary += buf;
+            if (a.mean_abs > mean_bound || a.p99_abs > p99_bound) fail("blocks", buf + 2);
+        }
+
+        // The GI decision against the measured share of indirect light on the diffuse surfaces
+        // in view (what the probes add; mirrors and glass are the reflection effect's): over the
+        // mask's pixels, (path - direct) / path, per batch pair; its standard error from the
+        // spread of the batches.
+        {
+            std::vector<double> share;
+            for (int k = 0; k < kBatches; ++k) {
+                double p = 0.0, d = 0.0;
+                for (int y = 0; y < kH; ++y)
+                    for (int x = 0; x < kW; ++x)
+                        if (mask.at(x, y)[0] > 0.5f) {
+                            p += luminance(path.images[static_cast<size_t>(k)].at(x, y));
+                            d += luminance(direct.images[static_cast<size_t>(k)].at(x, y));
+                        }
+                share.push_back(p > 0 ? (p - d) / p : 0.0);
+            }
+            const double s = mean_of(share), se = stderr_of(share);
+            const EffectDecision& gi = raster.features.decision("gi");
+            const double threshold = o.settings.get<GiOptions>().threshold;
+            const double estimate = raster.features.indirect ? raster.features.indirect->fraction : -1.0;
+            std::snprintf(buf, sizeof buf, "; indirect share %.3f +- %.3f, estimate %.3f, gi %s", s, se, estimate, gi.planned ? "on" : "off");
+            out.summary += buf;
+            const double margin = kIndirectMargin + kT * se;
+            if (gi.enabled && gi.implemented && std::abs(s - threshold) > margin && gi.planned != (s >= threshold)) fail("indirect", buf + 2);
+        }
+
+        // Gating: every skipped effect forced on at once (render.gating=off); if the image
+        // changes, each one alone names the culprit. GI and RSM are not forced (see
+        // models' GatingNeverChangesThePicture: GI below its threshold does add light; RSM stays
+        // off where GI runs).
+        {
+            std::vector<std::string> skipped;
+            for (const EffectDecision* d : raster.features.effects())
+                if (d->enabled && d->implemented && !d->planned && d->name != "gi" && d->name != "rsm") skipped.push_back(d->name);
+            auto forced = [&](const std::vector<std::string>& on) {
+                RenderSettings f = o.settings;
+                apply_knob(f, "render.gating=off");
+                for (const std::string& name : skipped)
+                    if (std::find(on.begin(), on.end(), name) == on.end() && name != "area_lights") f.set_on(name, false);
+                const StillResult r = rerender(f);
+                if (count_nonfinite(r.radiance)) fail("finite", "forcing effects on gave NaN/Inf; ");
+                return compare(display_of(r), display_of(raster), 2.0 / 255.0);
+            };
+            if (!skipped.empty()) {
+                const CompareResult all = forced(skipped);
+                if (all.failing_fraction > kGatingFraction) {
+                    for (const std::string& name : skipped) {
+                        const CompareResult one = forced({name});
+                        if (one.failing_fraction > kGatingFraction) {
+                            std::snprintf(buf, sizeof buf, "%s: %zu pixels beyond 2/255, max %.3f; ", name.c_str(), one.failing_pixels, one.max_abs);
+                            fail("gating", buf);
+                        }
+                    }
+                    if (!out.failed.count("gating")) {
+                        std::snprintf(buf, sizeof buf, "all skipped effects together: %zu pixels beyond 2/255; ", all.failing_pixels);
+                        fail("gating", buf);
+                    }
+                }
+            }
+        }
+
+        lap(times, "gating");
+        out.summary += times + "]";
+        // MSAA against the tracer's box-filtered pixels: over the pixels where 4 samples change
+        // the image, D = sum (m - p)^2 - (r - p)^2 with m the MSAA pixel, r the single-sample one
+        // and p the tracer's mean (luminance). D's noise comes from p alone: its standard error is
+        // 2 sqrt(sum (m - r)^2 se_p^2). MSAA must not make D significantly positive.
+        {
+            double d = 0.0, var = 0.0, e1 = 0.0, e4 = 0.0, worst_d = 0.0;
+            struct {
+                int x = 0, y = 0;
+                double r = 0, m = 0, p = 0;
+            } worst;
+            int changed = 0;
+            for (int y = 0; y < kH; ++y)
+                for (int x = 0; x < kW; ++x) {
+                    const double r = luminance(raster.radiance.at(x, y)), m = luminance(msaa.radiance.at(x, y));
+                    if (std::abs(m - r) <= 1e-6 * std::max(1.0, std::abs(r))) continue;
+                    const double p = luminance(path_box.mean.at(x, y)), se = luminance(path_box.se.at(x, y));
+                    const double pixel_d = (m - p) * (m - p) - (r - p) * (r - p);
+                    if (pixel_d > worst_d) worst_d = pixel_d, worst = {x, y, r, m, p};
+                    d += pixel_d;
+                    e1 += (r - p) * (r - p);
+                    e4 += (m - p) * (m - p);
+                    var += 4.0 * (m - r) * (m - r) * se * se;
+                    ++changed;
+                }
+            std::snprintf(buf, sizeof buf, "; msaa: %d pixels changed, squared error %.4g -> %.4g (D %+.3g, se %.2g)", changed, e1, e4, d, std::sqrt(var));
+            out.summary += buf;
+            if (d > kT * std::sqrt(var) + 1e-9 * e1) {
+                std::string msg = buf + 2;
+                std::snprintf(buf, sizeof buf, "; worst pixel (%d, %d): 1 sample %.4g, msaa %.4g, tracer %.4g", worst.x, worst.y, worst.r, worst.m, worst.p);
+                fail("msaa", msg + buf);
+            }
+        }
+
+        // Energy: lit by emitters and the sky only, no pixel is brighter (per channel) than the
+        // brightest of them (every BRDF reflects at most what arrives; a pixel averages such
+        // values). Punctual lights have no radiance bound: a highlight of a point light can be
+        // brighter than anything.
+        if (scene.placed_lights().empty()) {
+            glm::vec3 bound = scene.environment.present() && !scene.environment.has_map() ? scene.environment.radiance * scene.environment.intensity : glm::vec3(0.0f);
+            for (const Material& m : scene.materials) bound = glm::max(bound, m.emission());
+            auto check = [&](const ImageF& img, const ImageF* se, const char* what) {
+                int over = 0;
+                double worst = 0.0;
+                for (int y = 0; y < kH; ++y)
+                    for (int x = 0; x < kW; ++x)
+                        for (int c = 0; c < 3; ++c) {
+                            const double v = img.at(x, y)[c];
+                            const double allowed = bound[c] * 1.001 + (se ? kT * se->at(x, y)[c] : 0.0) + 1e-6;
+                            if (v > allowed) ++over, worst = std::max(worst, v / std::max<double>(bound[c], 1e-9));
+                        }
+                if (over) {
+                    std::snprintf(buf, sizeof buf, "%s: %d channel values above the brightest emitter (up to %.3gx); ", what, over, worst);
+                    fail("energy", buf);
+                }
+            };
+            check(raster.radiance, nullptr, "raster");
+            check(msaa.radiance, nullptr, "msaa");
+            check(path.mean, &path.se, "path");
+            check(path_box.mean, &path_box.se, "path (box-filtered)");
+        }
+
+        out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        if (!out.failed.empty()) {
+            const fs::path dir = out_dir();
+            write_image(dir / (label + ".raster.png"), raster.radiance);
+            write_image(dir / (label + ".msaa.png"), msaa.radiance);
+            write_image(dir / (label + ".path.png"), path.mean);
+            write_image(dir / (label + ".box.png"), path_box.mean);
+            write_image(dir / (label + ".direct.png"), direct.mean);
+            write_image(dir / (label + ".raster.exr"), raster.radiance);
+            write_image(dir / (label + ".path.exr"), path.mean);
+        }
+        return out;
+    }
+
+    // Bounds of the 4x4-block display agreement over the tracer's noise (see run()).
+    static constexpr double kBlockMeanAbs = 0.03, kBlockP99 = 0.25;
+    // Gating's tolerance: the golden tests' (2/255 on at most 0.1 % of the pixels), which at
+    // 64 x 48 allows 3 pixels.
+    static constexpr double kGatingFraction = 0.001;
+
+private:
+    const ShaderLibrary& lib_;
+    ProgramCache& programs_;
+};
+
+std::string report(const Outcome& o) {
+    std::string s = o.label + (o.failed.empty() ? ": ok" : ": FAILED");
+    for (const auto& [rule, numbers] : o.failed) s += " [" + rule + "]";
+    char t[32];
+    std::snprintf(t, sizeof t, " (%.1f s) ", o.seconds);
+    return s + t + o.summary;
+}
+
+Backend egl_for_shard(const int&) { return Backend::egl; }
+
+class RandomSceneTest : public test::GlContextTestOf<int, egl_for_shard> {
+protected:
+    ShaderLibrary lib_{ShaderLibrary::default_root()};
+};
+
+TEST_P(RandomSceneTest, RasterAgreesWithTheTracerOnRandomScenes) {
+    ProgramCache programs(lib_);
+    RandomSceneCheck check(lib_, programs);
+    int failed = 0;
+    for (std::uint32_t seed : seeds_of_shard(GetParam())) {
+        const std::string label = "random_" + std::to_string(seed);
+        SCOPED_TRACE(label);
+        const Scene scene = make_random_scene(seed);
+        const Outcome o = check.run(scene, label);
+        std::printf("%s\n", report(o).c_str());
+        std::fflush(stdout);
+        if (!o.failed.empty()) {
+            ++failed;
+            const fs::path file = out_dir() / (label + ".gltf");
+            write_gltf(scene, file);
+            std::string rules;
+            for (const auto& [rule, numbers] : o.failed) rules += "\n  " + rule + ": " + numbers;
+            ADD_FAILURE() << "generated:random:" << seed << " fails" << rules << "\n  scene written to " << file.string()
+                          << " (copy it to tests/data/random_regressions/ to keep it)";
+        }
+    }
+    std::printf("shard %d: %d seed(s) failed\n", GetParam(), failed);
+}
+
+INSTANTIATE_TEST_SUITE_P(Shards, RandomSceneTest, ::testing::Range(0, kShards),
+                         [](const ::testing::TestParamInfo<int>& info) { return "shard" + std::to_string(info.param); });
+
+// Every regression file, loaded as a user's file, in one case: one process compiles the
+// programs once, and a file added to the folder runs without rebuilding the test list.
+class RandomRegressionTest : public test::GlContextTest {
+protected:
+    ShaderLibrary lib_{ShaderLibrary::default_root()};
+};
+
+TEST_P(RandomRegressionTest, SavedScenesStillPass) {
+    std::vector<fs::path> files;
+    const fs::path dir = fs::path(CANDELA_SOURCE_DIR) / "tests" / "data" / "random_regressions";
+    for (const auto& f : fs::directory_iterator(dir))
+        if (f.path().extension() == ".gltf") files.push_back(f.path());
+    std::sort(files.begin(), files.end());
+    ASSERT_FALSE(files.empty()) << dir.string();
+    ProgramCache programs(lib_);
+    RandomSceneCheck check(lib_, programs);
+    for (const fs::path& file : files) {
+        SCOPED_TRACE(file.filename().string());
+        const Outcome o = check.run(load_gltf(file), file.stem().string());
+        std::printf("%s\n", report(o).c_str());
+        std::fflush(stdout);
+        for (const auto& [rule, numbers] : o.failed) ADD_FAILURE() << file.string() << ": " << rule << ": " << numbers;
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(Egl, RandomRegressionTest, ::testing::Values(Backend::egl), test::backend_name);
+
+}  // namespace
+}  // namespace candela
