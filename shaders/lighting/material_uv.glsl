@@ -23,7 +23,7 @@ layout(location = 6) out vec2 v_slot_uv4;   // emissive
 // Bits 0-4: slot has a texture (base colour, metallic-roughness, normal, occlusion, emissive);
 // bit 5: alpha mode MASK.
 layout(location = 7) flat out int v_material_bits;
-// 1, interpolated as the other inputs are: lighting/surface.glsl divides the position by it.
+// 1, interpolated as the other inputs are: lighting/surface.glsl divides every centroid input by it.
 layout(location = 8) out float v_one;
 
 vec2 material_slot_uv(MaterialData m, int slot, int set, vec2 uv0, vec2 uv1) {

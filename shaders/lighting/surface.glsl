@@ -23,16 +23,27 @@ layout(location = 3) centroid in vec4 v_slot_uv01;  // xy base colour, zw metall
 layout(location = 5) centroid in vec4 v_slot_uv23;  // xy normal, zw occlusion
 layout(location = 6) centroid in vec2 v_slot_uv4;  // emissive
 layout(location = 7) flat in int v_material_bits;  // bits 0-4: slot textured, bit 5: alpha MASK
-// 1 from every vertex (lighting/material_uv.glsl), interpolated like the position. With
+// 1 from every vertex (lighting/material_uv.glsl), interpolated like the inputs above. With
 // multisampling, Mesa's llvmpipe (22.3) computes a perspective-correct centroid input as value / w
 // interpolated at the centroid times w at the pixel centre: where the centre lies outside the
-// triangle every such input is scaled by w_centre / w_centroid, and the world position leaves the
-// surface by |p| (w_centre / w_centroid - 1), millimetres a few metres from the origin; a light a
-// few centimetres away then finds the receiver behind its own surface in the shadow map (or a
-// 1 / r^2 far off). This 1 is scaled by the same factor, so the position divided by it is the
-// position at the centroid, on the surface, on any driver. The normal and tangent are only
-// directions; texture coordinates and colour keep the factor, which is close to 1.
+// triangle every such input is scaled by w_centre / w_centroid. That factor is close to 1 on a
+// surface seen face-on, but w at the centre is that of the triangle's plane extended, and where
+// the plane is seen edge-on (a box's side at grazing view) the centre can lie near or beyond its
+// horizon: the factor was -149 on one edge pixel, which scaled the colour to -69 and turned the
+// normal around (a negative pixel), and a factor of a few per mille already moves the position
+// millimetres off the surface, enough for a light a few centimetres away to find the receiver
+// behind its own surface in the shadow map. This 1 carries the same factor, so every centroid
+// input divided by it (the accessors below; nothing reads the inputs directly) is its value at the
+// centroid, inside the triangle, on any driver (where interpolation is right, a division by 1).
 layout(location = 8) centroid in float v_one;
+
+vec3 in_world_pos() { return v_world_pos / v_one; }
+vec3 in_normal() { return v_normal / v_one; }
+vec4 in_tangent() { return v_tangent / v_one; }  // w: the handedness sign
+vec4 in_color() { return v_color / v_one; }
+vec4 in_slot_uv01() { return v_slot_uv01 / v_one; }
+vec4 in_slot_uv23() { return v_slot_uv23 / v_one; }
+vec2 in_slot_uv4() { return v_slot_uv4 / v_one; }
 
 struct Surface {
     BrdfInput brdf;
@@ -61,9 +72,9 @@ bool slot_textured(int slot) { return (v_material_bits & (1 << slot)) != 0; }
 // Alpha mode MASK: discards fragments below the cutoff (the shadow pass needs only this).
 void alpha_test() {
     if ((v_material_bits & 32) == 0) return;
-    float a = slot_textured(0) ? texture(t_base_color, v_slot_uv01.xy).a : 1.0;
+    float a = slot_textured(0) ? texture(t_base_color, in_slot_uv01().xy).a : 1.0;
     MaterialData m = materials[u_material];
-    if (m.base_color.a * v_color.a * a < m.params.y) discard;
+    if (m.base_color.a * in_color().a * a < m.params.y) discard;
 }
 
 // Alpha to coverage (forward with multisampling, aa.alpha_to_coverage): a MASK fragment is not
@@ -74,15 +85,15 @@ bool g_alpha_to_coverage = false;
 
 // Evaluates the material; discards masked-out fragments.
 Surface fragment_surface() {
-    vec4 tex_base = slot_textured(0) ? texture(t_base_color, v_slot_uv01.xy) : vec4(1.0);
-    vec4 tex_mr = slot_textured(1) ? texture(t_metallic_roughness, v_slot_uv01.zw) : vec4(1.0);
-    vec3 tex_normal = slot_textured(2) ? texture(t_normal, v_slot_uv23.xy).xyz : vec3(0.5, 0.5, 1.0);
-    float tex_occlusion = slot_textured(3) ? texture(t_occlusion, v_slot_uv23.zw).r : 1.0;
-    vec3 tex_emission = slot_textured(4) ? texture(t_emissive, v_slot_uv4).rgb : vec3(1.0);
+    vec4 tex_base = slot_textured(0) ? texture(t_base_color, in_slot_uv01().xy) : vec4(1.0);
+    vec4 tex_mr = slot_textured(1) ? texture(t_metallic_roughness, in_slot_uv01().zw) : vec4(1.0);
+    vec3 tex_normal = slot_textured(2) ? texture(t_normal, in_slot_uv23().xy).xyz : vec3(0.5, 0.5, 1.0);
+    float tex_occlusion = slot_textured(3) ? texture(t_occlusion, in_slot_uv23().zw).r : 1.0;
+    vec3 tex_emission = slot_textured(4) ? texture(t_emissive, in_slot_uv4()).rgb : vec3(1.0);
 
     MaterialData m = materials[u_material];
     Surface s;
-    vec4 base = m.base_color * v_color * tex_base;
+    vec4 base = m.base_color * in_color() * tex_base;
     float alpha_width = fwidth(base.a);  // here: derivatives need uniform control flow
     s.alpha_mode = int(m.params.z);
     s.alpha = base.a;
@@ -92,16 +103,17 @@ Surface fragment_surface() {
     roughness *= tex_mr.g;
     metallic *= tex_mr.b;
 
-    vec3 n = normalize(v_normal);
+    vec3 n = normalize(in_normal());
     // Mirrored nodes are drawn with reversed winding, so gl_FrontFacing already accounts for them.
     if (!gl_FrontFacing) n = -n;
     if (slot_textured(2)) {
-        vec3 t = v_tangent.xyz - n * dot(n, v_tangent.xyz);
+        vec4 tangent = in_tangent();
+        vec3 t = tangent.xyz - n * dot(n, tangent.xyz);
         float tl = length(t);
         if (tl > 1e-8) {
             t /= tl;
             // A mirroring model matrix reverses the handedness of the transformed frame.
-            vec3 b = cross(n, t) * (v_tangent.w < 0.0 ? -1.0 : 1.0) * (gl_FrontFacing ? 1.0 : -1.0) *
+            vec3 b = cross(n, t) * (tangent.w < 0.0 ? -1.0 : 1.0) * (gl_FrontFacing ? 1.0 : -1.0) *
                      (u_mirrored != 0 ? -1.0 : 1.0);
             vec3 tn = tex_normal * 2.0 - 1.0;
             tn.xy *= m.params2.z;
@@ -122,7 +134,7 @@ Surface fragment_surface() {
     s.transmission = m.params2.y;
     s.thin = m.volume.x <= 0.0;
 
-    s.p = v_world_pos / v_one;
+    s.p = in_world_pos();
     // Shading normals facing away from the viewer are bent back to the horizon.
     vec3 v = normalize(frame.camera_pos.xyz - s.p);
     float nv = dot(n, v);

@@ -8,12 +8,18 @@
 // the caster in the shadow map) or a much brighter one (1 / r^2). Both scenes put a light that
 // close to a receiver made of many edges, away from the world origin where an interpolation error
 // proportional to the position shows most.
+//
+// The same fragments read every other centroid input (colour, texture coordinates, normal) off the
+// surface too, scaled by the same factor, which can be far from 1 and negative where the
+// triangle's plane is seen edge-on: a saved random scene whose 4-sample image had a negative pixel
+// is checked against a 4x finer 1-sample image.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <string>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -22,7 +28,10 @@
 #include "image/image.hpp"
 #include "render/settings.hpp"
 #include "render/still.hpp"
+#include "render/view_lighting.hpp"
 #include "scene/generate.hpp"
+#include "scene/gltf_loader.hpp"
+#include "scene/lighting.hpp"
 #include "scene/mesh_utils.hpp"
 
 namespace candela {
@@ -134,9 +143,10 @@ Backend msaa_shadow_backend(const MsaaShadowCase& c) { return c.backend; }
 
 class MsaaShadowTest : public test::GlContextTestOf<MsaaShadowCase, msaa_shadow_backend> {
 protected:
-    ImageF render(const Scene& scene, int samples) {
+    ImageF render(const Scene& scene, int samples, int width = kMsaaShadowSize, int height = kMsaaShadowSize) {
         StillOptions so;
-        so.width = so.height = kMsaaShadowSize;
+        so.width = width;
+        so.height = height;
         so.settings.path = GetParam().path;
         apply_effects(so.settings, "shadows");
         if (samples > 1) {
@@ -219,6 +229,63 @@ TEST_P(MsaaShadowTest, PointLightUnderATwoTriangleCeiling) { check(ceiling_scene
 // Many edges in three directions between differently oriented triangles, far from the origin,
 // under a spot light (one perspective shadow view instead of a cube).
 TEST_P(MsaaShadowTest, SpotLightUnderATessellatedVaultFarFromTheOrigin) { check(vault_scene(), "vault"); }
+
+// A saved random scene (tests/data/random_regressions), as `candela render --size 64x48` sees
+// it: at 4 samples forward, one fragment of the edge pixel (2, 39) (a box's side seen edge-on, one
+// sample covered) read its colour, normal and position scaled by -149, and the pixel came out at
+// -3.4 instead of 0.07. Here every pixel of the 4-sample image lies within 3 % of [min, max] of
+// the 4 x 4 pixels of a 1-sample image at 4x the resolution that cover it. Why that bound and not
+// the 3 x 3 neighbourhood above: at 64 x 48 some faces are thinner than a pixel (a box's top
+// seen at grazing), which the 4 samples see and no neighbouring pixel centre does (forward and
+// deferred alike, up to 19 % above the neighbourhood); the finer image samples the same footprint
+// that the 4 samples and their centroids lie in, 16 times. Before the fix: 8 pixel channels
+// outside, the worst 36x below its block.
+TEST_P(MsaaShadowTest, SavedRandomSceneEdgeOnFaceAtFourSamples) {
+    constexpr int kW = 64, kH = 48, kFine = 4;
+    const std::filesystem::path file =
+        std::filesystem::path(CANDELA_SOURCE_DIR) / "tests" / "data" / "random_regressions" / "msaa_negative_pixel_seed46.gltf";
+    Scene scene = load_gltf(file);
+    const float aspect = static_cast<float>(kW) / kH;
+    LightingChoice choice = apply_lighting(scene, LightingMode::auto_select, scene.select_camera("", aspect));
+    complete_lighting(scene, choice, lib_, scene.select_camera("", aspect), aspect);
+
+    const ImageF msaa = render(scene, 4, kW, kH), fine = render(scene, 1, kW * kFine, kH * kFine);
+    const std::string what = std::string("seed46") + (GetParam().path == RenderPath::forward ? " forward" : " deferred");
+    if (const char* dir = std::getenv("CANDELA_TEST_DUMP")) {
+        const std::string stem = std::string(dir) + "/msaa_shadows_seed46_" + to_string(GetParam().backend) +
+                                 (GetParam().path == RenderPath::forward ? "_forward" : "_deferred");
+        write_image(stem + "_fine.exr", fine);
+        write_image(stem + "_4.exr", msaa);
+        write_image(stem + "_4.png", msaa);
+    }
+    constexpr float kRelTol = 0.03f;
+    int negative = 0, bad = 0;
+    float lit = 0.0f;
+    for (int y = 0; y < kH; ++y)
+        for (int x = 0; x < kW; ++x)
+            for (int c = 0; c < 3; ++c) {
+                const float m = msaa.at(x, y)[c];
+                if (!(m >= 0.0f)) ++negative;  // negative or NaN
+                float lo = 3.4e38f, hi = 0.0f;
+                for (int fy = y * kFine; fy < (y + 1) * kFine; ++fy)
+                    for (int fx = x * kFine; fx < (x + 1) * kFine; ++fx) {
+                        lo = std::min(lo, fine.at(fx, fy)[c]);
+                        hi = std::max(hi, fine.at(fx, fy)[c]);
+                    }
+                lit = std::max(lit, hi);
+                const float tol = kRelTol * hi + 1e-6f;
+                if (!(m >= lo - tol && m <= hi + tol)) {
+                    if (bad < 5)
+                        ADD_FAILURE() << what << ": pixel (" << x << ", " << y << ") channel " << c << " is " << m
+                                      << " with 4 samples, outside [" << lo << ", " << hi << "] of the 1-sample pixels at "
+                                      << kFine << "x the resolution that cover it";
+                    ++bad;
+                }
+            }
+    EXPECT_GT(lit, 0.1f) << what << ": the image is dark (which would pass trivially)";
+    EXPECT_EQ(negative, 0) << what << ": negative or NaN pixel channels";
+    EXPECT_EQ(bad, 0) << what << ": pixel channels outside the finer image's block";
+}
 
 INSTANTIATE_TEST_SUITE_P(BackendsAndPaths, MsaaShadowTest,
                          ::testing::Values(MsaaShadowCase{Backend::egl, RenderPath::forward},
