@@ -1,6 +1,7 @@
 #include "render/view_lighting.hpp"
 
 #include <cstdio>
+#include <cstring>
 
 #include "core/error.hpp"
 #include "core/log.hpp"
@@ -24,10 +25,18 @@ void complete_lighting(Scene& scene, LightingChoice& choice, const ShaderLibrary
         }
     }
     log::debug("lighting: view measurement " + v.text());
-    char buf[200];
+    char buf[320];
     std::snprintf(buf, sizeof buf, "%.0f %% of the surface in view (%d of %d px at %dx%d) is unlit by them", v.unlit_share * 100.0,
                   static_cast<int>(v.unlit_share * v.surface_pixels + 0.5), v.surface_pixels, v.width, v.height);
     if (v.surface_pixels == 0 || v.unlit_share <= kMostlyUnlit) {
+        choice.reason += std::string("; ") + buf;
+        return;
+    }
+    // A sky cannot light a closed room: it would only reach the rasterizer's ambient term, which
+    // does not know the room is closed, and the tracer's image would stay as it is.
+    if (v.sky_visibility < kSkyReaches) {
+        std::snprintf(buf + std::strlen(buf), sizeof buf - std::strlen(buf), ", but a sky would not reach it (%.1f %% open)",
+                      v.sky_visibility * 100.0);
         choice.reason += std::string("; ") + buf;
         return;
     }

@@ -17,8 +17,9 @@ namespace candela::rt {
 // visibility: the fraction of one light reaching each visible point (the ground truth of the
 // raster visibility buffer, debug.view=visibility).
 // bounce: camera rays plus one cosine-distributed closest-hit ray (ray-rate benchmark).
-// hits: the share of each pixel's camera rays that see a passive surface (r), an emitter (g) or
-// nothing, the environment (b): what the planner's view measurements weight pixels with.
+// hits: the share of each pixel's camera rays that see a passive surface (r), an emitter (g), and
+// the diffuse part of the passive surfaces seen (b; nothing hit is 1 - r - g): what the planner's
+// view measurements weight pixels with.
 enum class Mode { whitted, path, direct, indirect, ao, primary, visibility, bounce, hits };
 const char* to_string(Mode mode);
 std::optional<Mode> parse_mode(const std::string& name);

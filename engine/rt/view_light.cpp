@@ -6,17 +6,20 @@
 #include <cstdio>
 #include <vector>
 
+#include <glm/glm.hpp>
+
 #include "rt/ray_tracer.hpp"
 
 namespace candela {
 
 std::string ViewLight::text() const {
-    char buf[320];
+    char buf[480];
     std::snprintf(buf, sizeof buf,
                   "%dx%d px x %d spp: %.0f %% passive surface, %.0f %% emitter, %.0f %% background; %d surface px, %d lit, "
-                  "%.0f %% unlit; one bounce / direct %.3f +- %.3f; %.0f ms",
+                  "%.0f %% unlit, %.0f %% open to the sky; first bounce / direct %.3f +- %.3f, second / first %.3f, indirect "
+                  "%.0f %%; %.0f ms",
                   width, height, spp, passive_share * 100.0, emitter_share * 100.0, background_share * 100.0, surface_pixels,
-                  lit_pixels, unlit_share * 100.0, ratio, ratio_stderr, ms);
+                  lit_pixels, unlit_share * 100.0, sky_visibility * 100.0, ratio, ratio_stderr, per_bounce, indirect_share * 100.0, ms);
     return buf;
 }
 
@@ -33,7 +36,10 @@ ViewLight measure_view_light(const ShaderLibrary& shaders, const Scene& scene, G
     o.spp = spp;
     o.tile_rows = v.height;
     o.camera_sees_emission = false;
-    // One tracer for the three renders: the BVH is built and uploaded once.
+    // Sky visibility: AO rays that leave the scene's bounds are open to the sky.
+    const Bounds bounds = scene.world_bounds();
+    o.ao_radius = bounds.empty() ? 1e6f : std::max(1e-3f, 100.0f * glm::length(bounds.extent()));
+    // One tracer for every render: the BVH is built and uploaded once.
     rt::RayTracer tracer(shaders, scene, gpu, o);
     const size_t n = static_cast<size_t>(v.width) * static_cast<size_t>(v.height);
     // channel < 0: luminance; else that channel.
@@ -46,20 +52,39 @@ ViewLight measure_view_light(const ShaderLibrary& shaders, const Scene& scene, G
         }
         return out;
     };
-    const std::vector<double> direct = channel(tracer.render(camera, v.width, v.height).image, -1);
-    tracer.set_mode(rt::Mode::indirect);
-    const std::vector<double> bounce = channel(tracer.render(camera, v.width, v.height).image, -1);
+    auto luminance = [&] { return channel(tracer.render(camera, v.width, v.height).image, -1); };
+    // `path` truncated after 1, 2 and 3 vertices (no Russian roulette before the fourth): the
+    // same random numbers trace the same paths, so the differences are exactly the first and
+    // second bounce of light, every BRDF lobe (metals and glossy surfaces pass light on too).
+    const std::vector<double> direct = luminance();
+    tracer.set_max_depth(2);
+    tracer.set_mode(rt::Mode::path);
+    const std::vector<double> depth2 = luminance();
+    tracer.set_max_depth(3);
+    const std::vector<double> depth3 = luminance();
     tracer.set_mode(rt::Mode::hits);
     const ImageF hits = tracer.render(camera, v.width, v.height).image;
-    const std::vector<double> passive = channel(hits, 0), emitter = channel(hits, 1);
-    double d = 0.0, i1 = 0.0, wsum = 0.0, esum = 0.0;
+    const std::vector<double> passive = channel(hits, 0), emitter = channel(hits, 1), diffuse = channel(hits, 2);
+    tracer.set_mode(rt::Mode::ao);
+    const std::vector<double> open = channel(tracer.render(camera, v.width, v.height).image, 0);
+    double d = 0.0, b1 = 0.0, b2 = 0.0, wsum = 0.0, esum = 0.0, sky = 0.0;
+    std::vector<double> bounce(n), diffuse_direct(n), diffuse_bounce(n);
     std::vector<double> surface_light, lit_direct;
     for (size_t k = 0; k < n; ++k) {
         const double w = std::clamp(passive[k], 0.0, 1.0);
         wsum += w;
         esum += std::clamp(emitter[k], 0.0, 1.0);
-        d += direct[k];  // the direct render is already 0 where the camera sees no surface
-        i1 += bounce[k] * w;
+        sky += w * std::clamp(open[k], 0.0, 1.0);
+        // The renders are 0 where the camera sees no passive surface (no emission, no sky).
+        bounce[k] = std::max(0.0, depth2[k] - direct[k]);
+        // The bounce sums count the diffuse part of each pixel's surface: what a metal or glass
+        // surface shows of its lit surroundings is a reflection, not interreflected light.
+        const double wd = w > 0.0 ? std::clamp(diffuse[k] / w, 0.0, 1.0) : 0.0;
+        diffuse_direct[k] = wd * direct[k];
+        diffuse_bounce[k] = wd * bounce[k];
+        d += diffuse_direct[k];
+        b1 += diffuse_bounce[k];
+        b2 += wd * std::max(0.0, depth3[k] - depth2[k]);
         if (w >= 0.5) {
             surface_light.push_back(direct[k] + bounce[k]);
             if (direct[k] > 0.0) lit_direct.push_back(direct[k]);
@@ -69,19 +94,25 @@ ViewLight measure_view_light(const ShaderLibrary& shaders, const Scene& scene, G
     v.passive_share = wsum / nd;
     v.emitter_share = esum / nd;
     v.background_share = std::max(0.0, 1.0 - v.passive_share - v.emitter_share);
+    v.sky_visibility = wsum > 0.0 ? sky / wsum : 0.0;
     v.direct_mean = d / nd;
-    v.bounce_mean = i1 / nd;
+    v.bounce_mean = b1 / nd;
+    v.second_bounce_mean = b2 / nd;
     v.surface_pixels = static_cast<int>(surface_light.size());
     v.lit_pixels = static_cast<int>(lit_direct.size());
     if (d > 0.0) {
-        v.ratio = i1 / d;
+        v.ratio = b1 / d;
         double r2 = 0.0;
         for (size_t k = 0; k < n; ++k) {
-            const double r = bounce[k] * std::clamp(passive[k], 0.0, 1.0) - v.ratio * direct[k];
+            const double r = diffuse_bounce[k] - v.ratio * diffuse_direct[k];
             r2 += r * r;
         }
         v.ratio_stderr = std::sqrt(nd / std::max(nd - 1.0, 1.0) * r2) / d;
     }
+    // Later bounces return about what the second returned of the first.
+    v.per_bounce = b1 > 0.0 ? std::clamp(b2 / b1, 0.0, 0.95) : 0.0;
+    const double indirect = b1 + b2 / (1.0 - v.per_bounce);
+    v.indirect_share = d + indirect > 0.0 ? indirect / (d + indirect) : 0.0;
     if (!surface_light.empty()) {
         double level = 0.0;
         if (!lit_direct.empty()) {

@@ -4,13 +4,16 @@
 // indirect light (the GI effect) and for whether a file's own lights leave the view unlit
 // (`--lighting auto`, scene/lighting.hpp).
 //
-// Three tiny renders over one BVH:
+// Tiny renders over one BVH:
 // - `hits`: per pixel, the share of camera rays that see a passive surface, an emitter or nothing.
 //   Emitters are known by what the ray hits (any emission towards the camera), never by
 //   brightness;
-// - `direct` with Options::camera_sees_emission off: the direct light the seen surfaces reflect
-//   (punctual lights, emitters, environment), without the emission or sky the camera sees itself;
-// - `indirect`: one diffuse bounce at the seen surfaces.
+// - `path` truncated after one, two and three vertices, with Options::camera_sees_emission off:
+//   the direct light the seen surfaces reflect (punctual lights, emitters, environment), then
+//   its first and second bounce, every BRDF lobe, without the emission or sky the camera sees
+//   itself (the same random numbers in the three, so their differences are exact);
+// - `ao` with a radius far beyond the scene: how much of the seen surfaces' hemisphere is open
+//   to the sky.
 // The sums run over the passive share of each pixel, so an emitter or the background in view
 // neither counts as lit surface nor hides one.
 #include <string>
@@ -26,15 +29,23 @@ struct ViewLight {
     int width = 0, height = 0, spp = 0;
     // Shares of the image's camera rays (they add up to 1).
     double passive_share = 0.0, emitter_share = 0.0, background_share = 0.0;
-    // Means over the image of passive share x light: D the direct light the surfaces reflect,
-    // I1 one diffuse bounce.
-    double direct_mean = 0.0, bounce_mean = 0.0;
-    // I1 / D and its standard error (a ratio estimator over the pixels; it counts the spread of
+    // Means over the image of the light the seen surfaces reflect, each pixel weighted by the
+    // diffuse part of its surface ((1 - metallic)(1 - transmission): a mirror or glass shows its
+    // surroundings, the reflection effect's work): D direct, B1 its first bounce, B2 its second.
+    double direct_mean = 0.0, bounce_mean = 0.0, second_bounce_mean = 0.0;
+    // B1 / D and its standard error (a ratio estimator over the pixels; it counts the spread of
     // the light across the image as well as the sampling noise, so it errs large). 0 when D is 0.
     double ratio = 0.0, ratio_stderr = 0.0;
+    // r = B2 / B1 (at most 0.95): what each later bounce returns of the one before.
+    double per_bounce = 0.0;
+    // The indirect share of the seen surfaces' light, I / (D + I) with I = B1 + B2 / (1 - r).
+    double indirect_share = 0.0;
+    // Cosine-weighted share of the seen surfaces' hemisphere that no geometry blocks: 0 in a
+    // closed room, where no sky can reach.
+    double sky_visibility = 0.0;
     int surface_pixels = 0;  // pixels whose camera rays mostly see passive surfaces
     int lit_pixels = 0;      // of those, pixels with direct light
-    // Of the surface pixels, the share whose light (D + I1) is below kUnlitLevel of the typical
+    // Of the surface pixels, the share whose light (D + B1) is below kUnlitLevel of the typical
     // directly lit level (the median of the lit pixels; without any, every pixel counts as unlit).
     double unlit_share = 0.0;
     double ms = 0.0;  // wall time (BVH, programs, the three renders)

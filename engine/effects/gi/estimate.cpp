@@ -10,10 +10,10 @@ namespace candela {
 std::string IndirectEstimate::text() const {
     char buf[400];
     std::snprintf(buf, sizeof buf,
-                  "%.0f %% +- %.0f %% of the light on the image's surfaces (one diffuse bounce / direct light as a geometric "
-                  "series; %dx%d px x %d spp, %d surface px, %d with direct light%s; %.0f ms)",
-                  fraction * 100.0, fraction_se * 100.0, width, height, spp, surface_pixels, lit_pixels,
-                  trusted ? "" : ": too few to trust", ms);
+                  "%.0f %% of the light on the image's surfaces (first bounce / direct %.2f +- %.2f, each later bounce x %.2f; "
+                  "%dx%d px x %d spp, %d surface px, %d with direct light%s; %.0f ms)",
+                  fraction * 100.0, direct_mean > 0.0 ? one_bounce_mean / direct_mean : 0.0, fraction_se, per_bounce, width, height, spp,
+                  surface_pixels, lit_pixels, trusted ? "" : ": too few to trust", ms);
     return buf;
 }
 
@@ -23,11 +23,9 @@ IndirectEstimate estimate_indirect(const ShaderLibrary& shaders, const Scene& sc
     // the image; the cost is the BVH and the programs.
     const ViewLight v = measure_view_light(shaders, scene, gpu, camera, aspect, 8);
     IndirectEstimate e;
-    // Every bounce returns about rho = I1/D of the light the one before it had, so the indirect
-    // light is D (rho + rho^2 + ...) and its share of the image D/(1-rho) is rho. What the probes
-    // add is diffuse interreflection: specular paths (mirrors, glass) are the reflection effect's.
-    e.fraction = std::clamp(v.ratio, 0.0, 0.99);
+    e.fraction = std::clamp(v.indirect_share, 0.0, 0.99);
     e.fraction_se = v.ratio_stderr;
+    e.per_bounce = v.per_bounce;
     e.direct_mean = v.direct_mean;
     e.one_bounce_mean = v.bounce_mean;
     e.width = v.width;

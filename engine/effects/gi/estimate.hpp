@@ -1,8 +1,9 @@
 #pragma once
-// The planner's estimate of how much of the image is diffuse indirect light: the view measurement
-// of rt/view_light.hpp (tiny `direct` and `indirect` renders over the surfaces the camera sees,
-// from the render's own camera at its aspect) with the bounces after the first extrapolated as a
-// geometric series. The GI effect plans its probes from it (engine/effects/gi/gi.cpp).
+// The planner's estimate of how much of the image is indirect light: the view measurement of
+// rt/view_light.hpp (tiny renders of the direct light on the surfaces the camera sees and of its
+// first two bounces, from the render's own camera at its aspect), the bounces after the second
+// extrapolated as a geometric series with the ratio the second had to the first. The GI effect
+// plans its probes from it (engine/effects/gi/gi.cpp).
 #include <string>
 
 #include "scene/scene.hpp"
@@ -17,15 +18,16 @@ class ShaderLibrary;
 constexpr int kMinLitPixels = 32;
 
 struct IndirectEstimate {
-    double fraction = 0.0;         // rho = I1 / D (at most 0.99; 0 for a black image): the share of every bounce
-    double fraction_se = 0.0;          // standard error of I1 / D (errs large: rt/view_light.hpp)
+    double fraction = 0.0;         // I / (D + I): the indirect share of the seen surfaces' light
+    double fraction_se = 0.0;      // standard error of B1 / D, the first bounce's ratio (errs large)
+    double per_bounce = 0.0;       // r = B2 / B1: what each later bounce returns of the one before
     double direct_mean = 0.0;      // D: direct light the seen surfaces reflect (no emitter or sky in view)
-    double one_bounce_mean = 0.0;  // I1: one diffuse bounce on the same surfaces
+    double one_bounce_mean = 0.0;  // B1: its first bounce on the same surfaces
     int width = 0, height = 0, spp = 0;
     int surface_pixels = 0, lit_pixels = 0;
     bool trusted = false;          // lit_pixels >= kMinLitPixels
     double ms = 0.0;               // wall time of the estimate (BVH, programs, renders)
-    std::string text() const;  // "40 % +- 3 % of the light on the image's surfaces (...)"
+    std::string text() const;  // "40 % of the light on the image's surfaces (...)"
 };
 
 // From the render's camera at its aspect. Throws candela::Error if the tracer cannot be built

@@ -343,9 +343,19 @@ public:
 
 int gi_planned_bounces(const GiOptions& o, const IndirectEstimate* estimate) {
     if (o.bounces > 0) return o.bounces;
-    const double rho = estimate ? std::clamp(estimate->fraction, 0.0, 0.95) : 0.5;
-    if (rho <= 0.0) return 1;
-    const int k = static_cast<int>(std::ceil(std::log(0.005) / std::log(rho))) - 1;
+    int k = 1;
+    if (!estimate) {
+        k = static_cast<int>(std::ceil(std::log(0.005) / std::log(0.5))) - 1;
+    } else {
+        // Bounce j >= 2 carries B2 r^(j-2) (the measured second bounce, then the ratio it had to
+        // the first): after k bounces B2 r^(k-1) / (1 - r) is left out. Enough bounces to leave
+        // less than 0.5 % of the image's light.
+        const double r = std::clamp(estimate->per_bounce, 0.0, 0.95);
+        const double b1 = estimate->one_bounce_mean, b2 = r * b1;
+        const double total = estimate->direct_mean + b1 + b2 / (1.0 - r);
+        if (total > 0.0 && b2 > 0.0)
+            while (k < 64 && b2 * std::pow(r, k - 1) / (1.0 - r) > 0.005 * total) ++k;
+    }
     // The averaging updates after the bounces keep adding one each (their mean is about
     // iterations/2 bounces more), so the replacing updates need that many fewer.
     return std::clamp(k - o.iterations / 2, 1, 32);
