@@ -2,9 +2,11 @@
 // GI probes, step 1 of an update (engine/effects/gi/gi.cpp): every probe of the batch traces
 // gi.params.y rays with the tracer's BVH, in spherical Fibonacci directions under this
 // iteration's random rotation. A ray records the light leaving what it hits towards the probe
-// (the Lambert part: direct light with shadow rays, the tracer's own light sampling, plus the
-// previous iteration's probes for the bounces before) and its distance. Emission is left out:
-// the raster shades emitters as direct light. One ray per invocation; work group y: the probe.
+// and its distance: the direct light the hit reflects back along the ray with its full BRDF (the
+// tracer's next-event estimation, as in path mode: shadow rays, its own light sampling), so that
+// light a metal or glossy surface sends towards the probe is counted, plus the previous
+// iteration's probes for the bounces before (diffuse only). Emission is left out: the raster
+// shades emitters as direct light. One ray per invocation; work group y: the probe.
 #define RT_NO_CAMERA
 #include "rt/trace_common.glsl"
 #include "rt/materials.glsl"
@@ -43,11 +45,19 @@ void main() {
             // so that the update counts it and the Chebyshev test keeps the probe from leaking.
             result = vec4(0.0, 0.0, 0.0, -0.2 * hit.t);
         } else {
-            vec3 L = lambert_direct_light(y, -dir, rng);
-            if (gi.origin.w > 0.5) {  // the bounces before: the previous iteration's probes
-                BrdfInput m = brdf_input(y);
+            // Direct light reflected towards the probe (v = -dir) by the hit's whole BRDF: the
+            // diffuse lobe and the specular one, which a metal has alone. Emitters are sampled
+            // without MIS: the probe ray does not go on to sample the BRDF.
+            BrdfInput m = brdf_input(y);
+            vec3 L = direct_punctual(y, m, -dir);
+#ifdef HAS_EMITTERS
+            if (rt.counts.z > 0) L += direct_emitters(y, m, -dir, rng, false);
+#endif
+            // The bounces before: the previous iteration's probes give irradiance, so this part
+            // stays diffuse (the diffuse albedo times E / pi); light a metal reflects from the
+            // lit room, rather than from the lights, is not in it.
+            if (gi.origin.w > 0.5)
                 L += m.base_color * (1.0 - m.metallic) * INV_PI * gi_irradiance(y.p, y.ns, -dir);
-            }
             result = vec4(L, min(hit.t, gi.fparams.y));
         }
     }
