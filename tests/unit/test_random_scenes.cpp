@@ -619,7 +619,14 @@ constexpr const char* kProbeOvershoot =
     "the GI probes (8 along the longest axis) give a closed high-albedo room too much light: +9 to +11 % at gi.probes=8, +4 % at 16";
 constexpr const char* kMirrorParallax =
     "a smooth metal wall beside the camera reflects the room through one probe at its centre (parallax of the reflection probes)";
+constexpr const char* kMetalBounce =
+    "the GI probes see the direct light a metal reflects, but carry later bounces as diffuse only: light a metal object "
+    "reflects from the lit room onto it is missing (seed 9: -15 %, -4 % with 16 bounces)";
 const KnownLimit kKnownLimits[] = {
+    {"random_9", "mean", kMetalBounce},
+    {"random_12", "mean", kMetalBounce},
+    {"random_12", "blocks", kMetalBounce},
+    {"gi_misses_light_from_metal_seed9", "mean", kMetalBounce},
     {"random_27", "mean", kProbeOvershoot},
     {"random_44", "mean", kProbeOvershoot},
     {"gi_too_bright_in_white_room_seed27", "mean", kProbeOvershoot},
