@@ -145,7 +145,7 @@ float emitter_pdf(Ray ray, Hit hit, SurfaceHit s) {
 
 // Light leaving y towards x after one diffuse reflection at y (Lambertian, y's diffuse albedo):
 // the direct light at y, with visibility from y to the lights. The indirect mode's bounce points
-// and the GI probes' ray hits (engine/effects/gi/probe_trace.comp) use it. Needs
+// use it (the GI probes' hits take the full BRDF: direct_punctual, direct_emitters). Needs
 // shadow_visibility; with HAS_EMITTERS, one emitter sample.
 vec3 lambert_direct_light(SurfaceHit y, vec3 to_x, inout Rng rng) {
     BrdfInput my = brdf_input(y);
