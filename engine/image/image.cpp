@@ -125,7 +125,6 @@ std::size_t count_nonfinite(const ImageF& image) {
     return static_cast<std::size_t>(std::count_if(image.pixels.begin(), image.pixels.end(), [](float v) { return !std::isfinite(v); }));
 }
 
-namespace {
 double mean_luminance(const ImageF& img) {
     double sum = 0;
     for (int y = 0; y < img.height; ++y)
@@ -135,6 +134,8 @@ double mean_luminance(const ImageF& img) {
         }
     return sum / std::max(1.0, static_cast<double>(img.width) * img.height);
 }
+
+namespace {
 
 ImageF display_blocks(const ImageF& linear, int k) {
     const ImageF d = to_display(linear, 0.0f);

@@ -48,6 +48,8 @@ ImageF to_display(const ImageF& linear, float exposure_ev);  // values in [0,1]
 
 // Every image a test writes is scanned with this.
 std::size_t count_nonfinite(const ImageF& image);
+// Mean linear luminance (Rec. 709 weights) over every pixel; 0 for an empty image.
+double mean_luminance(const ImageF& image);
 
 struct CompareResult {
     double rmse = 0;          // over all channels compared (RGB)

@@ -21,15 +21,6 @@ namespace fs = std::filesystem;
 
 constexpr int kSize = 64;
 
-double luminance(const float* p) { return 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2]; }
-
-double image_mean(const ImageF& a) {
-    double sum = 0.0;
-    for (int y = 0; y < a.height; ++y)
-        for (int x = 0; x < a.width; ++x) sum += luminance(a.at(x, y));
-    return sum / (static_cast<double>(a.width) * a.height);
-}
-
 double rmse(const ImageF& a, const ImageF& b) {
     double sum = 0.0;
     for (int y = 0; y < a.height; ++y)
@@ -71,7 +62,7 @@ protected:
             tracer.set_shard(k, 4);
             rt::Result r = tracer.render(camera, kSize, kSize);
             EXPECT_EQ(r.nonfinite_samples, 0u);
-            means.push_back(image_mean(r.image));
+            means.push_back(mean_luminance(r.image));
             batches.push_back(std::move(r.image));
         }
         mean = 0.0;
@@ -103,13 +94,13 @@ TEST_P(GiTest, DefaultImageMatchesPathAndBeatsOneBounceRsm) {
         const ImageF raster_none = raster(scene, kSize, kSize, settings("shadows", {}));
         double ref_mean = 0.0, ref_se = 0.0;
         const ImageF ref = path_reference(scene, ref_mean, ref_se);
-        const double m = image_mean(raster_default);
+        const double m = mean_luminance(raster_default);
         const double e_default = rmse(raster_default, ref), e_rsm = rmse(raster_rsm, ref), e_none = rmse(raster_none, ref);
         std::printf("%s: path mean %.5f (standard error %.5f); raster default %.5f (%+.2f %%), RSM one bounce %.5f (%+.2f %%), "
                     "no indirect %.5f (%+.2f %%); RMSE default %.5f, RSM %.5f, none %.5f\n",
-                    name, ref_mean, ref_se, m, 100.0 * (m / ref_mean - 1.0), image_mean(raster_rsm),
-                    100.0 * (image_mean(raster_rsm) / ref_mean - 1.0), image_mean(raster_none),
-                    100.0 * (image_mean(raster_none) / ref_mean - 1.0), e_default, e_rsm, e_none);
+                    name, ref_mean, ref_se, m, 100.0 * (m / ref_mean - 1.0), mean_luminance(raster_rsm),
+                    100.0 * (mean_luminance(raster_rsm) / ref_mean - 1.0), mean_luminance(raster_none),
+                    100.0 * (mean_luminance(raster_none) / ref_mean - 1.0), e_default, e_rsm, e_none);
         ASSERT_GT(ref_mean, 0.0);
         EXPECT_LT(ref_se, 0.005 * ref_mean);  // the reference's noise does not decide the test
         EXPECT_LT(std::abs(m / ref_mean - 1.0), 0.05);
@@ -177,11 +168,11 @@ TEST_P(GiTest, BudgetConvergesOverFramesToTheStill) {
     renderer.render(camera, kSize, kSize);
     EXPECT_EQ(view->gi_status().rays_last_frame, 0);  // converged: no more rays
     const ImageF still = raster(scene, kSize, kSize, RenderSettings{});
-    const double m = image_mean(still);
+    const double m = mean_luminance(still);
     std::printf("budget 20000 rays/frame: %d frames to converge; first frame mean %.5f, converged %.5f, still %.5f; "
-                "RMSE converged vs still %.5f\n", frames, image_mean(first), image_mean(converged), m, rmse(converged, still));
-    EXPECT_LT(image_mean(first), 0.9 * m);  // the first frame had almost no indirect light yet
-    EXPECT_LT(std::abs(image_mean(converged) / m - 1.0), 0.01);
+                "RMSE converged vs still %.5f\n", frames, mean_luminance(first), mean_luminance(converged), m, rmse(converged, still));
+    EXPECT_LT(mean_luminance(first), 0.9 * m);  // the first frame had almost no indirect light yet
+    EXPECT_LT(std::abs(mean_luminance(converged) / m - 1.0), 0.01);
     EXPECT_LT(rmse(converged, still), 0.02 * m + 0.005);
 }
 

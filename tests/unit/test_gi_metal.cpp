@@ -23,15 +23,6 @@ namespace {
 
 constexpr int kSize = 64;
 
-double luminance(const float* p) { return 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2]; }
-
-double image_mean(const ImageF& a) {
-    double sum = 0.0;
-    for (int y = 0; y < a.height; ++y)
-        for (int x = 0; x < a.width; ++x) sum += luminance(a.at(x, y));
-    return sum / (static_cast<double>(a.width) * a.height);
-}
-
 void add_mesh_node(Scene& scene, const char* name, Primitive p) {
     compute_bounds(p);
     scene.meshes.push_back({name, {std::move(p)}});
@@ -104,7 +95,7 @@ TEST_P(MetalGiTest, ProbesCarryLightAMetalPlateReflectsOntoTheRoom) {
     // probe ray brings back, not about the planner's choice.
     const RenderSettings s = settings("", {"gi.threshold=0", "gi.bounces=12"});
     const ImageF image = raster(scene, kSize, kSize, s);
-    const double m = image_mean(image);
+    const double m = mean_luminance(image);
     // `path` at pixel centres, 4 independent batches: the mean and the standard error of the mean.
     rt::Options o;
     o.mode = rt::Mode::path;
@@ -118,7 +109,7 @@ TEST_P(MetalGiTest, ProbesCarryLightAMetalPlateReflectsOntoTheRoom) {
         tracer.set_shard(k, 4);
         const rt::Result r = tracer.render(camera, kSize, kSize);
         EXPECT_EQ(r.nonfinite_samples, 0u);
-        means[k] = image_mean(r.image);
+        means[k] = mean_luminance(r.image);
         ref += means[k] / 4.0;
     }
     double var = 0.0;
@@ -129,10 +120,10 @@ TEST_P(MetalGiTest, ProbesCarryLightAMetalPlateReflectsOntoTheRoom) {
     off.set_on("gi", false);
     const ImageF no_gi = raster(scene, kSize, kSize, off);
     std::printf("metal plate room: path mean %.5f (standard error %.5f); raster %.5f (%+.2f %%), without GI %.5f (%+.2f %%)\n",
-                ref, se, m, 100.0 * (m / ref - 1.0), image_mean(no_gi), 100.0 * (image_mean(no_gi) / ref - 1.0));
+                ref, se, m, 100.0 * (m / ref - 1.0), mean_luminance(no_gi), 100.0 * (mean_luminance(no_gi) / ref - 1.0));
     ASSERT_GT(ref, 0.0);
     EXPECT_LT(se, 0.01 * ref);  // the reference's noise does not decide the test
-    EXPECT_LT(image_mean(no_gi), 0.5 * ref);  // the setting of the test: the light comes off the metal
+    EXPECT_LT(mean_luminance(no_gi), 0.5 * ref);  // the setting of the test: the light comes off the metal
     EXPECT_LT(std::abs(m / ref - 1.0), 0.08);
 }
 

@@ -65,13 +65,6 @@ constexpr double kIndirectMargin = 0.05;
 
 double luminance(const float* p) { return 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2]; }
 
-double mean_lum(const ImageF& a) {
-    double s = 0.0;
-    for (int y = 0; y < a.height; ++y)
-        for (int x = 0; x < a.width; ++x) s += luminance(a.at(x, y));
-    return s / (static_cast<double>(a.width) * a.height);
-}
-
 std::vector<std::uint32_t> seeds_of_shard(int shard) {
     int n = kSeeds;
     if (const char* e = std::getenv("CANDELA_RANDOM_SEEDS")) n = std::max(1, std::atoi(e));
@@ -130,7 +123,7 @@ Batches trace_batches(rt::RayTracer& tracer, const Camera& camera, int batches) 
         tracer.set_shard(k, batches);
         rt::Result r = tracer.render(camera, kW, kH);
         b.nonfinite += r.nonfinite_samples + static_cast<unsigned>(count_nonfinite(r.image));
-        b.means.push_back(mean_lum(r.image));
+        b.means.push_back(mean_luminance(r.image));
         b.images.push_back(std::move(r.image));
     }
     batch_mean_and_stderr(b.images, b.mean, b.se);
@@ -433,7 +426,7 @@ public:
         }
 
         // Mean within kMeanTolerance of path plus kT standard errors of path's mean.
-        const double r_mean = mean_lum(raster.radiance), p_mean = mean_of(path.means), p_se = stderr_of(path.means);
+        const double r_mean = mean_luminance(raster.radiance), p_mean = mean_of(path.means), p_se = stderr_of(path.means);
         const double rel = p_mean > 0 ? (r_mean - p_mean) / p_mean : 0.0;
         std::snprintf(buf, sizeof buf, "raster %.4g path %.4g +- %.2g (%+.1f %%)", r_mean, p_mean, p_se, 100.0 * rel);
         out.summary += buf;

@@ -111,16 +111,6 @@ Scene model_lit_from(glm::vec3 light_direction) {
     return scene;
 }
 
-double luminance_mean(const ImageF& img) {
-    double s = 0.0;
-    for (int y = 0; y < img.height; ++y)
-        for (int x = 0; x < img.width; ++x) {
-            const float* p = img.at(x, y);
-            s += 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2];
-        }
-    return s / (static_cast<double>(img.width) * img.height);
-}
-
 class ViewLightTest : public test::ReferenceTest {
 protected:
     ViewLight measure(const Scene& scene, float aspect) {
@@ -163,9 +153,9 @@ TEST_P(ViewLightTest, EmitterLitRoomSeenFromOutsideHasItsBounce) {
         o.spp = 64;
         o.camera_sees_emission = false;
         const int w = static_cast<int>(std::lround(48 * aspect)), h = 48;
-        const double all = luminance_mean(traced(scene, w, h, o).image);
+        const double all = mean_luminance(traced(scene, w, h, o).image);
         o.mode = rt::Mode::direct;
-        const double direct = luminance_mean(traced(scene, w, h, o).image);
+        const double direct = mean_luminance(traced(scene, w, h, o).image);
         const double measured = (all - direct) / all;
         std::printf("estimate %.3f +- %.3f, measured indirect share %.3f\n", e.fraction, e.fraction_se, measured);
         // White walls of albedo 0.8 in a room: a large share, far from 0, and the estimate (one
@@ -194,7 +184,7 @@ TEST_P(ViewLightTest, LightsThatMissTheViewAddTheDefaultSky) {
     EXPECT_NE(choice.reason.find("default sky"), std::string::npos);
     // The image is no longer nearly black.
     const ImageF lit = raster(behind, 64, 64, RenderSettings{});
-    EXPECT_GT(luminance_mean(lit), 0.05);
+    EXPECT_GT(mean_luminance(lit), 0.05);
 
     // --lighting file: exactly the file's light, never measured.
     Scene exact = model_lit_from({0.0f, -0.4f, 1.0f});
