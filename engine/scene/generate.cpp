@@ -81,6 +81,40 @@ Scene make_bumpy_sphere_scene(std::size_t triangles) {
     return scene;
 }
 
+int add_mesh_node(Scene& scene, const std::string& name, Primitive primitive, const glm::mat4& local) {
+    compute_bounds(primitive);
+    scene.meshes.push_back({name, {std::move(primitive)}});
+    Node n;
+    n.name = name;
+    n.mesh = static_cast<int>(scene.meshes.size()) - 1;
+    n.local = local;
+    n.has_matrix = true;
+    scene.nodes.push_back(std::move(n));
+    scene.roots.push_back(static_cast<int>(scene.nodes.size()) - 1);
+    return scene.roots.back();
+}
+
+int add_light_node(Scene& scene, const Light& light, const glm::mat4& local) {
+    scene.lights.push_back(light);
+    Node n;
+    n.name = light.name;
+    n.light = static_cast<int>(scene.lights.size()) - 1;
+    n.local = local;
+    n.has_matrix = true;
+    scene.nodes.push_back(std::move(n));
+    scene.roots.push_back(static_cast<int>(scene.nodes.size()) - 1);
+    return scene.roots.back();
+}
+
+void add_look_at_camera(Scene& scene, glm::vec3 eye, glm::vec3 target, float yfov, glm::vec3 up) {
+    Camera c;
+    c.name = "view";
+    c.yfov = yfov;
+    c.znear = 0.05f;
+    c.world = glm::inverse(glm::lookAt(eye, target, up));
+    scene.cameras.push_back(c);
+}
+
 void append_quad(Primitive& p, glm::vec3 o, glm::vec3 eu, glm::vec3 ev) {
     const glm::vec3 n = glm::normalize(glm::cross(eu, ev));
     const auto base = static_cast<std::uint32_t>(p.vertices.size());

@@ -23,16 +23,6 @@ namespace {
 
 constexpr int kSize = 64;
 
-void add_mesh_node(Scene& scene, const char* name, Primitive p) {
-    compute_bounds(p);
-    scene.meshes.push_back({name, {std::move(p)}});
-    Node n;
-    n.name = name;
-    n.mesh = static_cast<int>(scene.meshes.size()) - 1;
-    scene.nodes.push_back(n);
-    scene.roots.push_back(static_cast<int>(scene.nodes.size()) - 1);
-}
-
 // A 4 m x 3 m x 4 m room (rough, albedo 0.6), a 1.6 m square metal plate (roughness 0.35) 1 cm
 // above its floor, a spot 2.9 m above the plate's centre pointing down whose cone (0.23 rad) falls
 // on the plate alone. The camera stands in a corner looking up across the room at the far upper

@@ -39,36 +39,6 @@ namespace {
 
 constexpr int kMsaaShadowSize = 128;
 
-void add_light_node(Scene& scene, const Light& light, const glm::mat4& local) {
-    scene.lights.push_back(light);
-    Node n;
-    n.name = light.name;
-    n.light = static_cast<int>(scene.lights.size()) - 1;
-    n.local = local;
-    n.has_matrix = true;
-    scene.nodes.push_back(n);
-    scene.roots.push_back(static_cast<int>(scene.nodes.size()) - 1);
-}
-
-void add_mesh_node(Scene& scene, const char* name, Primitive p) {
-    compute_bounds(p);
-    scene.meshes.push_back({name, {std::move(p)}});
-    Node n;
-    n.name = name;
-    n.mesh = static_cast<int>(scene.meshes.size()) - 1;
-    scene.nodes.push_back(n);
-    scene.roots.push_back(static_cast<int>(scene.nodes.size()) - 1);
-}
-
-void set_camera(Scene& scene, glm::vec3 eye, glm::vec3 target) {
-    Camera cam;
-    cam.name = "view";
-    cam.yfov = 1.0f;
-    cam.znear = 0.05f;
-    cam.world = glm::inverse(glm::lookAt(eye, target, glm::vec3(0, 0, 1)));
-    scene.cameras.push_back(cam);
-}
-
 // The report's scene: a 6 m x 6 m ceiling of two triangles (shared edge along its diagonal), a
 // point light 3 cm under it, the camera below looking up past the light.
 Scene ceiling_scene() {
@@ -83,7 +53,7 @@ Scene ceiling_scene() {
     bulb.name = "bulb";
     bulb.intensity = 5.0f;
     add_light_node(scene, bulb, glm::translate(glm::mat4(1.0f), glm::vec3(0, 1.97f, 0)));
-    set_camera(scene, {0.12f, 1.55f, 0.3f}, {0.0f, 2.0f, 0.0f});
+    add_look_at_camera(scene, {0.12f, 1.55f, 0.3f}, {0.0f, 2.0f, 0.0f}, 1.0f, glm::vec3(0, 0, 1));
     scene.update_world_transforms();
     return scene;
 }
@@ -130,7 +100,7 @@ Scene vault_scene() {
     // A node's -z is where the light points: up (+y).
     add_light_node(scene, spot,
                    glm::translate(glm::mat4(1.0f), o - glm::vec3(0, 0.03f, 0)) * glm::rotate(glm::mat4(1.0f), 1.5707963f, glm::vec3(1, 0, 0)));
-    set_camera(scene, o + glm::vec3(0.06f, -0.3f, 0.12f), o + glm::vec3(-0.01f, 0.0f, -0.01f));
+    add_look_at_camera(scene, o + glm::vec3(0.06f, -0.3f, 0.12f), o + glm::vec3(-0.01f, 0.0f, -0.01f), 1.0f, glm::vec3(0, 0, 1));
     scene.update_world_transforms();
     return scene;
 }

@@ -28,41 +28,15 @@ namespace candela {
 namespace {
 namespace fs = std::filesystem;
 
-int add_mesh(Scene& scene, const std::string& name, Primitive p, const glm::mat4& local = glm::mat4(1.0f)) {
-    compute_bounds(p);
-    scene.meshes.push_back({name, {std::move(p)}});
-    Node n;
-    n.name = name;
-    n.mesh = static_cast<int>(scene.meshes.size()) - 1;
-    n.local = local;
-    scene.nodes.push_back(n);
-    scene.roots.push_back(static_cast<int>(scene.nodes.size()) - 1);
-    return n.mesh;
-}
-
-void add_camera(Scene& scene, glm::vec3 eye, glm::vec3 target, float yfov = 0.8f) {
-    Camera c;
-    c.name = "view";
-    c.yfov = yfov;
-    c.world = glm::inverse(glm::lookAt(eye, target, glm::vec3(0, 1, 0)));
-    scene.cameras.push_back(c);
-}
-
 // A directional light shining along `dir`.
 void add_sun(Scene& scene, glm::vec3 dir, float irradiance) {
     Light sun;
     sun.name = "sun";
     sun.type = LightType::directional;
     sun.intensity = irradiance;
-    scene.lights.push_back(sun);
-    Node n;
-    n.name = "sun";
-    n.light = static_cast<int>(scene.lights.size()) - 1;
     const glm::vec3 d = glm::normalize(dir);
     const glm::vec3 up = std::fabs(d.y) > 0.99f ? glm::vec3(1, 0, 0) : glm::vec3(0, 1, 0);
-    n.local = glm::inverse(glm::lookAt(glm::vec3(0.0f), d, up));
-    scene.nodes.push_back(n);
-    scene.roots.push_back(static_cast<int>(scene.nodes.size()) - 1);
+    add_light_node(scene, sun, glm::inverse(glm::lookAt(glm::vec3(0.0f), d, up)));
 }
 
 // A 2 m room open at the front (+Z), white walls, a 0.5 m quad emitter under the ceiling facing
@@ -82,12 +56,12 @@ Scene open_room_lit_by_an_emitter() {
     append_quad(walls, {-1, 0, -1}, {2, 0, 0}, {0, 2, 0});   // back, +Z
     append_quad(walls, {-1, 0, 1}, {0, 0, -2}, {0, 2, 0});   // left, +X
     append_quad(walls, {1, 0, -1}, {0, 0, 2}, {0, 2, 0});    // right, -X
-    add_mesh(scene, "room", std::move(walls));
+    add_mesh_node(scene, "room", std::move(walls));
     Primitive light;
     light.material = 1;
     append_quad(light, {-0.25f, 1.98f, -0.25f}, {0.5f, 0, 0}, {0, 0, 0.5f});  // facing down
-    add_mesh(scene, "lamp", std::move(light));
-    add_camera(scene, {0, 1, 4.5f}, {0, 1, 0}, 0.9f);
+    add_mesh_node(scene, "lamp", std::move(light));
+    add_look_at_camera(scene, {0, 1, 4.5f}, {0, 1, 0}, 0.9f);
     scene.update_world_transforms();
     return scene;
 }
@@ -104,9 +78,9 @@ Scene model_lit_from(glm::vec3 light_direction) {
     append_box(sofa, {-1.0f, 0.45f, -0.4f}, {1.0f, 1.0f, -0.2f});  // back
     append_box(sofa, {-1.0f, 0.45f, -0.2f}, {-0.8f, 0.7f, 0.4f});  // arms
     append_box(sofa, {0.8f, 0.45f, -0.2f}, {1.0f, 0.7f, 0.4f});
-    add_mesh(scene, "sofa", std::move(sofa));
+    add_mesh_node(scene, "sofa", std::move(sofa));
     add_sun(scene, light_direction, 3.0f);
-    add_camera(scene, {0.3f, 1.2f, 3.0f}, {0, 0.5f, 0});
+    add_look_at_camera(scene, {0.3f, 1.2f, 3.0f}, {0, 0.5f, 0});
     scene.update_world_transforms();
     return scene;
 }
