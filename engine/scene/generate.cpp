@@ -71,12 +71,7 @@ Scene make_bumpy_sphere_scene(std::size_t triangles) {
     scene.roots = {0, 1, 2};
     scene.environment.radiance = glm::vec3(0.2f);
     // A camera the sphere fills, so that ray benchmarks measure rays that hit it, not sky.
-    Camera camera;
-    camera.name = "close";
-    camera.yfov = 0.8f;
-    camera.znear = 0.05f;
-    camera.world = glm::inverse(glm::lookAt(glm::vec3(0.0f, 1.4f, 2.6f), glm::vec3(0.0f, 1.2f, 0.0f), glm::vec3(0, 1, 0)));
-    scene.cameras.push_back(camera);
+    add_look_at_camera(scene, {0.0f, 1.4f, 2.6f}, {0.0f, 1.2f, 0.0f}, 0.8f, glm::vec3(0, 1, 0), "close");
     scene.update_world_transforms();
     return scene;
 }
@@ -106,13 +101,25 @@ int add_light_node(Scene& scene, const Light& light, const glm::mat4& local) {
     return scene.roots.back();
 }
 
-void add_look_at_camera(Scene& scene, glm::vec3 eye, glm::vec3 target, float yfov, glm::vec3 up) {
+int add_sun(Scene& scene, glm::vec3 to_light, float intensity) {
+    Light sun;
+    sun.name = "sun";
+    sun.type = LightType::directional;
+    sun.intensity = intensity;
+    // The node's -Z is the light's direction: its Z axis points to the light.
+    const glm::vec3 z = glm::normalize(to_light);
+    const glm::vec3 side = glm::normalize(glm::cross(glm::vec3(0, 1, 0), z));
+    return add_light_node(scene, sun, glm::mat4(glm::mat3(side, glm::cross(z, side), z)));
+}
+
+Camera& add_look_at_camera(Scene& scene, glm::vec3 eye, glm::vec3 target, float yfov, glm::vec3 up, const char* name) {
     Camera c;
-    c.name = "view";
+    c.name = name;
     c.yfov = yfov;
     c.znear = 0.05f;
     c.world = glm::inverse(glm::lookAt(eye, target, up));
     scene.cameras.push_back(c);
+    return scene.cameras.back();
 }
 
 void append_quad(Primitive& p, glm::vec3 o, glm::vec3 eu, glm::vec3 ev) {
@@ -225,12 +232,7 @@ Scene make_many_lights_scene(int lights) {
         scene.nodes.push_back(n);
     }
     scene.environment.radiance = glm::vec3(0.03f);
-    Camera camera;
-    camera.name = "overview";
-    camera.yfov = 0.9f;
-    camera.znear = 0.05f;
-    camera.world = glm::inverse(glm::lookAt(glm::vec3(0.0f, 7.0f, 13.0f), glm::vec3(0.0f, 0.0f, 1.0f), glm::vec3(0, 1, 0)));
-    scene.cameras.push_back(camera);
+    add_look_at_camera(scene, {0.0f, 7.0f, 13.0f}, {0.0f, 0.0f, 1.0f}, 0.9f, glm::vec3(0, 1, 0), "overview");
     scene.update_world_transforms();
     return scene;
 }

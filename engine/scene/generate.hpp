@@ -15,10 +15,13 @@ void append_quad(Primitive& p, glm::vec3 o, glm::vec3 eu, glm::vec3 ev);
 Material lambert_material(const char* name, glm::vec3 colour);
 // Scenes built in code (generators, tests): a mesh of one primitive (its bounds computed), a light
 // or a camera on a new root node; each returns the node's index. The light shines along the
-// node's -Z; add_look_at_camera places a perspective camera at `eye` looking at `target`.
+// node's -Z; add_sun adds a directional light named "sun" shining from the direction `to_light`;
+// add_look_at_camera places a perspective camera at `eye` looking at `target` and returns it.
 int add_mesh_node(Scene& scene, const std::string& name, Primitive primitive, const glm::mat4& local = glm::mat4(1.0f));
 int add_light_node(Scene& scene, const Light& light, const glm::mat4& local);
-void add_look_at_camera(Scene& scene, glm::vec3 eye, glm::vec3 target, float yfov = 0.8f, glm::vec3 up = glm::vec3(0, 1, 0));
+int add_sun(Scene& scene, glm::vec3 to_light, float intensity);
+Camera& add_look_at_camera(Scene& scene, glm::vec3 eye, glm::vec3 target, float yfov = 0.8f, glm::vec3 up = glm::vec3(0, 1, 0),
+                           const char* name = "view");
 
 // A bumpy sphere (a UV sphere with a deterministic radial displacement) of about `triangles`
 // triangles on a ground quad, one white Lambert material, a directional light, a framing camera.

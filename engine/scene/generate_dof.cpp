@@ -75,33 +75,16 @@ Scene make_dof_scene() {
         add_mesh("far", std::move(a), green, std::move(b), white);
     }
 
-    Light sun;
-    sun.name = "sun";
-    sun.type = LightType::directional;
-    sun.intensity = 3.0f;
-    scene.lights.push_back(sun);
-    Node l;
-    l.name = "sun";
-    l.light = 0;
-    // Shining from above, behind the camera and from the left (a light points along its -Z).
-    const glm::vec3 to_light = glm::normalize(glm::vec3(-0.4f, 0.8f, 0.6f));
-    const glm::vec3 side = glm::normalize(glm::cross(glm::vec3(0, 1, 0), to_light));
-    l.local = glm::mat4(glm::mat3(side, glm::cross(to_light, side), to_light));
-    scene.roots.push_back(static_cast<int>(scene.nodes.size()));
-    scene.nodes.push_back(l);
+    // Shining from above, behind the camera and from the left.
+    add_sun(scene, {-0.4f, 0.8f, 0.6f}, 3.0f);
 
     // A thin lens focused on the subject's front (5.66 along the view axis): aperture (radius) 0.1
     // gives, at 240 pixels of image height, blur circles about 10 pixels across on the near
     // object, 4 on the far one and 6 on the back wall.
-    Camera camera;
-    camera.name = "dof";
-    camera.yfov = 0.7f;
-    camera.znear = 0.05f;
     const glm::vec3 eye(0.0f, 1.1f, 6.0f), target(0.0f, 0.7f, 0.0f);
-    camera.world = glm::inverse(glm::lookAt(eye, target, glm::vec3(0, 1, 0)));
+    Camera& camera = add_look_at_camera(scene, eye, target, 0.7f, glm::vec3(0, 1, 0), "dof");
     camera.aperture = 0.1f;
     camera.focus_distance = glm::dot(glm::vec3(0.0f, 0.7f, 0.35f) - eye, glm::normalize(target - eye));
-    scene.cameras.push_back(camera);
     scene.update_world_transforms();
     return scene;
 }

@@ -102,29 +102,10 @@ Scene make_motion_scene() {
     anim.end = 1.0f;
     scene.animations.push_back(anim);
 
-    Light sun;
-    sun.name = "sun";
-    sun.type = LightType::directional;
-    sun.intensity = 3.0f;
-    scene.lights.push_back(sun);
-    Node l;
-    l.name = "sun";
-    l.light = 0;
-    // From above, behind the camera and from the left (a light points along its -Z): the shadows
-    // fall behind and right of the boxes.
-    const glm::vec3 to_light = glm::normalize(glm::vec3(-0.4f, 0.9f, 0.5f));
-    const glm::vec3 side = glm::normalize(glm::cross(glm::vec3(0, 1, 0), to_light));
-    l.local = glm::mat4(glm::mat3(side, glm::cross(to_light, side), to_light));
-    scene.roots.push_back(static_cast<int>(scene.nodes.size()));
-    scene.nodes.push_back(l);
+    // From above, behind the camera and from the left: the shadows fall behind and right of the boxes.
+    add_sun(scene, {-0.4f, 0.9f, 0.5f}, 3.0f);
 
-    Camera camera;
-    camera.name = "motion";
-    camera.yfov = 0.7f;
-    camera.znear = 0.05f;
-    const glm::vec3 eye(0.0f, 2.2f, 8.0f), target(0.6f, 0.9f, 0.0f);
-    camera.world = glm::inverse(glm::lookAt(eye, target, glm::vec3(0, 1, 0)));
-    scene.cameras.push_back(camera);
+    add_look_at_camera(scene, {0.0f, 2.2f, 8.0f}, {0.6f, 0.9f, 0.0f}, 0.7f, glm::vec3(0, 1, 0), "motion");
     scene.update_world_transforms();
     return scene;
 }

@@ -128,12 +128,7 @@ Scene make_skinned_scene(std::size_t triangles) {
     scene.skins.push_back(std::move(skin));
     scene.animations.push_back(std::move(anim));
     scene.environment.radiance = glm::vec3(0.2f);
-    Camera camera;
-    camera.name = "front";
-    camera.yfov = 0.8f;
-    camera.znear = 0.05f;
-    camera.world = glm::inverse(glm::lookAt(glm::vec3(0.0f, 2.2f, 6.5f), glm::vec3(0.0f, 1.9f, 0.0f), glm::vec3(0, 1, 0)));
-    scene.cameras.push_back(camera);
+    add_look_at_camera(scene, {0.0f, 2.2f, 6.5f}, {0.0f, 1.9f, 0.0f}, 0.8f, glm::vec3(0, 1, 0), "front");
     scene.update_world_transforms();
     return scene;
 }
