@@ -3,6 +3,7 @@
 # checks that the docked panel is beside the scene, not over it: the window shot's scene region
 # equals the screenshot pixel for pixel (tests/viewer/check_window_shot.py).
 #   cmake -DCANDELA=... -DSCENE=... -DSCRIPT=... -DOUT=... -P viewer_smoke.cmake
+include(${CMAKE_CURRENT_LIST_DIR}/steps.cmake)
 find_program(XVFB_RUN xvfb-run)
 if(NOT XVFB_RUN)
   message(FATAL_ERROR "xvfb-run is needed for the viewer test (apt-get install xvfb xauth)")
@@ -15,18 +16,10 @@ message("view: exit ${code}\n${out}${err}")
 if(NOT code EQUAL 0)
   message(FATAL_ERROR "the viewer failed")
 endif()
-execute_process(COMMAND ${CANDELA} render ${SCENE} --size ${size} --effects all --set ssao.samples=8 --path forward
-                        --camera 0 -o ${OUT}/viewer_reference.png
-                RESULT_VARIABLE code OUTPUT_VARIABLE out ERROR_VARIABLE err TIMEOUT 300)
-if(NOT code EQUAL 0)
-  message(FATAL_ERROR "candela render failed:\n${out}${err}")
-endif()
-execute_process(COMMAND ${CANDELA} compare ${OUT}/viewer.png ${OUT}/viewer_reference.png --check --heatmap ${OUT}/viewer_diff.png
-                RESULT_VARIABLE code OUTPUT_VARIABLE out ERROR_VARIABLE err)
-message("compare viewer vs render:\n${out}${err}")
-if(NOT code EQUAL 0)
-  message(FATAL_ERROR "the viewer's screenshot differs from candela render (see ${OUT}/viewer_diff.png)")
-endif()
+candela_render_or_fail("candela render" ${SCENE} --size ${size} --effects all --set ssao.samples=8 --path forward
+                       --camera 0 -o ${OUT}/viewer_reference.png)
+candela_same_or_fail(${OUT}/viewer.png ${OUT}/viewer_reference.png ${OUT}/viewer_diff.png
+                     "the viewer's screenshot (against candela render)")
 # The window shot holds the panel too, beside the scene: the window is as tall as --size and
 # wider, its left part is the screenshot exactly, its right part is the panel.
 find_program(PYTHON3 python3 PATHS /usr/bin NO_DEFAULT_PATH)

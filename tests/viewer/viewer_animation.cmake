@@ -6,6 +6,7 @@
 # black). The log must say every screenshot's radiance had no NaN
 # or infinity, and that a paused viewer posed nothing more.
 #   cmake -DCANDELA=... -DSCENE=... -DSCRIPT=... -DOUT=... -DPYTHON3=... -DCHECK=... -P viewer_animation.cmake
+include(${CMAKE_CURRENT_LIST_DIR}/../cmake/steps.cmake)
 find_program(XVFB_RUN xvfb-run)
 if(NOT XVFB_RUN)
   message(FATAL_ERROR "xvfb-run is needed for the viewer test (apt-get install xvfb xauth)")
@@ -60,17 +61,10 @@ message("view --animation Walk --time 0.5: exit ${code}\n${out}${err}")
 if(NOT code EQUAL 0 OR NOT err MATCHES "start: animation 'Walk' \\(1 of 3\\), 0.500 s of [0-9.]+ s, paused")
   message(FATAL_ERROR "view --animation Walk --time 0.5 did not start paused at 0.5 s of the walk")
 endif()
-execute_process(COMMAND ${CANDELA} render ${SCENE} --size ${size} --animation Walk --time 0.5 -o ${dir}/anim_render.png
-                RESULT_VARIABLE code OUTPUT_VARIABLE out ERROR_VARIABLE err TIMEOUT 300)
-if(NOT code EQUAL 0)
-  message(FATAL_ERROR "candela render --animation Walk --time 0.5 failed:\n${out}${err}")
-endif()
-execute_process(COMMAND ${CANDELA} compare ${dir}/anim_cli.png ${dir}/anim_render.png --check --heatmap ${dir}/anim_cli_diff.png
-                RESULT_VARIABLE code OUTPUT_VARIABLE out ERROR_VARIABLE err)
-message("compare view --time 0.5 vs render --time 0.5:\n${out}${err}")
-if(NOT code EQUAL 0)
-  message(FATAL_ERROR "the viewer's --animation Walk --time 0.5 differs from candela render's (see ${dir}/anim_cli_diff.png)")
-endif()
+candela_render_or_fail("candela render --animation Walk --time 0.5"
+                       ${SCENE} --size ${size} --animation Walk --time 0.5 -o ${dir}/anim_render.png)
+candela_same_or_fail(${dir}/anim_cli.png ${dir}/anim_render.png ${dir}/anim_cli_diff.png
+                     "the viewer's --animation Walk --time 0.5 (against candela render's)")
 execute_process(COMMAND ${PYTHON3} ${CHECK} ${dir} RESULT_VARIABLE code OUTPUT_VARIABLE out ERROR_VARIABLE err)
 message("check_animation.py:\n${out}${err}")
 if(NOT code EQUAL 0)

@@ -6,6 +6,7 @@
 # respected: converged at frame 0. The log lines are the panel's GI line (at this size the window
 # shot is too short to show it; a taller --size shows it under the gi row).
 #   cmake -DCANDELA=... -DSCENE=... -DSCRIPT=... -DOUT=... -DCHECK_WINDOW=... -P viewer_gi.cmake
+include(${CMAKE_CURRENT_LIST_DIR}/../cmake/steps.cmake)
 find_program(XVFB_RUN xvfb-run)
 if(NOT XVFB_RUN)
   message(FATAL_ERROR "xvfb-run is needed for the viewer test (apt-get install xvfb xauth)")
@@ -30,17 +31,9 @@ endif()
 if(CMAKE_MATCH_1 LESS 10)
   message(FATAL_ERROR "the GI probes converged at frame ${CMAKE_MATCH_1}: the budget did not spread the updates")
 endif()
-execute_process(COMMAND ${CANDELA} render ${SCENE} --size ${size} -o ${OUT}/viewer_gi_reference.png
-                RESULT_VARIABLE code OUTPUT_VARIABLE out ERROR_VARIABLE err TIMEOUT 300)
-if(NOT code EQUAL 0)
-  message(FATAL_ERROR "candela render failed:\n${out}${err}")
-endif()
-execute_process(COMMAND ${CANDELA} compare ${OUT}/viewer_gi.png ${OUT}/viewer_gi_reference.png --check --heatmap ${OUT}/viewer_gi_diff.png
-                RESULT_VARIABLE code OUTPUT_VARIABLE out ERROR_VARIABLE err)
-message("compare converged viewer vs render:\n${out}${err}")
-if(NOT code EQUAL 0)
-  message(FATAL_ERROR "the viewer's converged frame differs from candela render (see ${OUT}/viewer_gi_diff.png)")
-endif()
+candela_render_or_fail("candela render" ${SCENE} --size ${size} -o ${OUT}/viewer_gi_reference.png)
+candela_same_or_fail(${OUT}/viewer_gi.png ${OUT}/viewer_gi_reference.png ${OUT}/viewer_gi_diff.png
+                     "the viewer's converged frame (against candela render)")
 execute_process(COMMAND ${CANDELA} compare ${OUT}/viewer_gi_early.png ${OUT}/viewer_gi_reference.png --check
                 RESULT_VARIABLE code OUTPUT_VARIABLE out ERROR_VARIABLE err)
 message("compare frame 1 vs render:\n${out}${err}")
