@@ -108,7 +108,9 @@ int add_sun(Scene& scene, glm::vec3 to_light, float intensity) {
     sun.intensity = intensity;
     // The node's -Z is the light's direction: its Z axis points to the light.
     const glm::vec3 z = glm::normalize(to_light);
-    const glm::vec3 side = glm::normalize(glm::cross(glm::vec3(0, 1, 0), z));
+    // Any up vector not parallel to z gives the same light; straight up/down needs another one.
+    const glm::vec3 up = std::fabs(z.y) > 0.99f ? glm::vec3(1, 0, 0) : glm::vec3(0, 1, 0);
+    const glm::vec3 side = glm::normalize(glm::cross(up, z));
     return add_light_node(scene, sun, glm::mat4(glm::mat3(side, glm::cross(z, side), z)));
 }
 

@@ -28,17 +28,6 @@ namespace candela {
 namespace {
 namespace fs = std::filesystem;
 
-// A directional light shining along `dir`.
-void add_sun(Scene& scene, glm::vec3 dir, float irradiance) {
-    Light sun;
-    sun.name = "sun";
-    sun.type = LightType::directional;
-    sun.intensity = irradiance;
-    const glm::vec3 d = glm::normalize(dir);
-    const glm::vec3 up = std::fabs(d.y) > 0.99f ? glm::vec3(1, 0, 0) : glm::vec3(0, 1, 0);
-    add_light_node(scene, sun, glm::inverse(glm::lookAt(glm::vec3(0.0f), d, up)));
-}
-
 // A 2 m room open at the front (+Z), white walls, a 0.5 m quad emitter under the ceiling facing
 // down, no other light; the camera stands 3.5 m in front of the opening.
 Scene open_room_lit_by_an_emitter() {
@@ -79,7 +68,7 @@ Scene model_lit_from(glm::vec3 light_direction) {
     append_box(sofa, {-1.0f, 0.45f, -0.2f}, {-0.8f, 0.7f, 0.4f});  // arms
     append_box(sofa, {0.8f, 0.45f, -0.2f}, {1.0f, 0.7f, 0.4f});
     add_mesh_node(scene, "sofa", std::move(sofa));
-    add_sun(scene, light_direction, 3.0f);
+    add_sun(scene, -light_direction, 3.0f);  // add_sun takes the direction towards the light
     add_look_at_camera(scene, {0.3f, 1.2f, 3.0f}, {0, 0.5f, 0});
     scene.update_world_transforms();
     return scene;
