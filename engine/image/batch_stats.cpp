@@ -9,6 +9,18 @@
 
 namespace candela {
 
+BatchMean batch_mean(const std::vector<double>& values) {
+    BatchMean m;
+    const auto n = static_cast<double>(values.size());
+    if (values.empty()) return m;
+    for (double x : values) m.mean += x / n;
+    if (values.size() < 2) return m;
+    double ss = 0.0;
+    for (double x : values) ss += (x - m.mean) * (x - m.mean);
+    m.se = std::sqrt(ss / (n - 1.0) / n);
+    return m;
+}
+
 namespace {
 
 constexpr glm::dvec3 kLuminance{0.2126, 0.7152, 0.0722};  // Rec. 709 / sRGB primaries

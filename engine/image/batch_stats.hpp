@@ -35,6 +35,14 @@
 
 namespace candela {
 
+// The mean of N independent batch values (N >= 2) and the standard error of that mean,
+// sqrt(s^2 / N) with s^2 the unbiased sample variance: the statistics of one number measured per
+// batch (an image mean, a moment of a blur), as the tests of the tracer use them.
+struct BatchMean {
+    double mean = 0.0, se = 0.0;
+};
+BatchMean batch_mean(const std::vector<double>& values);
+
 struct BatchCompareResult {
     int batches_a = 0;
     int batches_b = 0;               // 0 when B is a reference image

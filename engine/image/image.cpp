@@ -181,6 +181,8 @@ BlockAgreement block_agreement(const ImageF& a, const ImageF& b, int k) {
     return r;
 }
 
+double rmse(const ImageF& a, const ImageF& b) { return compare(a, b, 0.0).rmse; }
+
 CompareResult compare(const ImageF& actual, const ImageF& expected, double tolerance) {
     if (actual.width != expected.width || actual.height != expected.height)
         throw bad_input("images differ in size: " + std::to_string(actual.width) + "x" + std::to_string(actual.height) +

@@ -50,6 +50,8 @@ ImageF to_display(const ImageF& linear, float exposure_ev);  // values in [0,1]
 std::size_t count_nonfinite(const ImageF& image);
 // Mean linear luminance (Rec. 709 weights) over every pixel; 0 for an empty image.
 double mean_luminance(const ImageF& image);
+// Root mean square difference over the RGB channels of two images of one size (compare's rmse).
+double rmse(const ImageF& a, const ImageF& b);
 
 struct CompareResult {
     double rmse = 0;          // over all channels compared (RGB)

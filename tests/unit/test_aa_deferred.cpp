@@ -87,16 +87,6 @@ double edge_error(const ImageF& img, const Reference& ref, const std::vector<boo
     return std::sqrt(std::max(0.0, sum / std::max(n, 1)));
 }
 
-double rmse(const ImageF& a, const ImageF& b) {
-    double s = 0;
-    for (int y = 0; y < a.height; ++y)
-        for (int x = 0; x < a.width; ++x)
-            for (int c = 0; c < 3; ++c) {
-                const double d = a.at(x, y)[c] - b.at(x, y)[c];
-                s += d * d;
-            }
-    return std::sqrt(s / (3.0 * a.width * a.height));
-}
 
 // CANDELA_AA_STATS=1 for the scope: the lighting pass counts its per-sample pixels.
 struct CountEdges {

@@ -54,16 +54,6 @@ TEST(Dof, PlannedOnlyWithAnAperture) {
 
 class DofTest : public test::ReferenceTest {};
 
-double rmse(const ImageF& a, const ImageF& b) {
-    double sum = 0.0;
-    for (int y = 0; y < a.height; ++y)
-        for (int x = 0; x < a.width; ++x)
-            for (int c = 0; c < 3; ++c) {
-                const double d = a.at(x, y)[c] - b.at(x, y)[c];
-                sum += d * d;
-            }
-    return std::sqrt(sum / (3.0 * a.width * a.height));
-}
 
 TEST_P(DofTest, PinholeIsBitIdenticalToNoModule) {
     const Scene scene = make_dof_scene();

@@ -21,17 +21,6 @@ namespace fs = std::filesystem;
 
 constexpr int kSize = 64;
 
-double rmse(const ImageF& a, const ImageF& b) {
-    double sum = 0.0;
-    for (int y = 0; y < a.height; ++y)
-        for (int x = 0; x < a.width; ++x)
-            for (int c = 0; c < 3; ++c) {
-                const double d = static_cast<double>(a.at(x, y)[c]) - b.at(x, y)[c];
-                sum += d * d;
-            }
-    return std::sqrt(sum / (3.0 * a.width * a.height));
-}
-
 Scene load_sample(const std::string& name) {
     return load_gltf(fs::path(CANDELA_SOURCE_DIR) / "samples" / "scenes" / (name + ".gltf"));
 }

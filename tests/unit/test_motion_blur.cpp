@@ -82,16 +82,6 @@ protected:
     }
 };
 
-double rmse(const ImageF& a, const ImageF& b) {
-    double sum = 0.0;
-    for (int y = 0; y < a.height; ++y)
-        for (int x = 0; x < a.width; ++x)
-            for (int c = 0; c < 3; ++c) {
-                const double d = a.at(x, y)[c] - b.at(x, y)[c];
-                sum += d * d;
-            }
-    return std::sqrt(sum / (3.0 * a.width * a.height));
-}
 
 // The renderer counts the moving draws in view: the slider's and the spinner's at the midpoint.
 TEST_P(MotionBlurTest, PlannedWhenSomethingInViewMoves) {

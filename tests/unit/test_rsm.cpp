@@ -26,16 +26,6 @@ protected:
     Scene cornell_ = load_gltf(fs::path(CANDELA_SOURCE_DIR) / "samples" / "scenes" / "cornell_point.gltf");
 };
 
-double rmse(const ImageF& a, const ImageF& b) {
-    double sum = 0.0;
-    for (int y = 0; y < a.height; ++y)
-        for (int x = 0; x < a.width; ++x)
-            for (int c = 0; c < 3; ++c) {
-                const double d = a.at(x, y)[c] - b.at(x, y)[c];
-                sum += d * d;
-            }
-    return std::sqrt(sum / (a.width * a.height * 3));
-}
 
 TEST_P(RsmTest, FloorNextToTheRedWallGetsRedder) {
     const int n = 96;

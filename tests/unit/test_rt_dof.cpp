@@ -41,6 +41,7 @@
 
 #include "core/error.hpp"
 #include "gl_fixture.hpp"
+#include "image/batch_stats.hpp"
 #include "gltf_builder.hpp"
 #include "render/gpu_scene.hpp"
 #include "render/settings.hpp"
@@ -99,24 +100,12 @@ Moments moments(const ImageF& img) {
     return m;
 }
 
-// The mean of per-batch values and its standard error.
-struct Estimate {
-    double mean = 0.0, se = 0.0;
-};
-Estimate estimate(const std::vector<double>& v) {
-    Estimate e;
-    for (double x : v) e.mean += x / static_cast<double>(v.size());
-    double ss = 0.0;
-    for (double x : v) ss += (x - e.mean) * (x - e.mean);
-    e.se = std::sqrt(ss / static_cast<double>(v.size() - 1) / static_cast<double>(v.size()));
-    return e;
-}
 
 // The diameter of the uniform disk that, convolved with the square and the pixel box, gives `var`.
 double diameter_from_variance(double var) { return 4.0 * std::sqrt(std::max(0.0, var - (kSquarePx * kSquarePx + 1.0) / 12.0)); }
 
 struct Measured {
-    Estimate diameter, sum, var, cx, cy;
+    BatchMean diameter, sum, var, cx, cy;
 };
 
 class RtDofTest : public test::GlContextTest {
@@ -150,7 +139,7 @@ protected:
             cx.push_back(m.cx);
             cy.push_back(m.cy);
         }
-        return {estimate(d), estimate(sum), estimate(var), estimate(cx), estimate(cy)};
+        return {batch_mean(d), batch_mean(sum), batch_mean(var), batch_mean(cx), batch_mean(cy)};
     }
     ShaderLibrary shaders_{fs::path(CANDELA_SOURCE_DIR) / "shaders"};
 };

@@ -40,6 +40,7 @@
 #include <vector>
 
 #include "gl_fixture.hpp"
+#include "image/batch_stats.hpp"
 #include "image/image.hpp"
 #include "render/gpu_scene.hpp"
 #include "rt/bvh.hpp"
@@ -150,17 +151,6 @@ rt::Options motion_options(Scene& scene, int spp, std::vector<float>* times = nu
     return o;
 }
 
-struct Estimate {
-    double mean = 0.0, se = 0.0;
-};
-Estimate estimate(const std::vector<double>& v) {
-    Estimate e;
-    for (double x : v) e.mean += x / static_cast<double>(v.size());
-    double ss = 0.0;
-    for (double x : v) ss += (x - e.mean) * (x - e.mean);
-    e.se = std::sqrt(ss / static_cast<double>(v.size() - 1) / static_cast<double>(v.size()));
-    return e;
-}
 
 class RtMotionTest : public test::GlContextTest {
 protected:
@@ -171,10 +161,10 @@ protected:
 struct Agreement {
     int partial = 0, exact = 0, exact_mismatches = 0;
     double max_z = 0.0, mean_abs_error = 0.0;
-    Estimate ramp[2];  // per ramp (0: the quad's left edge sweeps these columns; 1: its right edge)
+    BatchMean ramp[2];  // per ramp (0: the quad's left edge sweeps these columns; 1: its right edge)
     double ramp_z[2] = {0.0, 0.0};
 };
-double z_of(const Estimate& e, double expected) {
+double z_of(const BatchMean& e, double expected) {
     const double d = e.mean - expected;
     if (std::fabs(d) < 1e-9) return 0.0;  // e.g. a column whose boundary falls on a stratum's edge: no noise at all
     return e.se > 0.0 ? d / e.se : INFINITY;
@@ -198,7 +188,7 @@ Agreement agreement(const std::vector<ImageF>& batches, double travel = kTravel)
                 continue;
             }
             ++a.partial;
-            const Estimate e = estimate(v);
+            const BatchMean e = batch_mean(v);
             a.mean_abs_error += std::fabs(e.mean - c);
             a.max_z = std::max(a.max_z, std::fabs(z_of(e, c)));
             const int ramp = X < kLeft0 + kQuadWidth ? 0 : 1;
@@ -208,7 +198,7 @@ Agreement agreement(const std::vector<ImageF>& batches, double travel = kTravel)
     a.mean_abs_error /= std::max(a.partial, 1);
     for (int r = 0; r < 2; ++r) {
         for (double& d : ramp_sum[r]) d /= std::max(ramp_count[r], 1);
-        a.ramp[r] = estimate(ramp_sum[r]);
+        a.ramp[r] = batch_mean(ramp_sum[r]);
         a.ramp_z[r] = z_of(a.ramp[r], 0.0);
     }
     return a;

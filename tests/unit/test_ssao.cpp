@@ -29,7 +29,8 @@ protected:
     }
 };
 
-double rmse(const ImageF& a, const ImageF& b) {
+// AO images are grey: the error of the first channel.
+double ao_rmse(const ImageF& a, const ImageF& b) {
     double sum = 0.0;
     for (int y = 0; y < a.height; ++y)
         for (int x = 0; x < a.width; ++x) {
@@ -106,24 +107,24 @@ TEST_P(SsaoTest, ErrorAgainstRayTracedAoFallsWithSamples) {
     double last = 1e30;
     for (int samples : {2, 8, 32}) {
         SCOPED_TRACE(samples);
-        const double e = rmse(ao_buffer(scene, n, n, {"ssao.samples=" + std::to_string(samples), "ssao.blur=0"}), reference);
+        const double e = ao_rmse(ao_buffer(scene, n, n, {"ssao.samples=" + std::to_string(samples), "ssao.blur=0"}), reference);
         std::printf("ssao samples %d blur 0: rmse %.4f\n", samples, e);
         EXPECT_LT(e, last);
         last = e;
     }
     // Default settings (16 samples, blur 4): within the bound below.
-    const double e = rmse(ao_buffer(scene, n, n), reference);
+    const double e = ao_rmse(ao_buffer(scene, n, n), reference);
     std::printf("ssao defaults: rmse %.4f\n", e);
     EXPECT_LT(e, 0.045);
     // Half resolution stays close.
-    EXPECT_LT(rmse(ao_buffer(scene, n, n, {"ssao.resolution=half"}), reference), 0.06);
+    EXPECT_LT(ao_rmse(ao_buffer(scene, n, n, {"ssao.resolution=half"}), reference), 0.06);
 }
 
 TEST_P(SsaoTest, ForwardAndDeferredComputeTheSameBuffer) {
     const Scene scene = load_gltf(fs::path(CANDELA_SOURCE_DIR) / "samples" / "scenes" / "spheres.gltf");
     const ImageF fwd = ao_buffer(scene, 64, 64, {"render.path=forward"});
     const ImageF def = ao_buffer(scene, 64, 64, {"render.path=deferred"});
-    EXPECT_LT(rmse(fwd, def), 1e-3);
+    EXPECT_LT(ao_rmse(fwd, def), 1e-3);
 }
 
 INSTANTIATE_TEST_SUITE_P(Backends, SsaoTest, ::testing::Values(Backend::egl), test::backend_name);
