@@ -1,7 +1,11 @@
 #pragma once
 // An effect's accuracy sweep as data: which scene, which raster output against which tracer
-// mode, which knob settings to vary, and which of them the engine ships. `candela bench accuracy`
-// runs every registered effect's sweeps; it knows no effect by name.
+// mode, which knob settings to vary, and which of them the engine ships. The accuracy engine
+// (engine/accuracy/) runs every registered effect's sweeps; it knows no effect by name.
+//
+// The type lives here, beside the Effect interface that returns it, and not in engine/accuracy:
+// effects declare their sweeps as data and include only this header, the accuracy engine
+// includes the effects (their registry). The dependency goes one way, accuracy -> effects.
 #include <functional>
 #include <optional>
 #include <string>
@@ -53,8 +57,5 @@ struct AccuracySweep {
     std::string reading;                     // what the error is made of
     std::function<bool(const Features&)> needed;  // the scene calls for the effect
 };
-
-// Every registered effect's sweeps, in registry order.
-std::vector<AccuracySweep> effect_accuracy_sweeps(bool quick);
 
 }  // namespace candela

@@ -1,5 +1,6 @@
 // `candela bench`: frame (median frame time of effect or render-path variants), rays (ray-tracer
-// ray rates), reload (shader save to new frame) and accuracy (samples/cli/accuracy.cpp).
+// ray rates), reload (shader save to new frame) and accuracy (the accuracy engine,
+// engine/accuracy/, through accuracy.hpp).
 #include "commands.hpp"
 
 #include <chrono>
@@ -28,27 +29,6 @@
 
 namespace candela::cli {
 namespace fs = std::filesystem;
-
-AccuracyOptions accuracy_options(const Parsed& p, const Args& args, const std::string& command) {
-    if (p.flags.count("--quiet")) log::set_level(log::Level::warn);
-    AccuracyOptions o;
-    o.scenes = p.positional;
-    for (const std::string& s : o.scenes)
-        if (!fs::is_regular_file(s)) throw bad_input(s + ": no such file");
-    if (p.has("-o")) o.out = p.get("-o");
-    if (p.has("--report")) o.report = p.get("--report");
-    o.quick = p.flags.count("--quick") > 0;
-    o.effects = p.all("--effect");
-    o.shader_dir = shader_dir_option(p);
-    // The sample scenes sit beside the built-in shaders in the source tree.
-    o.scene_dir = fs::path(ShaderLibrary::default_root()).parent_path() / "samples" / "scenes";
-    o.backend = backend_option(p, false);
-    o.command_line = command;
-    // Absolute paths are recorded by their file name only (the report names no machine's paths).
-    for (const std::string& a : args)
-        o.command_line += " " + (a.find('/') != std::string::npos && fs::path(a).is_absolute() ? fs::path(a).filename().string() : a);
-    return o;
-}
 
 namespace {
 
@@ -139,7 +119,7 @@ int bench_reload(const Args& args) {
     return check_gl_errors(s);
 }
 
-// `candela bench accuracy [SCENE...] -o DIR`: the options of run_accuracy().
+// `candela bench accuracy [SCENE...] -o DIR`: accuracy_options() and run_accuracy() (accuracy.hpp).
 // Hidden options (not in the usage text; `candela farm` calls the same functions): the steps of a
 // run split into one process per section, all given the same SCENE..., --effect and --quick:
 //   --list-sections                 the sections' labels, one a line, in index order
@@ -152,9 +132,9 @@ int bench_accuracy(const Args& args) {
     if (list + section + assemble > 1) throw bad_input("bench accuracy: --list-sections, --section and --assemble go alone");
     if (section != p.has("--section-dir")) throw bad_input("bench accuracy: --section K goes with --section-dir DIR");
     if (!p.has("-o") && !list && !section) throw bad_input("bench accuracy needs -o DIR");
-    const AccuracyOptions o = accuracy_options(p, args, "candela bench accuracy");
+    const accuracy::Options o = accuracy_options(p, args, "candela bench accuracy");
     if (list) {
-        for (const AccuracyTask& t : plan_accuracy(o)) std::printf("%s\n", t.label.c_str());
+        for (const accuracy::Task& t : accuracy::plan(o)) std::printf("%s\n", t.label.c_str());
         return 0;
     }
     if (section) return run_accuracy_section(o, parse_int("--section", p.get("--section"), 0, 1000000), p.get("--section-dir"));

@@ -293,12 +293,12 @@ int finish_reference(const Farm& f) {
 
 // --- sweep --------------------------------------------------------------------------------
 
-// bench accuracy's options (accuracy_options in cmd_bench.cpp), for the tasks.
-AccuracyOptions parse_accuracy_options(const Args& args, const std::string& command) {
+// bench accuracy's options (accuracy_options in accuracy.cpp), for the tasks.
+accuracy::Options parse_accuracy_options(const Args& args, const std::string& command) {
     return accuracy_options(parse(args, {"-o", "--report", "--shader-dir", "--backend", "--effect"}, {"--quick", "--quiet"}), args, command);
 }
 
-AccuracyOptions sweep_options(const Farm& f) {
+accuracy::Options sweep_options(const Farm& f) {
     Args args;
     for (const auto& a : f.spec.at("accuracy_args")) args.push_back(a.get<std::string>());
     args.insert(args.end(), {"-o", f.dir.string()});
@@ -311,21 +311,21 @@ json sweep_spec(const Args& args) {
                                        {"--dry-run", "--submit", "--wait"}, {"--report", "--shader-dir"}, nullptr);
     Args check = accuracy_args;
     check.insert(check.end(), {"-o", "."});
-    const AccuracyOptions o = parse_accuracy_options(check, "candela farm sweep");  // bad options fail here, not on the cluster
-    const std::vector<AccuracyTask> plan = plan_accuracy(o);
+    const accuracy::Options o = parse_accuracy_options(check, "candela farm sweep");  // bad options fail here, not on the cluster
+    const std::vector<accuracy::Task> plan = accuracy::plan(o);
     if (plan.empty()) throw bad_input("farm sweep: no section to run (see --effect and the scenes given)");
     json s;
     s["kind"] = "sweep";
     s["tasks"] = static_cast<int>(plan.size());
     s["accuracy_args"] = accuracy_args;
     json labels = json::array();
-    for (const AccuracyTask& t : plan) labels.push_back(t.label);
+    for (const accuracy::Task& t : plan) labels.push_back(t.label);
     s["sections"] = labels;
     return s;
 }
 
 int task_sweep(const Farm& f, int i) {
-    const AccuracyOptions o = sweep_options(f);
+    const accuracy::Options o = sweep_options(f);
     return run_accuracy_section(o, i, f.section(i));
 }
 
