@@ -77,6 +77,8 @@ struct LightInfo {
 // The rasterizer's area-light approximation: each emissive draw split into `samples` pieces of
 // about equal area (recursive area-median splits of its triangles, refined into sub-triangles),
 // each a one- or two-sided Lambertian emitter at the piece's centroid.
+// area_light_pieces is defined with the area_lights effect (effects/area_lights/area_pieces.cpp);
+// update_lights appends its pieces to the light buffer in this layout.
 struct AreaPiece {
     glm::vec3 centroid{0.0f};
     glm::vec3 normal{0.0f, -1.0f, 0.0f};

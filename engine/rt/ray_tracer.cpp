@@ -10,68 +10,12 @@
 
 #include "core/error.hpp"
 #include "core/log.hpp"
+#include "rt/environment_cdf.hpp"
 #include "rt/intersect.hpp"
+#include "rt/progress_bar.hpp"
 #include "rt/sampling.hpp"
 
 namespace candela::rt {
-namespace {
-
-
-void progress_bar(int done, int total, double elapsed_s) {
-    const int width = 30;
-    const int filled = total > 0 ? done * width / total : width;
-    const double eta = done > 0 ? elapsed_s / done * (total - done) : 0.0;
-    std::fprintf(stderr, "\r[%.*s%.*s] %3d%% %d/%d spp, %.1f s, ETA %.1f s ", filled,
-                 "##############################", width - filled, "                              ",
-                 total ? done * 100 / total : 100, done, total, elapsed_s, eta);
-    if (done == total) std::fprintf(stderr, "\n");
-}
-
-}  // namespace
-
-std::vector<float> environment_distribution(const ImageF& map) {
-    const int w = map.width, h = map.height;
-    const size_t n = static_cast<size_t>(w) * static_cast<size_t>(h);
-    std::vector<float> out(2 * n + static_cast<size_t>(h), 0.0f);
-    std::vector<double> f(n);
-    std::vector<double> row_sum(static_cast<size_t>(h), 0.0);
-    double total = 0.0;
-    for (int y = 0; y < h; ++y) {
-        const double sin_theta = std::sin(3.14159265358979 * (y + 0.5) / h);
-        for (int x = 0; x < w; ++x) {
-            const float* p = map.at(x, y);
-            double lum = 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2];
-            if (!std::isfinite(lum) || lum < 0.0) lum = 0.0;
-            const size_t i = static_cast<size_t>(y) * static_cast<size_t>(w) + static_cast<size_t>(x);
-            f[i] = lum * sin_theta;
-            row_sum[static_cast<size_t>(y)] += f[i];
-        }
-        total += row_sum[static_cast<size_t>(y)];
-    }
-    if (!(total > 0.0)) {  // a black map: sample uniformly
-        std::fill(f.begin(), f.end(), 1.0);
-        std::fill(row_sum.begin(), row_sum.end(), static_cast<double>(w));
-        total = static_cast<double>(n);
-    }
-    for (int y = 0; y < h; ++y) {
-        double running = 0.0;
-        for (int x = 0; x < w; ++x) {
-            const size_t i = static_cast<size_t>(y) * static_cast<size_t>(w) + static_cast<size_t>(x);
-            out[i] = static_cast<float>(f[i] / total);
-            running += f[i];
-            out[n + i] = row_sum[static_cast<size_t>(y)] > 0.0 ? static_cast<float>(running / row_sum[static_cast<size_t>(y)])
-                                                                : static_cast<float>(x + 1) / static_cast<float>(w);
-        }
-        out[n + static_cast<size_t>(y) * static_cast<size_t>(w) + static_cast<size_t>(w - 1)] = 1.0f;
-    }
-    double running = 0.0;
-    for (int y = 0; y < h; ++y) {
-        running += row_sum[static_cast<size_t>(y)];
-        out[2 * n + static_cast<size_t>(y)] = static_cast<float>(running / total);
-    }
-    out[2 * n + static_cast<size_t>(h - 1)] = 1.0f;
-    return out;
-}
 
 const char* to_string(Mode mode) {
     switch (mode) {
@@ -484,26 +428,6 @@ Result RayTracer::render(const Camera& camera, int width, int height) {
     }
     glUseProgram(0);
     return result;
-}
-
-ImageF merge_shards(const std::vector<ImageF>& shards) {
-    if (shards.empty()) throw bad_input("merge needs at least one shard");
-    ImageF out(shards[0].width, shards[0].height, 4);
-    for (const ImageF& s : shards)
-        if (s.width != out.width || s.height != out.height || s.channels != 4)
-            throw bad_input("merge: shards differ in size or have no sample-count channel");
-    for (size_t i = 0; i < static_cast<size_t>(out.width) * out.height; ++i) {
-        double sum[3] = {0, 0, 0}, count = 0;
-        for (const ImageF& s : shards) {
-            const float* p = s.pixels.data() + i * 4;
-            for (int c = 0; c < 3; ++c) sum[c] += static_cast<double>(p[c]) * p[3];
-            count += p[3];
-        }
-        float* o = out.pixels.data() + i * 4;
-        for (int c = 0; c < 3; ++c) o[c] = count > 0 ? static_cast<float>(sum[c] / count) : 0.0f;
-        o[3] = static_cast<float>(count);
-    }
-    return out;
 }
 
 }  // namespace candela::rt

@@ -221,12 +221,4 @@ private:
     void bind(const gl::Buffer& accum, const gl::Buffer& diagnostics) const;
 };
 
-// The environment map's sampling distribution: [0, W*H) the probability of each texel
-// (luminance * sin(theta), normalised), then W*H row-conditional CDFs, then the H-entry marginal
-// CDF over rows (Pharr, Jakob & Humphreys, PBRT 3rd ed., 13.6.7 and 14.2.4).
-std::vector<float> environment_distribution(const ImageF& equirect);
-
-// Merges shard images (alpha = sample count) into one: the sample-weighted mean.
-ImageF merge_shards(const std::vector<ImageF>& shards);
-
 }  // namespace candela::rt

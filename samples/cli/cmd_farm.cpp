@@ -42,6 +42,7 @@
 #include "options.hpp"
 #include "render_job.hpp"
 #include "rt/ray_tracer.hpp"
+#include "rt/shard_merge.hpp"
 #include "shards.hpp"
 
 extern char** environ;

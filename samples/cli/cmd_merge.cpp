@@ -8,6 +8,7 @@
 #include "image/image.hpp"
 #include "options.hpp"
 #include "rt/ray_tracer.hpp"
+#include "rt/shard_merge.hpp"
 #include "shards.hpp"
 
 namespace candela::cli {

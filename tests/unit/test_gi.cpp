@@ -13,6 +13,7 @@
 #include "effects/gi/gi.hpp"
 #include "reference_fixture.hpp"
 #include "scene/gltf_loader.hpp"
+#include "rt/shard_merge.hpp"
 #include "scene/lighting.hpp"
 
 namespace candela {

@@ -18,6 +18,7 @@
 #include "rt/intersect.hpp"
 #include "rt/ray_tracer.hpp"
 #include "rt/rt_geometry.hpp"
+#include "rt/shard_merge.hpp"
 #include "scene/mesh_utils.hpp"
 #include "scene/gltf_loader.hpp"
 

@@ -46,6 +46,7 @@
 #include "rt/bvh.hpp"
 #include "rt/ray_tracer.hpp"
 #include "rt/rt_geometry.hpp"
+#include "rt/shard_merge.hpp"
 #include "scene/animation.hpp"
 #include "scene/gltf_loader.hpp"
 #include "scene/mesh_utils.hpp"

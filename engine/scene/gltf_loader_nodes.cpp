@@ -1,0 +1,151 @@
+// glTF loading of the node hierarchy, cameras, KHR_lights_punctual lights and the environment.
+#include "scene/gltf_loader_internal.hpp"
+
+#include <glm/gtc/quaternion.hpp>
+#include <glm/gtc/type_ptr.hpp>
+
+namespace candela::gltf_loading {
+
+void Loader::build_nodes(Scene& scene) {
+    const size_t n = m_.nodes.size();
+    scene.nodes.resize(n);
+    for (size_t i = 0; i < n; ++i) {
+        const tinygltf::Node& src = m_.nodes[i];
+        Node& node = scene.nodes[i];
+        const std::string path = idx("nodes", i);
+        node.name = src.name.empty() ? path : src.name;
+        if (src.matrix.size() == 16) {
+            for (int k = 0; k < 16; ++k)
+                glm::value_ptr(node.local)[k] = f32(path + ".matrix[" + std::to_string(k) + "]", src.matrix[static_cast<size_t>(k)]);
+            node.has_matrix = true;  // not animatable (glTF 3.7.2.1): channels on it are dropped
+        } else {
+            glm::vec3 t(0.0f), s(1.0f);
+            glm::quat r(1.0f, 0.0f, 0.0f, 0.0f);
+            for (size_t k = 0; k < 3 && src.translation.size() == 3; ++k)
+                t[static_cast<int>(k)] = f32(path + ".translation[" + std::to_string(k) + "]", src.translation[k]);
+            for (size_t k = 0; k < 3 && src.scale.size() == 3; ++k)
+                s[static_cast<int>(k)] = f32(path + ".scale[" + std::to_string(k) + "]", src.scale[k]);
+            if (src.rotation.size() == 4) {
+                r = glm::quat(static_cast<float>(src.rotation[3]), static_cast<float>(src.rotation[0]),
+                              static_cast<float>(src.rotation[1]), static_cast<float>(src.rotation[2]));
+                const float len = glm::length(r);
+                r = len > 0.0f && std::isfinite(len) ? r / len : glm::quat(1, 0, 0, 0);
+            }
+            node.local = glm::translate(glm::mat4(1.0f), t) * glm::mat4_cast(r) * glm::scale(glm::mat4(1.0f), s);
+            node.translation = t;
+            node.rotation = r;
+            node.scale = s;
+        }
+        for (int k = 0; k < 16; ++k)
+            if (!std::isfinite(glm::value_ptr(node.local)[k])) fail(path, "transform has a non-finite value");
+        if (src.mesh >= 0) {
+            if (static_cast<size_t>(src.mesh) >= m_.meshes.size())
+                fail(path + ".mesh", "mesh " + std::to_string(src.mesh) + " does not exist (the file has " +
+                                         std::to_string(m_.meshes.size()) + ")");
+            node.mesh = src.mesh;
+        }
+        if (src.skin >= 0) {
+            if (static_cast<size_t>(src.skin) >= m_.skins.size())
+                fail(path + ".skin", "skin " + std::to_string(src.skin) + " does not exist (the file has " + std::to_string(m_.skins.size()) + ")");
+            node.skin = src.skin;
+        }
+        // Morph weights: the node's own, else its mesh's defaults (zeros when the file has none).
+        own_weights_.resize(n, false);
+        if (node.mesh >= 0) {
+            const std::vector<float>& defaults = scene.meshes[static_cast<size_t>(node.mesh)].weights;
+            node.rest_weights = defaults;
+            if (!src.weights.empty()) {
+                if (src.weights.size() != defaults.size())
+                    fail(path + ".weights", "has " + std::to_string(src.weights.size()) + " weights, meshes[" + std::to_string(node.mesh) +
+                                                "] has " + std::to_string(defaults.size()) + " morph targets");
+                for (size_t k = 0; k < defaults.size(); ++k)
+                    node.rest_weights[k] = f32(path + ".weights[" + std::to_string(k) + "]", src.weights[k]);
+                own_weights_[i] = true;
+            }
+        }  // weights without a mesh: warned by the validation, nothing to morph
+        node.weights = node.rest_weights;
+        if (src.camera >= 0) {
+            if (static_cast<size_t>(src.camera) >= m_.cameras.size())
+                fail(path + ".camera", "camera " + std::to_string(src.camera) + " does not exist");
+            node.camera = src.camera;
+        }
+        if (const Value* e = extension(src.extensions, "KHR_lights_punctual")) {
+            const int light = static_cast<int>(number(*e, "light", -1));
+            if (light < 0 || static_cast<size_t>(light) >= m_.lights.size())
+                fail(path + ".extensions.KHR_lights_punctual.light", "light " + std::to_string(light) + " does not exist (the file has " +
+                                                                         std::to_string(m_.lights.size()) + ")");
+            node.light = light;
+        }
+        if (src.extras.IsObject() && src.extras.Has("sphere")) {
+            const double r = number(src.extras.Get("sphere"), "radius", -1.0);
+            if (!(r > 0.0) || !std::isfinite(r)) fail(path + ".extras.sphere.radius", "must be a positive number");
+            node.sphere_radius = static_cast<float>(r);
+        }
+        if (src.extras.IsObject() && src.extras.Has("reflection_probe")) {
+            const Value& e = src.extras.Get("reflection_probe");
+            const std::string where = path + ".extras.reflection_probe";
+            if (!e.IsObject()) fail(where, "must be an object {position, extent, center}");
+            ReflectionProbe probe;
+            const glm::vec3 bad(std::numeric_limits<float>::quiet_NaN());
+            auto finite3 = [&](const char* key, glm::vec3 fallback) {
+                const glm::vec3 v = vec<3>(e, key, bad);
+                if (!e.Has(key)) return fallback;
+                if (glm::any(glm::isnan(v)) || glm::any(glm::isinf(v))) fail(where + "." + key, "must be an array of 3 finite numbers");
+                return v;
+            };
+            probe.position = finite3("position", glm::vec3(0.0f));
+            probe.center = finite3("center", probe.position);
+            if (e.Has("extent")) {
+                probe.extent = finite3("extent", glm::vec3(0.0f));
+                if (glm::any(glm::lessThanEqual(probe.extent, glm::vec3(0.0f))))
+                    fail(where + ".extent", "half sizes must be positive");
+                probe.has_extent = true;
+                if (glm::any(glm::greaterThan(glm::abs(probe.position - probe.center), probe.extent)))
+                    fail(where, "the position lies outside the box center +- extent");
+            }
+            node.reflection_probe = probe;
+        }
+        for (int c : src.children) {
+            if (c < 0 || static_cast<size_t>(c) >= n) fail(path + ".children", "node " + std::to_string(c) + " does not exist");
+            Node& child = scene.nodes[static_cast<size_t>(c)];
+            if (child.parent >= 0 || static_cast<size_t>(c) == i)
+                fail(path + ".children", "node " + std::to_string(c) + " has more than one parent (the hierarchy must be a tree)");
+            child.parent = static_cast<int>(i);
+            node.children.push_back(c);
+        }
+    }
+    // Roots: the default scene's nodes, else every parentless node.
+    if (!m_.scenes.empty()) {
+        const size_t si = m_.defaultScene >= 0 && static_cast<size_t>(m_.defaultScene) < m_.scenes.size()
+                              ? static_cast<size_t>(m_.defaultScene) : 0;
+        for (int r : m_.scenes[si].nodes) {
+            if (r < 0 || static_cast<size_t>(r) >= n) fail(idx("scenes", si) + ".nodes", "node " + std::to_string(r) + " does not exist");
+            if (scene.nodes[static_cast<size_t>(r)].parent >= 0)
+                fail(idx("scenes", si) + ".nodes", "node " + std::to_string(r) + " is a root and also a child");
+            scene.roots.push_back(r);
+        }
+    } else {
+        for (size_t i = 0; i < n; ++i)
+            if (scene.nodes[i].parent < 0) scene.roots.push_back(static_cast<int>(i));
+    }
+    // With one parent per node and parentless roots, no cycle is reachable from a root.
+    scene.update_world_transforms();
+}
+
+void Loader::build_environment(Scene& scene) {
+    if (m_.scenes.empty()) return;
+    const size_t si = m_.defaultScene >= 0 && static_cast<size_t>(m_.defaultScene) < m_.scenes.size()
+                          ? static_cast<size_t>(m_.defaultScene) : 0;
+    const Value& extras = m_.scenes[si].extras;
+    if (!extras.IsObject()) return;
+    const std::string path = idx("scenes", si) + ".extras";
+    scene.environment.radiance = factors<3>(path, extras, "environment_radiance", glm::vec3(0.0f), 0.0f, 1e6f);
+    scene.environment.intensity = factor(path, extras, "environment_intensity", 1.0, 0.0f, 1e6f);
+    if (extras.Has("environment_map") && extras.Get("environment_map").IsString()) {
+        const fs::path map = dir_ / extras.Get("environment_map").Get<std::string>();
+        if (fs::exists(map)) scene.environment.map = map;
+        else warn(path + ".environment_map", "cannot find '" + map.string() + "'; using environment_radiance instead");
+    }
+}
+
+}  // namespace candela::gltf_loading
