@@ -6,10 +6,14 @@
 // the planner, `info`, the stats JSON, the viewer and `bench accuracy` iterate it and know no
 // effect by name.
 #include <any>
+#include <map>
 #include <memory>
 #include <set>
 #include <string>
 #include <vector>
+
+#include <glm/vec2.hpp>
+#include <nlohmann/json_fwd.hpp>
 
 #include "effects/accuracy_sweep.hpp"
 #include "effects/knob.hpp"
@@ -40,9 +44,9 @@ enum class Stage {
     screen,          // screen-space buffers from the camera's depth and normals, before lighting
     after_lighting,  // drawn over the lit opaque image, before the sky
     blended,         // after the sky: blended surfaces
-    // After everything is drawn: anti-aliasing's resolve (the multisampled targets become single
-    // samples: FrameTargets::samples is 1 afterwards), then filters of the final radiance
-    // (depth of field), before the tonemap.
+    // After everything is drawn: first the pass that resolves the drawing targets into the output
+    // when an effect decided the frame's sampling (FrameSampling::resolved: FrameTargets::samples
+    // is 1 afterwards), then filters of the final radiance, before the tonemap.
     post,
 };
 
@@ -53,6 +57,43 @@ struct GpuBlockInfo {
     int binding;
     std::size_t size;   // sizeof the C++ struct
     const char* program;  // a program that declares it
+};
+
+// How a frame takes its samples; the planned effects fill it in (Effect::frame_sampling, at
+// most one of them changes it). The default is one sample at each pixel centre, drawn once.
+struct FrameSampling {
+    // The scene is drawn into targets of its own, which the deciding effect's Stage::post pass
+    // resolves into the output (the first colour pass creates them); false: drawn into the output.
+    bool resolved = false;
+    int samples = 1;    // samples per pixel of the drawing targets (more than 1: multisampled)
+    // The device's positions of those samples, pixel units from the pixel centre, y up (the
+    // deferred lighting tells the samples of an edge pixel apart with them).
+    std::vector<glm::vec2> positions{glm::vec2(0.0f)};
+    // The frame is drawn `subframes` times, sub-frame k with the projection shifted by offsets[k]
+    // pixels (x right, y up); passes marked PlannedPass::every_subframe accumulate them and the
+    // other post passes run after the last one only.
+    int subframes = 1;
+    std::vector<glm::vec2> offsets{glm::vec2(0.0f)};
+    // Multisampled: MASK materials cover samples in proportion to their alpha (alpha to coverage).
+    bool coverage = false;
+};
+
+// What an effect measures of the view before the planner decides (Effect::view_estimate): traced
+// once per renderer from the first frame's camera at its aspect.
+struct ViewEstimate {
+    std::any value;    // the effect's own measurement (its decide() reads Features::estimates)
+    std::string text;  // one line for `candela info` and the log
+};
+// By the name of the effect that made it.
+using ViewEstimates = std::map<std::string, ViewEstimate>;
+
+// What an effect's view estimate may use.
+struct ViewEstimateInput {
+    const ShaderLibrary& shaders;
+    const Scene& scene;
+    GpuScene& gpu;
+    const Camera& camera;
+    float aspect;
 };
 
 // What the light buffer holds (GpuScene::update_lights); effects fill in their part.
@@ -80,6 +121,19 @@ public:
     // this effect's (aa.samples=4 alone turns aa.mode to msaa). `given`: the knob names set.
     virtual void complete_knobs(RenderSettings& /*s*/, const std::set<std::string>& /*given*/) const {}
 
+    // Non-null (what it measures, e.g. "indirect estimate") when the effect decides from a
+    // measurement of the view with these settings: the renderer (and `info`) then asks
+    // estimate_view() once before planning and hands the result to decide() in
+    // Features::estimates. Needs a GL context (the tracer).
+    virtual const char* view_estimate(const RenderSettings& /*s*/) const { return nullptr; }
+    // Throws candela::Error (internal) when the tracer cannot be built.
+    virtual ViewEstimate estimate_view(const ViewEstimateInput& /*in*/) const { return {}; }
+    // The estimate's fields in the planner's JSON (to_json(Features)).
+    virtual void estimate_json(const ViewEstimate& /*e*/, nlohmann::json& /*features*/) const {}
+    // True when the effect's plan with these settings depends on the GL device (its sample
+    // counts, say): `info` then plans with a context.
+    virtual bool plans_with_device(const RenderSettings& /*s*/) const { return false; }
+
     // Whether the scene calls for the effect, and so whether it runs. `f` already holds the
     // decisions of the effects before this one in the registry (an effect may depend on them).
     virtual EffectDecision decide(const Features& f, const RenderSettings& s) const = 0;
@@ -93,6 +147,13 @@ public:
     virtual bool draws_blended_surfaces() const { return false; }
     // Its part of the light buffer's layout (decided with the features, before the path).
     virtual void light_setup(const RenderSettings& /*s*/, const EffectDecision& /*d*/, LightSetup& /*out*/) const {}
+    // The planned effect's say in how the frame takes its samples (multisampled targets,
+    // sub-frames: FrameSampling); called in registry order on the planned effects only.
+    virtual void frame_sampling(const Features& /*f*/, const RenderSettings& /*s*/, FrameSampling& /*out*/) const {}
+    // The GLSL file (path from the effects root, e.g. "effects/ssao/ssao_shading.glsl") that the
+    // lighting code (shaders/lighting/shading.glsl) includes for what this effect adds to the
+    // shading; nullptr: none. The registry's order is the include order.
+    virtual const char* shading_include() const { return nullptr; }
 
     // Every program this effect can build (the catalog: `candela shaders check`, hot reload).
     virtual std::vector<ProgramDesc> programs() const { return {}; }
@@ -152,6 +213,11 @@ public:
     // declare those reads, and bind the effect's textures, buffers and uniform block.
     virtual void read_shading_inputs(FrameGraph::Builder& /*b*/) const {}
     virtual void bind_shading_inputs(const PassEnv& /*env*/, FrameGraph::Context* /*ctx*/) const {}
+    // GLSL defines ("NAME" or "NAME VALUE") that specialise the lighting programs (forward,
+    // deferred lighting) to the uniform block bind_shading_inputs binds, as it is now: each
+    // leaves out code whose condition that block makes false. Kept on the CPU wherever the block
+    // is uploaded (not read back from GL). The renderer concatenates them in registry order.
+    virtual std::vector<std::string> shading_defines() const { return {}; }
 };
 
 }  // namespace candela

@@ -10,6 +10,7 @@
 #include "effects/shadows/shadows.hpp"
 #include "effects/ssao/ssao.hpp"
 #include "effects/transparency/transparency.hpp"
+#include "shader/shader_library.hpp"
 
 namespace candela {
 
@@ -31,6 +32,23 @@ const std::vector<const Effect*>& effect_registry() {
     };
     return all;
 }
+
+std::vector<std::string> effect_shading_includes() {
+    std::vector<std::string> files;
+    for (const Effect* e : effect_registry())
+        if (const char* f = e->shading_include()) files.emplace_back(f);
+    return files;
+}
+
+namespace {
+// Every shader library (whoever makes it) serves the lighting code's "effects_shading.glsl" from
+// the registry: installed when the program starts, as this file is linked into every program
+// that uses the registry.
+[[maybe_unused]] const bool shading_include_installed = [] {
+    ShaderLibrary::set_default_generated_include("effects_shading.glsl", effect_shading_includes());
+    return true;
+}();
+}  // namespace
 
 const Effect* find_effect(std::string_view name) {
     for (const Effect* e : effect_registry())

@@ -1,6 +1,7 @@
 #pragma once
 // The effect registry: every effect module, in the order their decisions are made and their
 // passes are added within a stage (an effect may depend on the decisions before it).
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -11,5 +12,8 @@ namespace candela {
 const std::vector<const Effect*>& effect_registry();
 // nullptr for an unknown name.
 const Effect* find_effect(std::string_view name);
+// The effects' shading includes (Effect::shading_include), registry order: what the lighting
+// code's "effects_shading.glsl" includes (every ShaderLibrary serves it).
+std::vector<std::string> effect_shading_includes();
 
 }  // namespace candela

@@ -2,7 +2,7 @@
 // Image-based lighting built at start-up (Karis 2013, "Real Shading in Unreal Engine 4"): the
 // split-sum BRDF LUT, and the static environment map as a cube map whose mip levels are
 // GGX-prefiltered for rising roughness. The same prefilter turns captured reflection probes
-// into rough reflections (effects/reflections/).
+// into rough reflections (an effect's probes).
 #include <cstdint>
 #include <optional>
 

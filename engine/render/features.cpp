@@ -5,7 +5,6 @@
 #include <nlohmann/json.hpp>
 
 #include "core/error.hpp"
-#include "effects/aa/aa.hpp"
 #include "effects/registry.hpp"
 
 namespace candela {
@@ -41,7 +40,32 @@ const EffectDecision& Features::decision(std::string_view name) const {
     throw Error(ExitCode::internal, "no effect named '" + std::string(name) + "'");
 }
 
-Features analyze(const Scene& scene, const RenderSettings& s, const IndirectEstimate* indirect, const Camera* camera, int moving_draws) {
+const ViewEstimate* Features::estimate(std::string_view name) const {
+    const auto it = estimates.find(std::string(name));
+    return it == estimates.end() ? nullptr : &it->second;
+}
+
+std::vector<const Effect*> effects_needing_view_estimate(const RenderSettings& s) {
+    std::vector<const Effect*> out;
+    for (const Effect* e : effect_registry())
+        if (e->view_estimate(s)) out.push_back(e);
+    return out;
+}
+
+bool planning_needs_gl(const RenderSettings& s) {
+    for (const Effect* e : effect_registry())
+        if (e->view_estimate(s) || e->plans_with_device(s)) return true;
+    return false;
+}
+
+FrameSampling frame_sampling(const Features& f, const RenderSettings& s) {
+    FrameSampling out;
+    for (size_t i = 0; i < effect_registry().size(); ++i)
+        if (f.modules[i].planned) effect_registry()[i]->frame_sampling(f, s, out);
+    return out;
+}
+
+Features analyze(const Scene& scene, const RenderSettings& s, const ViewEstimates* estimates, const Camera* camera, int moving_draws) {
     Features f;
     f.source = &scene;
     f.moving_draws = moving_draws;
@@ -54,7 +78,7 @@ Features analyze(const Scene& scene, const RenderSettings& s, const IndirectEsti
         f.lens_aperture = std::max(0.0f, s.camera.aperture);
         f.lens_focus_distance = std::max(0.0f, s.camera.focus_distance);
     }
-    if (indirect) f.indirect = *indirect;
+    if (estimates) f.estimates = *estimates;
     f.scene = analyze_features(scene);
     f.environment = scene.environment.present();
     f.punctual_lights = static_cast<int>(scene.placed_lights().size());
@@ -96,11 +120,11 @@ std::vector<PlannedPass> plan_passes(const Features& f, const RenderSettings& s)
         if (f.modules[i].planned) screen_reader = effect_registry()[i]->needs_depth_normals();
     if (f.deferred) {
         plan.push_back({"gbuffer", what + "; deferred path, " + f.path_reason, nullptr, {"gbuffer"}});
-        // Anti-aliasing multisamples the G-buffer (effects/aa): the screen-space effects read
-        // sample 0's depth and normal; the lighting shades edge pixels once per surface they show.
-        const bool ms = aa_plan(f, s).device_samples > 1;
+        // A multisampled G-buffer (FrameSampling::samples): the screen-space effects read sample
+        // 0's depth and normal; the lighting shades edge pixels once per surface they show.
+        const bool ms = frame_sampling(f, s).samples > 1;
         if (ms)
-            plan.push_back({"gbuffer_resolve", "multisampled G-buffer (aa): single-sample depth and normals for the screen passes",
+            plan.push_back({"gbuffer_resolve", "multisampled G-buffer: single-sample depth and normals for the screen passes",
                             nullptr, {"gbuffer_resolve"}});
         add_stage(Stage::screen);
         plan.push_back({"deferred_lighting",
@@ -136,9 +160,8 @@ nlohmann::json to_json(const Features& f) {
     j["path_reason"] = f.path_reason;
     j["emissive_area_lights"] = f.scene.emissive_area_lights.needed;
     j["transmission"] = f.scene.transmission.needed;
-    if (f.indirect)
-        j["indirect_estimate"] = {{"fraction", f.indirect->fraction}, {"ms", f.indirect->ms}, {"width", f.indirect->width},
-                                  {"height", f.indirect->height}, {"spp", f.indirect->spp}};
+    for (const Effect* e : effect_registry())
+        if (const ViewEstimate* v = f.estimate(e->name())) e->estimate_json(*v, j);
     return j;
 }
 

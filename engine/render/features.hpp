@@ -8,10 +8,7 @@
 
 #include <nlohmann/json_fwd.hpp>
 
-#include <optional>
-
 #include "effects/effect.hpp"
-#include "effects/gi/estimate.hpp"
 #include "render/settings.hpp"
 #include "scene/features.hpp"
 #include "scene/scene.hpp"
@@ -44,9 +41,11 @@ struct Features {
     bool deferred = false;      // the render path
     std::string path_reason;
     SceneFeatures scene;
-    // The planner's estimate of the indirect fraction of the image (effects/gi/estimate.hpp),
-    // when the caller could trace it (the renderer, `info`); the GI effect plans from it.
-    std::optional<IndirectEstimate> indirect;
+    // What effects measured of the view before planning (Effect::view_estimate), by effect
+    // name, when the caller could trace it (the renderer, `info`); they decide from it.
+    ViewEstimates estimates;
+    // The estimate the effect `name` made, or nullptr.
+    const ViewEstimate* estimate(std::string_view name) const;
     // The thin lens of the camera the frames are rendered from (with_lens: the settings override
     // the camera's own); aperture 0 is a pinhole. The renderer re-plans when it changes.
     float lens_aperture = 0.0f;
@@ -67,8 +66,16 @@ struct Features {
 
 // `camera`: the camera the frames use (its lens plans depth of field); nullptr: the settings' lens.
 // `moving_draws`: Features::moving_draws, counted by the renderer (the motion blur decides on it).
-Features analyze(const Scene& scene, const RenderSettings& settings, const IndirectEstimate* indirect = nullptr,
+// `estimates`: what the effects that ask for one measured of the view (Effect::view_estimate).
+Features analyze(const Scene& scene, const RenderSettings& settings, const ViewEstimates* estimates = nullptr,
                  const Camera* camera = nullptr, int moving_draws = 0);
+// The effects that decide from a measurement of the view with these settings (Effect::view_estimate).
+std::vector<const Effect*> effects_needing_view_estimate(const RenderSettings& settings);
+// Whether planning with these settings needs a GL context: a view estimate or a plan that
+// depends on the device (Effect::plans_with_device).
+bool planning_needs_gl(const RenderSettings& settings);
+// How the frame takes its samples: what the planned effects decided (Effect::frame_sampling).
+FrameSampling frame_sampling(const Features& features, const RenderSettings& settings);
 
 // The raster passes a frame runs, in order, with the reason for each; the renderer builds its
 // frame graph from exactly this list (so `candela info` shows what will run).
@@ -78,6 +85,9 @@ struct PlannedPass {
     const Effect* owner = nullptr;       // the effect that adds it; nullptr: a base pass (render/)
     std::vector<std::string> programs;   // catalog names the pass draws with (built at set-up)
     bool post = false;                   // added at Stage::post (reads the resolved image)
+    // Runs in every sub-frame (FrameSampling::subframes), accumulating them; the other post
+    // passes run after the last sub-frame only.
+    bool every_subframe = false;
 };
 std::vector<PlannedPass> plan_passes(const Features& features, const RenderSettings& settings);
 nlohmann::json to_json(const Features& features);

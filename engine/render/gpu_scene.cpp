@@ -135,6 +135,10 @@ GpuScene::GpuScene(const Scene& scene, GlWorker* mips, const ShaderLibrary* shad
     for (const Material& m : scene.materials) mats.push_back(to_gpu(m));
     mats.push_back(to_gpu(Material{}));  // the default material
     materials_ = gl::Buffer(static_cast<GLsizeiptr>(mats.size() * sizeof(MaterialData)), mats.data());
+    // A slot without a texture has texcoord set -1 (material_uv.glsl).
+    for (const MaterialData& m : mats)
+        material_textures_ = material_textures_ || m.texcoord.x >= 0 || m.texcoord.y >= 0 || m.texcoord.z >= 0 ||
+                             m.texcoord.w >= 0 || m.texcoord2.x >= 0;
 
 
     // Draws: every node reachable from the roots that has a mesh.

@@ -134,6 +134,8 @@ public:
         sorted_indices_.update(0, static_cast<GLsizeiptr>(indices.size() * sizeof(std::uint32_t)), indices.data());
     }
     const gl::Buffer& materials() const { return materials_; }
+    // Whether any material samples a texture (the shading programs leave texture code out otherwise).
+    bool has_material_textures() const { return material_textures_; }
     const gl::Buffer& lights() const { return lights_; }
     // Rebuilds the light buffer: punctual lights, then `area_samples` pieces per emissive draw;
     // with `shadows`, each light gets its shadow views (directional: `cascades`, spot: 1, point and
@@ -189,6 +191,7 @@ private:
     std::size_t vertex_count_ = 0;
     const Scene& scene_;
     gl::Buffer vertices_, indices_, materials_, lights_, sorted_indices_;
+    bool material_textures_ = false;
     gl::VertexArray vao_, sorted_vao_;
     std::vector<Draw> draws_;
     int light_count_ = 0, punctual_count_ = 0, shadow_views_ = 0;

@@ -6,8 +6,6 @@
 
 #include "core/error.hpp"
 #include "core/log.hpp"
-#include "effects/aa/aa.hpp"
-#include "effects/gi/gi.hpp"
 #include "effects/registry.hpp"
 #include "shader/program_catalog.hpp"
 
@@ -52,21 +50,21 @@ void Renderer::set_view(const Camera& camera, int width, int height) {
 }
 
 bool Renderer::estimate_if_needed() {
-    // GI is planned by how much indirect light the image has: a tiny trace from the first frame's
-    // camera at its aspect, once per renderer.
-    if (!gi_needs_estimate(settings_) || indirect_estimate_ || !view_) return false;
-    try {
-        indirect_estimate_ = estimate_indirect(shaders_, scene_, gpu_, view_->camera, view_->aspect);
-        log::debug("indirect light estimate: " + indirect_estimate_->text());
-    } catch (const Error& e) {
-        if (e.code() == ExitCode::internal) throw;
-        indirect_estimate_ = IndirectEstimate{};  // nothing to trace (e.g. no triangles): none planned
+    // Effects that plan from what the view shows: a tiny trace from the first frame's camera at
+    // its aspect, once per renderer and effect.
+    if (!view_) return false;
+    bool traced = false;
+    for (const Effect* e : effects_needing_view_estimate(settings_)) {
+        if (estimates_.count(e->name())) continue;
+        const ViewEstimate& v = estimates_[e->name()] = e->estimate_view({shaders_, scene_, gpu_, view_->camera, view_->aspect});
+        log::debug(std::string(e->view_estimate(settings_)) + ": " + v.text);
+        traced = true;
     }
-    return true;
+    return traced;
 }
 
 void Renderer::plan() {
-    features_ = analyze(scene_, settings_, indirect_estimate_ ? &*indirect_estimate_ : nullptr, camera_ ? &*camera_ : nullptr, moving_draws_);
+    features_ = analyze(scene_, settings_, &estimates_, camera_ ? &*camera_ : nullptr, moving_draws_);
     const LightSetup& ls = features_.lights;
     gpu_.update_lights(ls.area_samples, ls.shadows, ls.cascades, ls.max_shadowed);
     features_.area_light_pieces = gpu_.light_count() - gpu_.punctual_light_count();
@@ -145,25 +143,24 @@ void Renderer::render(const Camera& view_camera, int width, int height, FrameOut
         fbos_.clear();
         pool_.clear();
     }
-    // Anti-aliasing: sub-frames with shifted projections when the device cannot multisample the
-    // asked count (effects/aa/aa.hpp); one otherwise.
-    const AaPlan aa = aa_plan(features_, settings_);
+    // The planned effects' sampling: multisampled targets, sub-frames with shifted projections.
+    const FrameSampling sampling = frame_sampling(features_, settings_);
     report_ = {};
     timer_.begin_frame();
-    for (int sub = 0; sub < aa.subframes; ++sub) render_subframe(camera, output, exposure_ev, aa, sub);
+    for (int sub = 0; sub < sampling.subframes; ++sub) render_subframe(camera, output, exposure_ev, sampling, sub);
 }
 
-void Renderer::render_subframe(const Camera& camera, FrameOutput output, float exposure_ev, const AaPlan& aa, int sub) {
+void Renderer::render_subframe(const Camera& camera, FrameOutput output, float exposure_ev, const FrameSampling& sampling, int sub) {
     const int width = width_, height = height_;
-    const bool last = sub + 1 == aa.subframes;
+    const bool last = sub + 1 == sampling.subframes;
     const auto t0 = std::chrono::steady_clock::now();
     const float aspect = static_cast<float>(width) / static_cast<float>(height);
     FrameData frame{};
     frame.view = glm::inverse(camera.world);
     frame.proj = projection_matrix(camera, aspect);
-    if (aa.subframes > 1) {
+    if (sampling.subframes > 1) {
         // Shift the image by the sub-frame's offset in pixels (NDC: 2 / size per pixel).
-        const glm::vec2 o = aa.offsets[static_cast<size_t>(sub)];
+        const glm::vec2 o = sampling.offsets[static_cast<size_t>(sub)];
         frame.proj = glm::translate(glm::mat4(1.0f), glm::vec3(2.0f * o.x / static_cast<float>(width),
                                                                2.0f * o.y / static_cast<float>(height), 0.0f)) *
                      frame.proj;
@@ -192,14 +189,15 @@ void Renderer::render_subframe(const Camera& camera, FrameOutput output, float e
     frame_ubo_.update(0, sizeof(FrameData), &frame);
 
     const PassEnv env{gpu_,       settings_,     frame, width,     height,      frame_ubo_, fbos_, programs_,
-                      empty_vao_, linear_clamp_, ibl_,  env_cube_, effect_ptrs_, sub, aa.subframes};
+                      empty_vao_, linear_clamp_, ibl_,  env_cube_, effect_ptrs_, sampling, sub};
     FrameGraph graph;
-    // `targets`: what the scene is drawn into (multisampled with anti-aliasing); `post`: the
-    // single-sample image the post filters and the tonemap read (effects/effect.hpp, Stage::post).
+    // `targets`: what the scene is drawn into (FrameSampling::resolved: targets of their own,
+    // perhaps multisampled); `post`: the single-sample image the post filters and the tonemap
+    // read (effects/effect.hpp, Stage::post).
     FrameTargets targets, post;
     const FrameGraph::ResourceId hdr_output = graph.import_texture("hdr", output_, {GL_RGBA32F, width, height});
-    targets.hdr = aa.on ? -1 : hdr_output;
-    targets.samples = aa.on ? aa.device_samples : 1;
+    targets.hdr = sampling.resolved ? -1 : hdr_output;
+    targets.samples = sampling.resolved ? sampling.samples : 1;
     bool post_started = false;
     for (const auto& e : effects_) e->begin_graph(graph);
     for (const PlannedPass& pass : plan_passes(features_, settings_)) {
@@ -211,7 +209,7 @@ void Renderer::render_subframe(const Camera& camera, FrameOutput output, float e
             post_started = true;
         }
         // Sub-frames before the last only draw and accumulate: the post filters see the mean.
-        if (pass.post && !last && pass.owner != &aa_effect()) continue;
+        if (pass.post && !last && !pass.every_subframe) continue;
         FrameTargets& t = pass.post ? post : targets;
         if (pass.owner) {
             const auto& reg = effect_registry();

@@ -43,8 +43,6 @@ struct FrameReport {
 };
 
 
-struct AaPlan;
-
 // What a frame produces: linear radiance only (.exr, comparisons), or also display values
 // (.png, a window) through the tonemap pass.
 enum class FrameOutput { hdr, display };
@@ -62,7 +60,7 @@ public:
     Renderer& operator=(const Renderer&) = delete;
 
     void set_settings(const RenderSettings& settings);
-    // The view the planner measures the scene from (the indirect-light estimate): the first call,
+    // The view the planner measures the scene from (Effect::view_estimate): the first call,
     // or the first frame's camera and size, fixes it for the renderer's life. A caller that wants
     // features() planned before its first frame calls this first.
     void set_view(const Camera& camera, int width, int height);
@@ -114,16 +112,16 @@ private:
     // Analyzes and configures for settings_ and the last camera (features_, effects, programs).
     void plan();
     int count_moving_draws(const Camera& camera, int width, int height) const;
-    void render_subframe(const Camera& camera, FrameOutput output, float exposure_ev, const AaPlan& aa, int sub);
+    void render_subframe(const Camera& camera, FrameOutput output, float exposure_ev, const FrameSampling& sampling, int sub);
 
     const ShaderLibrary& shaders_;
     std::optional<Camera> camera_;  // the last frame's camera (its lens plans depth of field)
     const Scene& scene_;
     GpuScene& gpu_;
     Bounds scene_bounds_;
-    // The indirect-light estimate the planner uses (traced once, from view_, on the first
-    // settings that ask).
-    std::optional<IndirectEstimate> indirect_estimate_;
+    // What the effects measured of the view for the planner (Effect::view_estimate: traced once
+    // per effect, from view_, on the first settings that ask).
+    ViewEstimates estimates_;
     struct View {
         Camera camera;
         float aspect;

@@ -2,6 +2,7 @@
 
 #include <cstdlib>
 #include <fstream>
+#include <mutex>
 #include <regex>
 #include <set>
 #include <sstream>
@@ -37,8 +38,19 @@ GLenum gl_stage(ShaderStage stage) {
     return GL_VERTEX_SHADER;
 }
 
+using Generated = std::map<std::string, std::vector<std::string>>;
+
+// The process-wide generated includes every new library starts with.
+Generated& default_generated(std::unique_lock<std::mutex>& lock) {
+    static std::mutex mutex;
+    static Generated generated;
+    lock = std::unique_lock<std::mutex>(mutex);
+    return generated;
+}
+
 struct Expander {
     const ShaderLibrary& lib;
+    const Generated& generated;
     std::function<fs::path(const fs::path&, const std::string&)> resolve;
     PreprocessedSource out;
     std::set<fs::path> included;
@@ -76,11 +88,15 @@ struct Expander {
                 out.text += "#line " + std::to_string(line_no + 1) + " " + std::to_string(id) + "\n";
                 version_seen = true;
             } else if (std::regex_match(line, m, include_re)) {
-                const fs::path inc = resolve(file.parent_path(), m[1].str());
-                if (inc.empty())
-                    throw Error(ExitCode::internal, file.string() + ":" + std::to_string(line_no) +
-                                                        ": cannot find include \"" + m[1].str() + "\"");
-                expand(inc, false, {});
+                const auto g = generated.find(m[1].str());
+                const std::vector<std::string> names = g != generated.end() ? g->second : std::vector<std::string>{m[1].str()};
+                for (const std::string& name : names) {
+                    const fs::path inc = resolve(file.parent_path(), name);
+                    if (inc.empty())
+                        throw Error(ExitCode::internal, file.string() + ":" + std::to_string(line_no) + ": cannot find include \"" +
+                                                            name + "\"");
+                    expand(inc, false, {});
+                }
                 out.text += "#line " + std::to_string(line_no + 1) + " " + std::to_string(id) + "\n";
             } else {
                 out.text += line + "\n";
@@ -112,7 +128,19 @@ std::string PreprocessedSource::map_log(const std::string& log) const {
 }
 
 ShaderLibrary::ShaderLibrary(fs::path root, fs::path effects_root)
-    : root_(std::move(root)), effects_root_(std::move(effects_root)) {}
+    : root_(std::move(root)), effects_root_(std::move(effects_root)) {
+    std::unique_lock<std::mutex> lock;
+    generated_ = default_generated(lock);
+}
+
+void ShaderLibrary::set_generated_include(const std::string& name, std::vector<std::string> files) {
+    generated_[name] = std::move(files);
+}
+
+void ShaderLibrary::set_default_generated_include(const std::string& name, std::vector<std::string> files) {
+    std::unique_lock<std::mutex> lock;
+    default_generated(lock)[name] = std::move(files);
+}
 
 fs::path ShaderLibrary::default_effects_root() {
     if (const char* env = std::getenv("CANDELA_EFFECTS_DIR"); env && *env) return env;
@@ -142,7 +170,7 @@ PreprocessedSource ShaderLibrary::preprocess(const fs::path& file, const std::ve
     const fs::path path = file.is_absolute()                      ? file
                           : fs::exists(root_ / file) || effects_root_.empty() ? root_ / file
                                                                                : effects_root_ / file;
-    Expander ex{*this, [this](const fs::path& d, const std::string& n) { return resolve(d, n); }, {}, {}, {}};
+    Expander ex{*this, generated_, [this](const fs::path& d, const std::string& n) { return resolve(d, n); }, {}, {}, {}};
     ex.expand(path, true, defines);
     return std::move(ex.out);
 }

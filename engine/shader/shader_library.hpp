@@ -2,7 +2,9 @@
 // GLSL sources from shaders/: #include "file.glsl" resolved (relative to the including file, then
 // to the shader root), each file included once, #line directives so that compiler messages map
 // back to file:line, and defines injected after #version. Programs remember their files so the
-// hot reloader (viewer issue) knows what to rebuild.
+// hot reloader knows what to rebuild. A generated include (set_generated_include) stands for a
+// list of includes given by the code that knows them (the effects registry gives
+// "effects_shading.glsl": what each effect adds to the lighting code).
 #include <filesystem>
 #include <map>
 #include <optional>
@@ -45,6 +47,10 @@ public:
     // The directories whose files programs are built from (what hot reload watches): root() and
     // effects_root()/effects.
     std::vector<std::filesystem::path> watched_dirs() const;
+    // `#include "name"` in any file then includes each of `files`, in order, resolved like any
+    // include. A library starts with the process-wide ones (set_default_generated_include).
+    void set_generated_include(const std::string& name, std::vector<std::string> files);
+    static void set_default_generated_include(const std::string& name, std::vector<std::string> files);
     // Throws candela::Error (internal) with "file:line: message" on a missing file or include cycle.
     PreprocessedSource preprocess(const std::filesystem::path& file, const std::vector<std::string>& defines) const;
 
@@ -63,6 +69,7 @@ private:
     std::filesystem::path resolve(const std::filesystem::path& including_dir, const std::string& name) const;
     std::filesystem::path root_;
     std::filesystem::path effects_root_;
+    std::map<std::string, std::vector<std::string>> generated_;
 };
 
 // Offline check with glslang (no GL context needed): empty string if the source compiles as

@@ -6,9 +6,6 @@
 
 #include "core/error.hpp"
 #include "options.hpp"
-#include "effects/aa/aa.hpp"
-#include "effects/gi/estimate.hpp"
-#include "effects/gi/gi.hpp"
 #include "effects/registry.hpp"
 #include "platform/context.hpp"
 #include "render/features.hpp"
@@ -39,11 +36,11 @@ int cmd_info(const Args& args) {
     if (p.has("--size")) parse_size(p.get("--size"), width, height);
     const float aspect = static_cast<float>(width) / static_cast<float>(height);
     LightingChoice lighting = setup_lighting(scene, p, camera_choice, aspect);
-    // The tracer measures the view (whether the file's lights light it; the GI effect's estimate
-    // of the indirect light) and anti-aliasing plans with the device's sample counts: a headless
+    // The tracer measures the view (whether the file's lights light it; the effects' view
+    // estimates) and some effects plan with the device (Effect::plans_with_device): a headless
     // context when one can be had (without one, `info` says what is missing).
     ContextResult ctx;
-    if (lighting.check_view || gi_needs_estimate(settings) || settings.get<AaOptions>().mode != AaMode::off)
+    if (lighting.check_view || planning_needs_gl(settings))
         ctx = create_context(Backend::auto_select);
     std::optional<ShaderLibrary> shaders;
     if (ctx.context) shaders.emplace(shader_dir_option(p));
@@ -107,28 +104,24 @@ int cmd_info(const Args& args) {
                                             format_number("%.3g", scene.environment.radiance.b) + ")").c_str()
                                          : "none");
     if (lighting.check_view) std::printf("lighting check: none (no usable OpenGL: %s)\n", ctx.error.c_str());
-    std::optional<IndirectEstimate> estimate;
-    if (gi_needs_estimate(settings)) {
+    ViewEstimates estimates;
+    for (const Effect* e : effects_needing_view_estimate(settings)) {
         if (shaders) {
             GpuScene gpu(scene);
-            try {
-                estimate = estimate_indirect(*shaders, scene, gpu, scene.select_camera(camera_choice, aspect), aspect);
-            } catch (const Error& e) {
-                if (e.code() == ExitCode::internal) throw;
-                estimate = IndirectEstimate{};
-            }
-            std::printf("indirect estimate: %s\n", estimate->text().c_str());
+            const Camera camera = scene.select_camera(camera_choice, aspect);
+            const ViewEstimate& v = estimates[e->name()] = e->estimate_view({*shaders, scene, gpu, camera, aspect});
+            std::printf("%s: %s\n", e->view_estimate(settings), v.text.c_str());
         } else {
-            std::printf("indirect estimate: none (no usable OpenGL: %s)\n", ctx.error.c_str());
+            std::printf("%s: none (no usable OpenGL: %s)\n", e->view_estimate(settings), ctx.error.c_str());
         }
     }
     const Camera view_camera = scene.select_camera(camera_choice, aspect);  // its lens plans depth of field
-    const Features features = analyze(scene, settings, estimate ? &*estimate : nullptr, &view_camera);
+    const Features features = analyze(scene, settings, &estimates, &view_camera);
     std::printf("scene features:\n");
     for (const Feature* feat : features.scene.all())
         std::printf("  %-22s %-4s %s\n", (feat->name + ":").c_str(), feat->needed ? "yes" : "no", feat->reason.c_str());
     // Under "effects" exactly the names --effects switches; the others are planned by the scene
-    // (area lights: emitters are lights) or by their own knobs (aa.mode).
+    // (emitters are lights) or by their own knobs (Effect::switchable).
     for (const bool switchable : {true, false}) {
         std::printf(switchable ? "effects (--effects):\n" : "planned by the scene or their knobs (not in --effects):\n");
         for (const EffectDecision* d : features.effects()) {

@@ -169,7 +169,7 @@ TEST_P(AaDeferredTest, OnlyEdgePixelsAreShadedMoreThanOnce) {
     for (const Case& c : {Case{"generated:edges", &edges_scene, "none", 0.25}, Case{"cornell_box", &cornell, "all", 0.10}}) {
         const ImageF single = raster(lib_, *c.scene, RenderPath::deferred, 1, c.effects).radiance;
         const StillResult ms = raster(lib_, *c.scene, RenderPath::deferred, 4, c.effects);
-        const DeferredAaStats st = last_deferred_aa_stats();
+        const DeferredEdgeStats st = last_deferred_edge_stats();
         ASSERT_EQ(st.samples, 4);
         ASSERT_GT(st.geometry_pixels, 0);
         const double share = static_cast<double>(st.edge_pixels) / static_cast<double>(st.geometry_pixels);

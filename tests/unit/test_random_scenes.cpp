@@ -28,6 +28,7 @@
 #include <string>
 #include <vector>
 
+#include "effects/gi/estimate.hpp"
 #include "effects/gi/gi.hpp"
 #include "gl_fixture.hpp"
 #include "gltf_builder.hpp"
@@ -469,7 +470,8 @@ public:
             const double s = mean_of(share), se = stderr_of(share);
             const EffectDecision& gi = raster.features.decision("gi");
             const double threshold = o.settings.get<GiOptions>().threshold;
-            const double estimate = raster.features.indirect ? raster.features.indirect->fraction : -1.0;
+            const IndirectEstimate* e = indirect_estimate(raster.features);
+            const double estimate = e ? e->fraction : -1.0;
             std::snprintf(buf, sizeof buf, "; indirect share %.3f +- %.3f, estimate %.3f, gi %s", s, se, estimate, gi.planned ? "on" : "off");
             out.summary += buf;
             const double margin = kIndirectMargin + kT * se;

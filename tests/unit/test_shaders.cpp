@@ -85,5 +85,30 @@ TEST_F(ShaderIncludes, CycleAndMissingIncludeAreReported) {
     }
 }
 
+// A generated include stands for the files it was given, in that order (the effects' shading
+// code: "effects_shading.glsl"), and an error in one of them still names that file.
+TEST_F(ShaderIncludes, GeneratedIncludeExpandsItsFilesInOrder) {
+    write("common/first.glsl", "float first() { return 1.0; }\n");
+    write("uses_generated.frag", "#version 450 core\n#include \"listed.glsl\"\nout vec4 c;\nvoid main() { c = vec4(first() + good()); }\n");
+    ShaderLibrary lib(dir_);
+    lib.set_generated_include("listed.glsl", {"common/first.glsl", "common/good.glsl"});
+    const PreprocessedSource src = lib.preprocess("uses_generated.frag", {});
+    EXPECT_EQ(validate_with_glslang(src, ShaderStage::fragment), "");
+    ASSERT_NE(src.text.find("float first()"), std::string::npos);
+    EXPECT_LT(src.text.find("float first()"), src.text.find("float good()"));
+    lib.set_generated_include("listed.glsl", {"common/first.glsl", "common/bad.glsl"});
+    const std::string log = validate_with_glslang(lib.preprocess("uses_generated.frag", {}), ShaderStage::fragment);
+    EXPECT_NE(log.find("bad.glsl:2:"), std::string::npos) << log;
+}
+
+// Every library serves the effects' shading include (installed by the effects registry).
+TEST(Shaders, TheLightingIncludeOfTheEffectsIsGenerated) {
+    const ShaderLibrary lib(fs::path(CANDELA_SOURCE_DIR) / "shaders");
+    const PreprocessedSource src = lib.preprocess("forward/forward.frag", {});
+    bool ssao = false;
+    for (const fs::path& f : src.files) ssao = ssao || f.filename() == "ssao_shading.glsl";
+    EXPECT_TRUE(ssao);
+}
+
 }  // namespace
 }  // namespace candela

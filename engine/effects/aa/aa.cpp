@@ -139,12 +139,28 @@ public:
     void plan(Stage stage, const Features& f, const RenderSettings& s, std::vector<PlannedPass>& out) const override {
         if (stage != Stage::post) return;
         const AaPlan p = aa_plan(f, s);
-        out.push_back({"aa_resolve",
-                       std::to_string(p.samples) + " samples: " + std::to_string(p.device_samples) + " multisampled x " +
-                           std::to_string(p.subframes) + " sub-frame(s)",
-                       this,
-                       {p.device_samples > 1 ? "aa_resolve" : "aa_resolve_single"}});
+        PlannedPass resolve{"aa_resolve",
+                            std::to_string(p.samples) + " samples: " + std::to_string(p.device_samples) + " multisampled x " +
+                                std::to_string(p.subframes) + " sub-frame(s)",
+                            this,
+                            {p.device_samples > 1 ? "aa_resolve" : "aa_resolve_single"}};
+        resolve.every_subframe = true;  // the running mean of the sub-frames
+        out.push_back(std::move(resolve));
     }
+    // The drawing targets are the resolve's: multisampled with the device's samples, and with
+    // counts the device cannot multisample, sub-frames with shifted projections (aa.hpp).
+    void frame_sampling(const Features& f, const RenderSettings& s, FrameSampling& out) const override {
+        const AaPlan p = aa_plan(f, s);
+        out.resolved = p.on;
+        out.samples = p.device_samples;
+        out.positions = device_sample_positions(p.device_samples);
+        out.subframes = p.subframes;
+        out.offsets = p.offsets;
+        // MASK materials' coverage from their alpha (forward.frag, gbuffer.frag: u_alpha_to_coverage).
+        out.coverage = s.get<AaOptions>().alpha_to_coverage;
+    }
+    // The plan takes the device's sample counts.
+    bool plans_with_device(const RenderSettings& s) const override { return s.get<AaOptions>().mode != AaMode::off; }
     std::vector<ProgramDesc> programs() const override {
         using S = ShaderStage;
         return {{"aa_resolve", {{S::vertex, "post/fullscreen.vert"}, {S::fragment, "effects/aa/resolve.frag"}}, {"MULTISAMPLED"}},

@@ -77,7 +77,11 @@ public:
         if (!block_) block_ = gl::Buffer(sizeof d, nullptr, GL_DYNAMIC_STORAGE_BIT);
         block_.update(0, sizeof d, &d);
         method_ = d.method;
+        // No polygon to integrate: the lighting leaves the LTC code out.
+        defines_.clear();
+        if (d.method != 1 || d.polygon_count <= 0) defines_.push_back("FORWARD_NO_AREA_LIGHTS");
     }
+    std::vector<std::string> shading_defines() const override { return defines_; }
     void add_pass(const std::string&, FrameGraph&, const PassEnv&, FrameTargets&) override {}
     void bind_shading_inputs(const PassEnv&, FrameGraph::Context*) const override {
         glBindBufferBase(GL_UNIFORM_BUFFER, AREA_LIGHTS_BINDING, block_.id());
@@ -118,6 +122,7 @@ private:
     int built_samples_ = -1;
     int polygon_count_ = 0;
     int method_ = 0;
+    std::vector<std::string> defines_;  // shading_defines: from the block
 };
 
 class AreaLights final : public Effect {
@@ -145,6 +150,7 @@ public:
     std::vector<GpuBlockInfo> gpu_blocks() const override {
         return {{"AreaLightsData", AREA_LIGHTS_BINDING, sizeof(gpu::AreaLightsData), "forward"}};
     }
+    const char* shading_include() const override { return "effects/area_lights/area_lights_shading.glsl"; }
     std::unique_ptr<EffectRuntime> create_runtime() const override { return std::make_unique<AreaLightsRuntime>(); }
     std::vector<AccuracySweep> accuracy_sweeps(bool quick) const override { return area_lights_accuracy_sweeps(quick); }
 };

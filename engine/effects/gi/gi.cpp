@@ -12,7 +12,9 @@
 #include <memory>
 
 #include <glm/gtc/quaternion.hpp>
+#include <nlohmann/json.hpp>
 
+#include "core/error.hpp"
 #include "effects/gi/estimate.hpp"
 #include "effects/gi/gi_data.h"
 #include "effects/gi/gi_sweep.hpp"
@@ -51,7 +53,7 @@ public:
         on_ = s.decision.planned;
         if (!on_) return;
         options_ = s.settings.get<GiOptions>();
-        const IndirectEstimate* estimate = s.features.indirect ? &*s.features.indirect : nullptr;
+        const IndirectEstimate* estimate = indirect_estimate(s.features);
         const int bounces = gi_planned_bounces(options_, estimate);
         if (scene_ != &s.scene || !rt_scene_) {
             scene_ = &s.scene;
@@ -126,6 +128,8 @@ public:
         if (depth_id_ >= 0) b.read(depth_id_);
     }
 
+    std::vector<std::string> shading_defines() const override { return defines_; }
+
     void bind_shading_inputs(const PassEnv& /*env*/, FrameGraph::Context* /*ctx*/) const override {
         glBindBufferBase(GL_UNIFORM_BUFFER, GI_BINDING, block_.id());
         if (on_ && irradiance_) {
@@ -188,7 +192,13 @@ private:
         return d;
     }
 
-    void upload(const gpu::GiData& d) { block_.update(0, sizeof d, &d); }
+    // Every upload goes to the block the shading binds (the trace reads it too): the defines
+    // follow it, so that a lighting pass always gets the variant of what it will read.
+    void upload(const gpu::GiData& d) {
+        block_.update(0, sizeof d, &d);
+        defines_.clear();
+        if (d.origin.w < 0.5f) defines_.push_back("FORWARD_NO_GI");  // no probe data to read yet
+    }
 
     // The weight of iteration k's estimate: the first `bounces_` replace (each adds a bounce),
     // the rest average (a running mean from the last replacing iteration on).
@@ -259,6 +269,7 @@ private:
     }
 
     bool on_ = false, reset_ = true;
+    std::vector<std::string> defines_;  // shading_defines: from the last upload to block_
     GiOptions options_;
     const Scene* scene_ = nullptr;
     std::unique_ptr<rt::RtScene> rt_scene_;
@@ -295,12 +306,31 @@ public:
             .real("bias", &O::bias, 0.0f, 1.0f, "shading offset off the surface, in units of 0.75 x the smallest probe spacing")
             .rows;
     }
+    // The planner needs the estimate of the indirect light (estimate.hpp) unless gi.threshold is
+    // 0 (always on) or GI is switched off.
+    const char* view_estimate(const RenderSettings& s) const override {
+        return s.on("gi") && s.get<GiOptions>().threshold > 0.0f ? "indirect estimate" : nullptr;
+    }
+    ViewEstimate estimate_view(const ViewEstimateInput& in) const override {
+        IndirectEstimate e;
+        try {
+            e = estimate_indirect(in.shaders, in.scene, in.gpu, in.camera, in.aspect);
+        } catch (const Error& error) {
+            if (error.code() == ExitCode::internal) throw;
+            e = IndirectEstimate{};  // nothing to trace (e.g. no triangles): none planned
+        }
+        return {e, e.text()};
+    }
+    void estimate_json(const ViewEstimate& v, nlohmann::json& j) const override {
+        if (const auto* e = std::any_cast<IndirectEstimate>(&v.value))
+            j["indirect_estimate"] = {{"fraction", e->fraction}, {"ms", e->ms}, {"width", e->width}, {"height", e->height}, {"spp", e->spp}};
+    }
     // Planned by what it contributes: the estimate of the indirect fraction (the renderer traces
     // it at set-up, estimate.hpp) against gi.threshold. Always gated: a scene whose indirect
     // light is below the threshold does get a little, so forcing it on would change the image.
     EffectDecision decide(const Features& f, const RenderSettings& s) const override {
         const GiOptions& o = s.get<GiOptions>();
-        const IndirectEstimate* e = f.indirect ? &*f.indirect : nullptr;
+        const IndirectEstimate* e = indirect_estimate(f);
         bool needed = false;
         std::string why;
         char pct[32];
@@ -323,7 +353,7 @@ public:
     void plan(Stage stage, const Features& f, const RenderSettings& s, std::vector<PlannedPass>& out) const override {
         if (stage != Stage::light_views) return;
         const GiOptions& o = s.get<GiOptions>();
-        const IndirectEstimate* e = f.indirect ? &*f.indirect : nullptr;
+        const IndirectEstimate* e = indirect_estimate(f);
         std::string why = "probe updates with the tracer (" + std::to_string(rounded_rays(o.rays)) + " rays per probe, " +
                           std::to_string(gi_planned_bounces(o, e)) + " bounces, " +
                           (o.budget > 0 ? std::to_string(o.budget) + " rays per frame)" : "converged before the frame)");
@@ -335,6 +365,7 @@ public:
                 {"gi_update", {{S::compute, "effects/gi/probe_update.comp"}}, {}}};
     }
     std::vector<GpuBlockInfo> gpu_blocks() const override { return {{"GiData", GI_BINDING, sizeof(gpu::GiData), "forward"}}; }
+    const char* shading_include() const override { return "effects/gi/gi_shading.glsl"; }
     std::unique_ptr<EffectRuntime> create_runtime() const override { return std::make_unique<GiRuntime>(); }
     std::vector<AccuracySweep> accuracy_sweeps(bool quick) const override { return gi_accuracy_sweeps(quick); }
 };
@@ -361,7 +392,10 @@ int gi_planned_bounces(const GiOptions& o, const IndirectEstimate* estimate) {
     return std::clamp(k - o.iterations / 2, 1, 32);
 }
 
-bool gi_needs_estimate(const RenderSettings& s) { return s.on("gi") && s.get<GiOptions>().threshold > 0.0f; }
+const IndirectEstimate* indirect_estimate(const Features& f) {
+    const ViewEstimate* v = f.estimate("gi");
+    return v ? std::any_cast<IndirectEstimate>(&v->value) : nullptr;
+}
 
 const Effect& gi_effect() {
     static const Gi effect;

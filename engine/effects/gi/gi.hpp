@@ -33,8 +33,8 @@ struct GiOptions {
 // enough bounces to leave less than 0.5 % of the image's light out, less the iterations/2 more
 // that the averaging updates after them add on average.
 int gi_planned_bounces(const GiOptions& o, const IndirectEstimate* estimate);
-// Whether analyze() needs an IndirectEstimate for these settings (gi switched on, threshold > 0).
-bool gi_needs_estimate(const RenderSettings& s);
+// The estimate the planner had (Features::estimates, Effect::view_estimate), or nullptr.
+const IndirectEstimate* indirect_estimate(const Features& f);
 
 // What the GI runtime has done (the viewer's panel, tests): renderer.effect_runtime<GiStatusView>().
 struct GiStatus {

@@ -47,6 +47,11 @@ void ReflectionsRuntime::prepare(const FramePrep& p) {
         capture_block_ = gl::Buffer(sizeof d, nullptr, GL_DYNAMIC_STORAGE_BIT);
     }
     block_.update(0, sizeof d, &d);
+    // The defines follow block_, the block the lighting passes bind. The probe capture binds
+    // capture_block_ instead and draws with the unspecialised forward program.
+    defines_.clear();
+    if (d.refraction == 0) defines_.push_back("FORWARD_NO_REFRACTION");
+    if (d.probes <= 0) defines_.push_back("FORWARD_NO_PROBES");
     gpu::ReflectionsData capture = d;
     capture.probes = 0;  // shading inside a probe reads the static environment
     capture_block_.update(0, sizeof capture, &capture);
@@ -287,6 +292,7 @@ public:
     std::vector<GpuBlockInfo> gpu_blocks() const override {
         return {{"ReflectionsData", REFLECTIONS_BINDING, sizeof(gpu::ReflectionsData), "forward"}};
     }
+    const char* shading_include() const override { return "effects/reflections/reflections_shading.glsl"; }
     std::unique_ptr<EffectRuntime> create_runtime() const override { return std::make_unique<ReflectionsRuntime>(); }
     std::vector<AccuracySweep> accuracy_sweeps(bool quick) const override { return reflections_accuracy_sweeps(quick); }
 };

@@ -38,6 +38,7 @@ public:
     void add_pass(const std::string& name, FrameGraph& graph, const PassEnv& env, FrameTargets& targets) override;
     void read_shading_inputs(FrameGraph::Builder& b) const override;
     void bind_shading_inputs(const PassEnv& env, FrameGraph::Context* ctx) const override;
+    std::vector<std::string> shading_defines() const override { return defines_; }
     void invalidate() override { res_.valid = false; }
     void inspectables(std::vector<std::pair<std::string, const gl::Texture*>>& out) const override;
 
@@ -65,6 +66,7 @@ private:
     Bounds scene_bounds_;
     gl::Buffer block_, capture_block_;  // ReflectionsData for the camera's view and for probe faces
     bool on_ = false;                   // probes are bound for shading this frame
+    std::vector<std::string> defines_;  // shading_defines: what block_ turns off
     FrameGraph::ResourceId probes_id_ = -1;
 };
 

@@ -38,8 +38,11 @@ public:
             nearest_ = gl::Sampler::create(GL_NEAREST, GL_NEAREST, GL_CLAMP_TO_EDGE, GL_CLAMP_TO_EDGE);
         }
         block_.update(0, sizeof d, &d);
+        defines_.clear();
+        if (d.on == 0) defines_.push_back("FORWARD_NO_RSM");  // the lighting leaves the gather's read out
         if (on_) prepare_maps(p);
     }
+    std::vector<std::string> shading_defines() const override { return defines_; }
 
     void begin_graph(FrameGraph& graph) override {
         if (on_) maps_ = graph.import_texture("rsm", res_.position, {GL_RGBA32F, res_.resolution, res_.resolution});
@@ -308,6 +311,7 @@ private:
     RsmOptions options_;
     bool on_ = false;
     gl::Buffer block_;
+    std::vector<std::string> defines_;  // shading_defines: from the block
     gl::Sampler nearest_;  // never blend two surfaces of a map
     FrameGraph::ResourceId maps_ = -1, indirect_ = -1;
 };
@@ -367,6 +371,7 @@ public:
                 {"rsm_gather", {{S::vertex, "post/fullscreen.vert"}, {S::fragment, "effects/rsm/gather.frag"}}, {}}};
     }
     std::vector<GpuBlockInfo> gpu_blocks() const override { return {{"RsmData", RSM_BINDING, sizeof(gpu::RsmData), "forward"}}; }
+    const char* shading_include() const override { return "effects/rsm/rsm_shading.glsl"; }
     std::unique_ptr<EffectRuntime> create_runtime() const override { return std::make_unique<RsmRuntime>(); }
     std::vector<AccuracySweep> accuracy_sweeps(bool quick) const override { return rsm_accuracy_sweeps(quick); }
 };

@@ -58,6 +58,9 @@ void ShadowsRuntime::prepare(const FramePrep& p) {
     }
     if (!block_) block_ = gl::Buffer(sizeof d, nullptr, GL_DYNAMIC_STORAGE_BIT);
     block_.update(0, sizeof d, &d);
+    // The shadow filter (shadows_shading.glsl): only the selected mode's code is compiled.
+    defines_.clear();
+    if (d.filter_mode >= 0 && d.filter_mode <= 3) defines_.push_back("SHADOW_FILTER_MODE " + std::to_string(d.filter_mode));
     if (!on_) {
         cpu_ = {};
         return;
@@ -240,6 +243,7 @@ public:
                  {"CASTER_DEPTH_ONLY"}}};
     }
     std::vector<GpuBlockInfo> gpu_blocks() const override { return {{"ShadowsData", SHADOWS_BINDING, sizeof(gpu::ShadowsData), "forward"}}; }
+    const char* shading_include() const override { return "effects/shadows/shadows_shading.glsl"; }
     std::unique_ptr<EffectRuntime> create_runtime() const override { return std::make_unique<ShadowsRuntime>(); }
     std::vector<AccuracySweep> accuracy_sweeps(bool quick) const override { return shadows_accuracy_sweeps(quick); }
 };

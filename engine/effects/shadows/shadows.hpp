@@ -44,6 +44,7 @@ public:
     void add_pass(const std::string& name, FrameGraph& graph, const PassEnv& env, FrameTargets& targets) override;
     void read_shading_inputs(FrameGraph::Builder& b) const override;
     void bind_shading_inputs(const PassEnv& env, FrameGraph::Context* ctx) const override;
+    std::vector<std::string> shading_defines() const override { return defines_; }
 
 private:
     ShadowsOptions options_;
@@ -56,6 +57,7 @@ private:
     gl::Sampler compare_, raw_;
     int resolution_ = 0, layers_ = 0;
     gl::Buffer block_;
+    std::vector<std::string> defines_;  // shading_defines: from the block's filter mode
     FrameGraph::ResourceId maps_ = -1;
 };
 

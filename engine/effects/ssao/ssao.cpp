@@ -166,6 +166,7 @@ public:
                 {"ssao_blur", {{S::vertex, "post/fullscreen.vert"}, {S::fragment, "effects/ssao/blur.frag"}}, {}}};
     }
     std::vector<GpuBlockInfo> gpu_blocks() const override { return {{"SsaoData", SSAO_BINDING, sizeof(gpu::SsaoData), "ssao"}}; }
+    const char* shading_include() const override { return "effects/ssao/ssao_shading.glsl"; }
     std::unique_ptr<EffectRuntime> create_runtime() const override { return std::make_unique<SsaoRuntime>(); }
     std::vector<AccuracySweep> accuracy_sweeps(bool quick) const override { return ssao_accuracy_sweeps(quick); }
 };

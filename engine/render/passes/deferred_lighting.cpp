@@ -2,7 +2,7 @@
 // (shaders/deferred/light.comp). Why tiles rather than light volumes: the G-buffer is read once
 // per pixel instead of once per light volume covering it, and there is no per-light draw call or
 // stencil state; on llvmpipe, where every byte read is a CPU memory access, that decides it.
-// With a multisampled G-buffer (anti-aliasing) the "deferred_light_ms" variant shades a pixel
+// With a multisampled G-buffer (FrameSampling::samples > 1) the "deferred_light_ms" variant shades a pixel
 // once where its samples see one surface and, at the edge pixels, once per surface they show
 // (deferred_light_ms_edges shades the further surfaces in a second, indirect dispatch).
 #include "render/passes/deferred_lighting.hpp"
@@ -12,35 +12,34 @@
 #include <mutex>
 
 #include "core/log.hpp"
-#include "effects/aa/aa.hpp"
+#include "effects/effect.hpp"
 #include "render/passes/pass_env.hpp"
 
 namespace candela {
 namespace {
 
 std::mutex g_stats_mutex;
-DeferredAaStats g_stats;
+DeferredEdgeStats g_stats;
 
 bool count_edges() {
     const char* v = std::getenv("CANDELA_AA_STATS");
     return v && *v && *v != '0';
 }
 
-// The device's sample positions for `n` samples, [0,1] in the pixel, y up (as gl_SamplePosition),
-// flattened x, y for the shader's uniform.
-const std::vector<float>& positions_for(int n) {
-    static std::vector<float> positions[9];
-    if (positions[n].empty())
-        for (const glm::vec2& p : device_sample_positions(n)) {
-            positions[n].push_back(p.x + 0.5f);
-            positions[n].push_back(p.y + 0.5f);
-        }
-    return positions[n];
+// The frame's sample positions (FrameSampling::positions), [0,1] in the pixel, y up (as
+// gl_SamplePosition), flattened x, y for the shader's uniform.
+std::vector<float> flat_positions(const FrameSampling& sampling) {
+    std::vector<float> positions;
+    for (const glm::vec2& p : sampling.positions) {
+        positions.push_back(p.x + 0.5f);
+        positions.push_back(p.y + 0.5f);
+    }
+    return positions;
 }
 
 }  // namespace
 
-DeferredAaStats last_deferred_aa_stats() {
+DeferredEdgeStats last_deferred_edge_stats() {
     std::lock_guard<std::mutex> lock(g_stats_mutex);
     return g_stats;
 }
@@ -59,12 +58,12 @@ void add_deferred_lighting_pass(FrameGraph& graph, const PassEnv& env, FrameTarg
             read_lighting_inputs(b, env);
             d.hdr = b.write(targets.hdr);
             // Room for N - 1 further groups per pixel (the most a pixel can have).
-            if (n > 1) d.edge_groups = b.create("aa_edge_groups", {GL_RG32UI, env.width, env.height * (n - 1)});
+            if (n > 1) d.edge_groups = b.create("edge_groups", {GL_RG32UI, env.width, env.height * (n - 1)});
             // The passes after this one draw into the light buffer over the G-buffer's depth
             // (multisampled: not the single-sample copy the screen-space passes read).
             targets.depth = targets.gbuffer_depth;
         },
-        [&env, n](const Data& d, FrameGraph::Context& ctx) {
+        [&env, n, positions = flat_positions(env.sampling)](const Data& d, FrameGraph::Context& ctx) {
             bind_scene_buffers(env);
             bind_effect_inputs(env, ctx);
             for (int i = 0; i < 3; ++i) {
@@ -80,7 +79,7 @@ void add_deferred_lighting_pass(FrameGraph& graph, const PassEnv& env, FrameTarg
             ctx.state.use_program(program);
             GLuint stats = 0;
             if (ms) {
-                glProgramUniform2fv(program, 1, n, positions_for(n).data());
+                glProgramUniform2fv(program, 1, n, positions.data());
                 const bool count = count_edges();
                 glProgramUniform1i(program, 0, count ? 1 : 0);
                 if (count) {
@@ -106,7 +105,7 @@ void add_deferred_lighting_pass(FrameGraph& graph, const PassEnv& env, FrameTarg
                 glMemoryBarrier(GL_COMMAND_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
                 const GLuint edges = env.programs.get(deferred_light_program_name(env, "deferred_light_ms_edges")).id();
                 ctx.state.use_program(edges);
-                glProgramUniform2fv(edges, 1, n, positions_for(n).data());
+                glProgramUniform2fv(edges, 1, n, positions.data());
                 glProgramUniform1i(edges, 0, 0);
                 glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, edge_dispatch);
                 glDispatchComputeIndirect(0);

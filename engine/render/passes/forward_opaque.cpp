@@ -1,14 +1,14 @@
 // Forward shading of opaque and alpha-masked geometry into the linear HDR target.
-#include "effects/aa/aa.hpp"
+#include "effects/effect.hpp"
 #include "render/passes/pass_env.hpp"
 
 namespace candela {
 
 void add_forward_opaque_pass(FrameGraph& graph, const PassEnv& env, FrameTargets& targets, bool blend_as_opaque) {
     // A prepass's depth serves (EQUAL) when it has the samples of the colour target: a
-    // depth/normal prepass for screen-space effects stays single-sample under anti-aliasing.
+    // depth/normal prepass for screen-space effects stays single-sample under multisampling.
     const bool prepass = targets.depth >= 0 && graph.resources()[static_cast<size_t>(targets.depth)].desc.samples == targets.samples;
-    const bool a2c = targets.samples > 1 && env.settings.get<AaOptions>().alpha_to_coverage;
+    const bool a2c = targets.samples > 1 && env.sampling.coverage;
     graph.add_pass(
         "forward_opaque",
         [&](FrameGraph::Builder& b) {
@@ -47,8 +47,9 @@ void add_forward_opaque_pass(FrameGraph& graph, const PassEnv& env, FrameTargets
                 glProgramUniform1i(forward, 9, 1);
             }
             for (const auto& d : env.scene.draws()) {
-                // Without the transparency effect, blended materials are drawn as opaque ones
-                // (after a prepass that skipped them they would fail the EQUAL test, so skip).
+                // When no planned effect draws them (Effect::draws_blended_surfaces), blended
+                // materials are drawn as opaque ones (after a prepass that skipped them they
+                // would fail the EQUAL test, so skip).
                 if (d.alpha_mode == AlphaMode::blend && (!blend_as_opaque || (prepass && !targets.prepass_has_blend))) continue;
                 draw_item(env, ctx, d, !d.double_sided, GL_BACK, forward);
             }

@@ -1,10 +1,10 @@
 // Deferred path, first pass: the surface of every opaque and masked fragment into the G-buffer
 // (layout: shaders/lighting/gbuffer.glsl) and its emission into the light buffer.
-// With anti-aliasing (targets.samples > 1) the G-buffer, its depth and the light buffer are
+// Multisampled (targets.samples > 1, FrameSampling) the G-buffer, its depth and the light buffer are
 // multisampled; "gbuffer_resolve" then copies sample 0's depth and normal into single-sample
 // textures for the screen-space effects (Stage::screen), and the lighting pass shades once per
 // pixel, or at the edge pixels once per surface their samples show (shaders/deferred/light.comp).
-#include "effects/aa/aa.hpp"
+#include "effects/effect.hpp"
 #include "render/passes/pass_env.hpp"
 
 namespace candela {
@@ -16,11 +16,12 @@ void add_gbuffer_pass(FrameGraph& graph, const PassEnv& env, FrameTargets& targe
     };
     const int n = targets.samples;
     // MASK materials with multisampling: their coverage from alpha (gbuffer.frag).
-    const bool a2c = n > 1 && env.settings.get<AaOptions>().alpha_to_coverage;
+    const bool a2c = n > 1 && env.sampling.coverage;
     graph.add_pass<Data>(
         "gbuffer",
         [&, n](FrameGraph::Builder& b, Data& d) {
-            // Anti-aliasing: the first pass that draws colour makes the (multisampled) light buffer.
+            // Targets of their own (FrameSampling::resolved): the first pass that draws colour
+            // makes the (multisampled) light buffer.
             if (targets.hdr < 0) targets.hdr = b.create("hdr_aa", {GL_RGBA32F, env.width, env.height, n});
             else b.write(targets.hdr);
             const char* suffix = n > 1 ? "_aa" : "";

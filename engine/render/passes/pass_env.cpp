@@ -5,12 +5,7 @@
 #include <string>
 
 #include "core/error.hpp"
-#include "effects/area_lights/area_lights_data.h"
 #include "effects/effect.hpp"
-#include "effects/gi/gi_data.h"
-#include "effects/reflections/reflections_data.h"
-#include "effects/rsm/rsm_data.h"
-#include "effects/shadows/shadows_data.h"
 
 namespace candela {
 
@@ -79,69 +74,22 @@ void begin_forward_shading(const PassEnv& env, FrameGraph::Context& ctx, const F
     ctx.state.use_program(env.programs.get("forward").id());
 }
 
-namespace {
-// The contents of the uniform block bound at `binding` (what the shaders will read), or false
-// when none is bound.
-template <class Block>
-bool read_bound_block(GLuint binding, Block& out) {
-    GLint buffer = 0;
-    GLint64 start = 0, size = 0;
-    glGetIntegeri_v(GL_UNIFORM_BUFFER_BINDING, binding, &buffer);
-    glGetInteger64i_v(GL_UNIFORM_BUFFER_START, binding, &start);
-    glGetInteger64i_v(GL_UNIFORM_BUFFER_SIZE, binding, &size);
-    if (buffer == 0) return false;
-    GLint64 buffer_size = 0;
-    glGetNamedBufferParameteri64v(static_cast<GLuint>(buffer), GL_BUFFER_SIZE, &buffer_size);
-    if (start < 0 || start + static_cast<GLint64>(sizeof(Block)) > buffer_size || (size > 0 && size < static_cast<GLint64>(sizeof(Block))))
-        return false;
-    glGetNamedBufferSubData(static_cast<GLuint>(buffer), static_cast<GLintptr>(start), sizeof(Block), &out);
-    return true;
-}
-
-// True when no material in the materials SSBO has a texture in any slot (material_uv.glsl sets
-// a slot's bit from its texcoord set, -1 for none).
-bool no_material_textures(const GpuScene& scene) {
-    GLint64 bytes = 0;
-    glGetNamedBufferParameteri64v(scene.materials().id(), GL_BUFFER_SIZE, &bytes);
-    const size_t count = static_cast<size_t>(bytes) / sizeof(MaterialData);
-    if (count == 0) return false;
-    std::vector<MaterialData> materials(count);
-    glGetNamedBufferSubData(scene.materials().id(), 0, static_cast<GLsizeiptr>(count * sizeof(MaterialData)), materials.data());
-    for (const MaterialData& m : materials)
-        if (m.texcoord.x >= 0 || m.texcoord.y >= 0 || m.texcoord.z >= 0 || m.texcoord.w >= 0 || m.texcoord2.x >= 0) return false;
-    return true;
-}
-}  // namespace
-
-// The defines both lighting programs (forward.frag, deferred/light.comp) take from the bound
-// blocks: each removes code whose runtime condition is known false from the values the shaders
-// will read. llvmpipe runs both sides of a branch under a lane mask, so dead features cost per
-// pixel, not only at compile time.
+// The defines both lighting programs (forward.frag, deferred/light.comp) take: each removes code
+// whose runtime condition is known false from the values the shaders will read (the frame's and,
+// through EffectRuntime::shading_defines, each effect's block). llvmpipe runs both sides of a
+// branch under a lane mask, so dead features cost per pixel, not only at compile time.
 static std::string lighting_defines(const PassEnv& env, std::string defines) {
     auto add = [&defines](const std::string& d) { defines += (defines.empty() ? "" : ",") + d; };
     if (env.frame.debug.x == 0) add("FORWARD_NO_DEBUG");
-    gpu::ReflectionsData reflections{};
-    if (read_bound_block(REFLECTIONS_BINDING, reflections)) {
-        if (reflections.refraction == 0) add("FORWARD_NO_REFRACTION");
-        if (reflections.probes <= 0) add("FORWARD_NO_PROBES");
-    }
-    gpu::AreaLightsData area{};
-    if (read_bound_block(AREA_LIGHTS_BINDING, area) && (area.method != 1 || area.polygon_count <= 0)) add("FORWARD_NO_AREA_LIGHTS");
-    gpu::RsmData rsm{};
-    if (read_bound_block(RSM_BINDING, rsm) && rsm.on == 0) add("FORWARD_NO_RSM");
-    gpu::GiData gi{};
-    if (read_bound_block(GI_BINDING, gi) && gi.origin.w < 0.5f) add("FORWARD_NO_GI");
-    // The shadow filter (shadows_shading.glsl): only the selected mode's code is compiled.
-    gpu::ShadowsData shadows{};
-    if (read_bound_block(SHADOWS_BINDING, shadows) && shadows.filter_mode >= 0 && shadows.filter_mode <= 3)
-        add("SHADOW_FILTER_MODE " + std::to_string(shadows.filter_mode));
+    for (const EffectRuntime* e : env.effects)
+        for (const std::string& d : e->shading_defines()) add(d);
     return defines;
 }
 
 std::string forward_program_name(const PassEnv& env, bool may_peel) {
     std::string defines;
     if (!may_peel) defines = "FORWARD_NO_PEEL";
-    if (no_material_textures(env.scene)) defines += (defines.empty() ? "" : ",") + std::string("FORWARD_NO_TEXTURES");
+    if (!env.scene.has_material_textures()) defines += (defines.empty() ? "" : ",") + std::string("FORWARD_NO_TEXTURES");
     defines = lighting_defines(env, defines);
     return defines.empty() ? "forward" : "forward#" + defines;
 }

@@ -16,6 +16,7 @@
 namespace candela {
 
 class EffectRuntime;
+struct FrameSampling;
 
 // FBOs keyed by their attachments; pool textures live across frames, so these hit every frame.
 class FramebufferCache {
@@ -43,10 +44,10 @@ struct PassEnv {
     // The effect modules' runtimes (engine/effects/), registry order: the shading passes let each
     // declare and bind what it made.
     const std::vector<EffectRuntime*>& effects;
-    // Anti-aliasing (effects/aa): this frame is sub-frame `subframe` of `subframes`, each with the
-    // projection shifted by a fraction of a pixel; the resolve accumulates them.
+    // How the frame takes its samples (effects/effect.hpp): multisampled targets, alpha to
+    // coverage, sub-frames. This is sub-frame `subframe` of sampling.subframes.
+    const FrameSampling& sampling;
     int subframe = 0;
-    int subframes = 1;
 };
 
 // The resources the forward chain passes along.
@@ -60,9 +61,9 @@ struct FrameTargets {
     // Deferred: the G-buffer's depth. Multisampled, targets.depth is its single-sample copy
     // (gbuffer_resolve) during Stage::screen; deferred_lighting makes it targets.depth again.
     FrameGraph::ResourceId gbuffer_depth = -1;
-    // Samples per pixel of the drawing targets (anti-aliasing, effects/aa): with more than one,
-    // the first pass that draws colour creates `hdr` and `depth` multisampled; the screen-space
-    // buffers (a depth/normal prepass, SSAO, RSM) stay single-sample.
+    // Samples per pixel of the drawing targets (FrameSampling::samples): with more than one, the
+    // first pass that draws colour creates `hdr` and `depth` multisampled; the screen-space
+    // buffers (a depth/normal prepass, the screen-stage effects' buffers) stay single-sample.
     int samples = 1;
     // At Stage::post: the targets the scene was drawn into (the resolve reads them); `hdr` and
     // `depth` of the post targets are single-sample.
@@ -83,12 +84,12 @@ void bind_effect_inputs(const PassEnv& env, FrameGraph::Context& ctx);
 // lighting input bound: the passes that draw after the opaque geometry.
 void begin_forward_shading(const PassEnv& env, FrameGraph::Context& ctx, const FrameTargets& targets,
                            const gl::PipelineState& ps);
-// The forward program specialised to the state bound for this pass (call after
-// bind_scene_buffers): the "forward" catalog program with FORWARD_NO_* defines for the features
-// whose blocks say they are off (forward/forward.frag); `may_peel` false: u_peel stays 0.
+// The forward program specialised to this frame (the blocks bind_scene_buffers binds): the
+// "forward" catalog program with the base's FORWARD_NO_* defines and every effect's
+// EffectRuntime::shading_defines (forward/forward.frag); `may_peel` false: u_peel stays 0.
 std::string forward_program_name(const PassEnv& env, bool may_peel);
 // The deferred lighting program `base` (deferred_light, deferred_light_ms, ..._edges) with the
-// same defines from the bound blocks (deferred/light.comp honours the lighting ones).
+// same lighting defines (deferred/light.comp honours them).
 std::string deferred_light_program_name(const PassEnv& env, const std::string& base);
 // Draws one scene item with `program` (default: forward), which has the forward vertex layout and
 // per-draw uniforms (locations 0-3), textures and winding.
