@@ -10,10 +10,10 @@
 #include "effects/area_lights/area_lights_shading.glsl"
 
 // Image-based lighting (render/environment.hpp): the static environment as a GGX-prefiltered
-// cube (frame.counts.y levels, roughness = level / (levels - 1)), reflection probes captured by
+// cube (frame.env_mips levels, roughness = level / (levels - 1)), reflection probes captured by
 // the env_probe pass and prefiltered the same way, and the split-sum BRDF LUT.
-layout(binding = 6) uniform samplerCubeArray t_env_cube;  // bound when frame.env_mode.x = 1
-layout(binding = 13) uniform sampler2D t_brdf_lut;
+layout(binding = ENV_CUBE_UNIT) uniform samplerCubeArray t_env_cube;  // bound when frame.env_cube_bound = 1
+layout(binding = BRDF_LUT_UNIT) uniform sampler2D t_brdf_lut;
 #include "effects/reflections/reflections_shading.glsl"
 
 // The split sum's second factor: (A, B) with specular albedo = F0 A + F90 B.
@@ -28,19 +28,19 @@ vec2 env_brdf(float roughness, float NdotV) {
 vec3 environment_specular(vec3 p, vec3 r, float roughness, int k) {
     if (k >= 0)
         return probe_radiance(k, p, r, roughness);
-    if (frame.env_radiance.w < 0.5) return frame.env_radiance.rgb;
-    return frame.env_radiance.rgb * textureLod(t_env_cube, vec4(r, 0.0), roughness * float(max(frame.counts.y - 1, 0))).rgb;
+    if (frame.env_map_bound < 0.5) return frame.env_radiance.rgb;
+    return frame.env_radiance.rgb * textureLod(t_env_cube, vec4(r, 0.0), roughness * float(max(frame.env_mips - 1, 0))).rgb;
 }
 
 vec3 environment_irradiance(vec3 n) {
-    if (frame.env_radiance.w < 0.5) return PI * frame.env_radiance.rgb;
+    if (frame.env_map_bound < 0.5) return PI * frame.env_radiance.rgb;
     return max(sh_irradiance(n), vec3(0.0));
 }
 
 // Light i reflected towards v. A transmissive surface (KHR_materials_transmission) keeps its
 // specular lobe and trades `transmission` of its diffuse lobe for transmitted light.
 vec3 shade_light(int i, BrdfInput bi, vec3 p, vec3 n, vec3 v, vec2 pixel, float transmission) {
-    PunctualLight light = lights[i];
+    LightData light = lights[i];
     vec3 l, E;
     float dist;
     light_incidence(light, p, l, E, dist);
@@ -79,26 +79,26 @@ vec3 shade_ambient(BrdfInput bi, vec3 p, vec3 n, vec3 v, float occlusion) {
 // lobe leaves it, and E / pi as the radiance the specular lobe sees, unless a reflection probe
 // gives the surroundings (it captured the walls with their indirect light already).
 vec3 shade_gi(BrdfInput bi, vec3 p, vec3 n, vec3 v, float occlusion, float transmission) {
-    if (gi.origin.w < 0.5) return vec3(0.0);
+    if (gi.on < 0.5) return vec3(0.0);
     vec3 E = gi_irradiance(p, n, v);
     vec2 ab = env_brdf(bi.roughness, saturate(dot(n, v)));
     vec3 specular = probe_at(p, bi, transmission) >= 0 ? vec3(0.0) : E * INV_PI;
     return occlusion * brdf_ambient(bi, ab, E, specular, transmission, vec3(0.0));
 }
 
-// The debug view `visibility` (debug.view): the fraction of light frame.debug.y that reaches p
+// The debug view `visibility` (debug.view): the fraction of light frame.debug_light that reaches p
 // (0 where the surface faces away or the light sends nothing towards p: outside a spot's cone,
 // behind a one-sided emitter). Light indices below the punctual count are punctual lights;
 // any larger index stands for all area-light pieces together, weighted by their power.
 float light_visibility(vec3 p, vec3 n, vec2 pixel) {
-    int first = frame.debug.y, last = frame.debug.y;
-    if (frame.debug.y >= frame.counts.z) {
-        first = frame.counts.z;
-        last = frame.counts.x - 1;
+    int first = frame.debug_light, last = frame.debug_light;
+    if (frame.debug_light >= frame.punctual_light_count) {
+        first = frame.punctual_light_count;
+        last = frame.light_count - 1;
     }
     float sum = 0.0, weight = 0.0;
     for (int i = first; i <= last; ++i) {
-        PunctualLight light = lights[i];
+        LightData light = lights[i];
         vec3 l, E;
         float dist;
         light_incidence(light, p, l, E, dist);
