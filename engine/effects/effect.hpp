@@ -27,7 +27,8 @@ struct Camera;
 struct EffectDecision;
 struct Scene;
 struct Features;
-struct FrameData;
+namespace gpu { struct FrameData; }
+using gpu::FrameData;
 struct FrameTargets;
 struct PassEnv;
 struct PlannedPass;
@@ -50,7 +51,7 @@ enum class Stage {
     post,
 };
 
-// A uniform block declared in an effect's *_data.h (effects/gpu_block.h): its GLSL block name,
+// A uniform block declared in an effect's *_data.h (gpu/gpu_block.h): its GLSL block name,
 // its binding and the size the C++ struct has, which a test checks against the GL's layout.
 struct GpuBlockInfo {
     const char* block;  // GLSL block name, e.g. "SsaoData"

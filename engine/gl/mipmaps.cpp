@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "gpu/bindings.h"
+
 namespace candela::gl {
 
 void draw_mipmaps(GLuint program, GLuint texture, GLenum format, int width, int height, int levels) {
@@ -12,7 +14,7 @@ void draw_mipmaps(GLuint program, GLuint texture, GLenum format, int width, int 
     glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &old_fbo);
     glGetIntegerv(GL_VIEWPORT, viewport);
     glGetIntegerv(GL_ACTIVE_TEXTURE, &old_unit);
-    glActiveTexture(GL_TEXTURE0);
+    glActiveTexture(GL_TEXTURE0 + SOURCE_UNIT);
     glGetIntegerv(GL_TEXTURE_BINDING_2D, &old_texture);
     glGetIntegerv(GL_SAMPLER_BINDING, &old_sampler);
     glActiveTexture(static_cast<GLenum>(old_unit));
@@ -30,7 +32,7 @@ void draw_mipmaps(GLuint program, GLuint texture, GLenum format, int width, int 
     glUseProgram(program);
     glBindVertexArray(vao);
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, fbo);
-    glBindSampler(0, 0);
+    glBindSampler(SOURCE_UNIT, 0);
     int w = width, h = height;
     for (int level = 1; level < levels; ++level) {
         const int nw = std::max(w / 2, 1), nh = std::max(h / 2, 1);
@@ -41,20 +43,20 @@ void draw_mipmaps(GLuint program, GLuint texture, GLenum format, int width, int 
         glTextureParameteri(view, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
         glTextureParameteri(view, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
         glTextureParameteri(view, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-        glBindTextureUnit(0, view);
+        glBindTextureUnit(SOURCE_UNIT, view);
         glNamedFramebufferTexture(fbo, GL_COLOR_ATTACHMENT0, texture, level);
         glNamedFramebufferDrawBuffer(fbo, GL_COLOR_ATTACHMENT0);
         glViewport(0, 0, nw, nh);
         glDrawArrays(GL_TRIANGLE_FAN, 0, 4);
-        glBindTextureUnit(0, 0);
+        glBindTextureUnit(SOURCE_UNIT, 0);
         glDeleteTextures(1, &view);  // the draw keeps what it reads alive until it has run
         w = nw;
         h = nh;
     }
     glDeleteFramebuffers(1, &fbo);
     glDeleteVertexArrays(1, &vao);
-    glBindTextureUnit(0, static_cast<GLuint>(old_texture));
-    glBindSampler(0, static_cast<GLuint>(old_sampler));
+    glBindTextureUnit(SOURCE_UNIT, static_cast<GLuint>(old_texture));
+    glBindSampler(SOURCE_UNIT, static_cast<GLuint>(old_sampler));
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, static_cast<GLuint>(old_fbo));
     glBindVertexArray(static_cast<GLuint>(old_vao));
     glUseProgram(static_cast<GLuint>(old_program));

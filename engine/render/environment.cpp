@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "gpu/bindings.h"
 #include "shader/program_catalog.hpp"
 
 namespace candela {
@@ -37,7 +38,7 @@ ImageBasedLighting::ImageBasedLighting(const ShaderLibrary& shaders, DerivedCach
     glUseProgram(lut_program_.id());
     glProgramUniform1i(lut_program_.id(), 0, kLutSize);
     glProgramUniform1i(lut_program_.id(), 1, kLutSamples);
-    glBindImageTexture(0, lut_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RG32F);
+    glBindImageTexture(DST_IMAGE, lut_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RG32F);
     glDispatchCompute((kLutSize + 7) / 8, (kLutSize + 7) / 8, 1);
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
     glUseProgram(0);
@@ -106,9 +107,9 @@ gl::Texture ImageBasedLighting::cube_from_equirect(const gl::Texture& equirect, 
     gl::Texture source = create_cube_array(size, 1, 0);
     glUseProgram(to_cube_program_.id());
     glProgramUniform1i(to_cube_program_.id(), 0, size);
-    glBindTextureUnit(0, equirect.id());
-    glBindSampler(0, 0);
-    glBindImageTexture(0, source.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    glBindTextureUnit(SOURCE_UNIT, equirect.id());
+    glBindSampler(SOURCE_UNIT, 0);
+    glBindImageTexture(DST_IMAGE, source.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
     glDispatchCompute(static_cast<GLuint>((size + 7) / 8), static_cast<GLuint>((size + 7) / 8), 6);
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
     glUseProgram(0);
@@ -146,16 +147,16 @@ void FloatMipmaps::generate(const gl::Texture& texture, GLenum target, int width
         const int nw = std::max(w / 2, 1), nh = std::max(h / 2, 1);
         glProgramUniform2i(program.id(), 0, w, h);
         glProgramUniform2i(program.id(), 1, nw, nh);
-        glBindImageTexture(0, texture.id(), level - 1, cube ? GL_TRUE : GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
-        glBindImageTexture(1, texture.id(), level, cube ? GL_TRUE : GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+        glBindImageTexture(MIP_SRC_IMAGE, texture.id(), level - 1, cube ? GL_TRUE : GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+        glBindImageTexture(MIP_DST_IMAGE, texture.id(), level, cube ? GL_TRUE : GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
         glDispatchCompute(static_cast<GLuint>((nw + 7) / 8), static_cast<GLuint>((nh + 7) / 8), static_cast<GLuint>(cube ? layers : 1));
         glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
         w = nw;
         h = nh;
     }
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
-    glBindImageTexture(0, 0, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
-    glBindImageTexture(1, 0, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    glBindImageTexture(MIP_SRC_IMAGE, 0, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+    glBindImageTexture(MIP_DST_IMAGE, 0, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
     glUseProgram(0);
 }
 
@@ -165,15 +166,15 @@ void ImageBasedLighting::prefilter(const gl::Texture& source, const gl::Texture&
         prefilter_program_ = shaders_.build_or_throw(program_desc("prefilter"));
     const GLuint p = prefilter_program_.id();
     glUseProgram(p);
-    glBindTextureUnit(0, source.id());
-    glBindSampler(0, 0);
+    glBindTextureUnit(SOURCE_UNIT, source.id());
+    glBindSampler(SOURCE_UNIT, 0);
     glProgramUniform1i(p, 2, samples);
     glProgramUniform1i(p, 3, size);
     for (int level = 0; level < levels; ++level) {
         const int s = std::max(size >> level, 1);
         glProgramUniform1i(p, 0, s);
         glProgramUniform1f(p, 1, levels > 1 ? static_cast<float>(level) / static_cast<float>(levels - 1) : 0.0f);
-        glBindImageTexture(0, dst.id(), level, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+        glBindImageTexture(DST_IMAGE, dst.id(), level, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
         glDispatchCompute(static_cast<GLuint>((s + 7) / 8), static_cast<GLuint>((s + 7) / 8), static_cast<GLuint>(6 * cubes));
     }
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);

@@ -48,10 +48,18 @@ std::array<glm::vec3, 9> project_irradiance_sh(const ImageF& equirect) {
 MaterialData to_gpu(const Material& m) {
     MaterialData d{};
     d.base_color = m.base_color;
-    d.emission_metallic = glm::vec4(m.emission(), m.metallic);
-    d.params = glm::vec4(m.roughness, m.alpha_cutoff, static_cast<float>(m.alpha_mode), m.double_sided ? 1.0f : 0.0f);
-    d.specular = glm::vec4(m.specular_color, m.specular_factor);
-    d.params2 = glm::vec4(m.ior, m.transmission, m.normal_texture.scale, m.occlusion_texture.scale);
+    d.emission = m.emission();
+    d.metallic = m.metallic;
+    d.roughness = m.roughness;
+    d.alpha_cutoff = m.alpha_cutoff;
+    d.alpha_mode = static_cast<float>(m.alpha_mode);
+    d.double_sided = m.double_sided ? 1.0f : 0.0f;
+    d.specular_color = m.specular_color;
+    d.specular_factor = m.specular_factor;
+    d.ior = m.ior;
+    d.transmission = m.transmission;
+    d.normal_scale = m.normal_texture.scale;
+    d.occlusion_strength = m.occlusion_texture.scale;
     const TextureRef* slots[5] = {&m.base_color_texture, &m.metallic_roughness_texture, &m.normal_texture,
                                   &m.occlusion_texture, &m.emissive_texture};
     int tc[5];
@@ -62,7 +70,8 @@ MaterialData to_gpu(const Material& m) {
         d.uv_transform[s * 2 + 1] = glm::vec4(t[0][1], t[1][1], t[2][1], 0.0f);
     }
     d.texcoord = glm::ivec4(tc[0], tc[1], tc[2], tc[3]);
-    d.texcoord2 = glm::ivec4(tc[4], -1, -1, -1);
+    d.emissive_texcoord = tc[4];
+    d.pad0 = d.pad1 = d.pad2 = -1;
     d.images = glm::ivec4(slots[0]->image, slots[1]->image, slots[2]->image, slots[3]->image);
     // Wrap modes for the ray tracer (it samples one repeating texture array): 4 bits per slot.
     auto wrap_code = [](int gl_wrap) { return gl_wrap == 33071 ? 1 : gl_wrap == 33648 ? 2 : 0; };  // CLAMP_TO_EDGE, MIRRORED_REPEAT
@@ -73,9 +82,13 @@ MaterialData to_gpu(const Material& m) {
         wraps |= (wrap_code(sampler.wrap_s) | (wrap_code(sampler.wrap_t) << 2)) << (4 * s);
         if (sampler.mag_filter == 9728) nearest |= 1 << s;  // GL_NEAREST
     }
-    d.images2 = glm::ivec4(slots[4]->image, wraps, nearest, -1);
-    d.volume = glm::vec4(m.thickness, m.attenuation_color);
-    d.volume2 = glm::vec4(std::isfinite(m.attenuation_distance) ? m.attenuation_distance : 0.0f, 0.0f, 0.0f, 0.0f);
+    d.emissive_image = slots[4]->image;
+    d.wrap_modes = wraps;
+    d.nearest_magnification = nearest;
+    d.pad6 = -1;
+    d.attenuation_color = m.attenuation_color;
+    d.thickness = m.thickness;
+    d.attenuation_distance = std::isfinite(m.attenuation_distance) ? m.attenuation_distance : 0.0f;
     return d;
 }
 
@@ -83,12 +96,15 @@ LightData to_gpu(const Scene::PlacedLight& pl) {
     const Light& l = *pl.light;
     LightData d{};
     const float type = l.type == LightType::directional ? 0.0f : l.type == LightType::point ? 1.0f : 2.0f;
-    d.position_type = glm::vec4(pl.position, type);
-    d.direction_range = glm::vec4(pl.direction, l.range);
-    d.color = glm::vec4(l.color * l.intensity, 0.0f);
+    d.position = pl.position;
+    d.type = type;
+    d.direction = pl.direction;
+    d.range = l.range;
+    d.color = l.color * l.intensity;
     if (l.type == LightType::spot) {
         const float scale = 1.0f / std::max(1e-4f, std::cos(l.inner_cone) - std::cos(l.outer_cone));
-        d.cone = glm::vec4(scale, -std::cos(l.outer_cone) * scale, 0.0f, 0.0f);
+        d.spot_scale = scale;
+        d.spot_offset = -std::cos(l.outer_cone) * scale;
     }
     return d;
 }
@@ -138,8 +154,7 @@ GpuScene::GpuScene(const Scene& scene, GlWorker* mips, const ShaderLibrary* shad
     // A slot without a texture has texcoord set -1 (material_uv.glsl).
     for (const MaterialData& m : mats)
         material_textures_ = material_textures_ || m.texcoord.x >= 0 || m.texcoord.y >= 0 || m.texcoord.z >= 0 ||
-                             m.texcoord.w >= 0 || m.texcoord2.x >= 0;
-
+                             m.texcoord.w >= 0 || m.emissive_texcoord >= 0;
 
     // Draws: every node reachable from the roots that has a mesh.
     std::vector<int> stack(scene.roots.begin(), scene.roots.end());
@@ -246,10 +261,12 @@ void GpuScene::update_lights(int area_samples, bool shadows, int cascades, int m
     punctual_count_ = static_cast<int>(lights.size());
     for (const AreaPiece& piece : area_light_pieces(scene_, *this, area_samples)) {
         LightData d{};
-        d.position_type = glm::vec4(piece.centroid, 3.0f);
-        d.direction_range = glm::vec4(piece.normal, piece.double_sided ? 1.0f : 0.0f);
-        d.color = glm::vec4(piece.power_per_sr, 0.0f);
-        d.cone = glm::vec4(piece.area, 0.0f, 0.0f, 0.0f);
+        d.position = piece.centroid;
+        d.type = 3.0f;  // LIGHT_AREA_PATCH
+        d.direction = piece.normal;
+        d.patch_two_sided = piece.double_sided ? 1.0f : 0.0f;
+        d.color = piece.power_per_sr;
+        d.patch_area = piece.area;
         lights.push_back(d);
         LightInfo info;
         info.kind = LightInfo::Kind::area;
@@ -270,7 +287,7 @@ void GpuScene::update_lights(int area_samples, bool shadows, int cascades, int m
     std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return priority(a) > priority(b); });
     std::vector<bool> shadowed(lights.size(), false);
     for (size_t k = 0; k < order.size() && k < static_cast<size_t>(std::max(max_shadowed, 0)); ++k) shadowed[order[k]] = true;
-    // Shadow views: consecutive layers of one depth array. cone.z = first view, cone.w = count.
+    // Shadow views: consecutive layers of one depth array.
     shadow_views_ = 0;
     for (size_t i = 0; i < lights.size(); ++i) {
         LightInfo& info = light_infos_[i];
@@ -280,8 +297,8 @@ void GpuScene::update_lights(int area_samples, bool shadows, int cascades, int m
                                                                       : 6;
         info.first_view = info.view_count > 0 ? shadow_views_ : -1;
         shadow_views_ += info.view_count;
-        lights[i].cone.z = static_cast<float>(info.first_view);
-        lights[i].cone.w = static_cast<float>(info.view_count);
+        lights[i].first_shadow_view = static_cast<float>(info.first_view);
+        lights[i].shadow_view_count = static_cast<float>(info.view_count);
     }
     light_count_ = static_cast<int>(lights.size());
     if (lights.empty()) lights.push_back(LightData{});

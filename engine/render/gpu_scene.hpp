@@ -1,6 +1,6 @@
 #pragma once
 // The Scene on the GPU: one vertex/index buffer for all primitives, material and light SSBOs,
-// textures and samplers, and the environment. Layouts mirror shaders/common/scene_data.glsl.
+// textures and samplers, and the environment. The GPU layouts are in gpu/scene_blocks.h.
 #include <array>
 #include <map>
 #include <tuple>
@@ -9,6 +9,7 @@
 #include <glm/glm.hpp>
 
 #include "gl/handles.hpp"
+#include "gpu/scene_blocks.h"
 #include "image/image.hpp"
 #include "platform/gl_worker.hpp"
 #include "scene/animation.hpp"
@@ -17,42 +18,10 @@
 
 namespace candela {
 
-struct FrameData {  // std140, binding 0
-    glm::mat4 view, proj, view_proj, inv_view_proj;
-    glm::vec4 camera_pos;
-    glm::vec4 env_radiance;
-    glm::vec4 env_sh[9];
-    glm::ivec4 counts;       // x lights in the buffer, y env mips, z punctual lights
-    glm::ivec4 debug;        // x view (0 radiance, 1 visibility, 2 ssao), y light
-    glm::vec4 viewport;      // w, h, 1/w, 1/h
-    glm::ivec4 view_flags;   // x 1: the camera's view (screen-space effect buffers valid); 0: probe faces
-    glm::vec4 depth_to_view; // view z of depth d: (x d + y) / (z d + w)
-    glm::ivec4 env_mode;     // x 1: the static environment cube is bound
-};
-static_assert(sizeof(FrameData) == 528, "FrameData: update shaders/common/scene_data.glsl's Frame block too");
-
-struct MaterialData {  // std430, binding 1
-    glm::vec4 base_color;
-    glm::vec4 emission_metallic;
-    glm::vec4 params;
-    glm::vec4 specular;
-    glm::vec4 params2;
-    glm::ivec4 texcoord;
-    glm::ivec4 texcoord2;
-    glm::vec4 uv_transform[10];
-    glm::vec4 volume;
-    glm::vec4 volume2;
-    glm::ivec4 images;
-    glm::ivec4 images2;
-};
-static_assert(sizeof(MaterialData) == 21 * 16);
-
-struct LightData {  // std430, binding 2
-    glm::vec4 position_type;
-    glm::vec4 direction_range;
-    glm::vec4 color;
-    glm::vec4 cone;
-};
+// The frame block and the material and light buffers' elements, declared with the GLSL.
+using gpu::FrameData;
+using gpu::LightData;
+using gpu::MaterialData;
 
 // Irradiance SH (9 RGB coefficients) of an equirectangular radiance map, projected with solid-angle
 // weights; evaluated in shaders with Ramamoorthi & Hanrahan's formula.

@@ -172,17 +172,20 @@ void Renderer::render_subframe(const Camera& camera, FrameOutput output, float e
         frame.depth_to_view = glm::vec4(ip[2][2], ip[3][2], ip[2][3], ip[3][3]);
     }
     frame.camera_pos = glm::vec4(glm::vec3(camera.world[3]), 1.0f);
-    frame.env_radiance = glm::vec4(gpu_.environment_radiance(), gpu_.has_environment_map() ? 1.0f : 0.0f);
+    frame.env_radiance = gpu_.environment_radiance();
+    frame.env_map_bound = gpu_.has_environment_map() ? 1.0f : 0.0f;
     for (int i = 0; i < 9; ++i) frame.env_sh[i] = glm::vec4(gpu_.environment_sh()[static_cast<size_t>(i)], 0.0f);
-    frame.counts = glm::ivec4(gpu_.light_count(), gpu_.environment_mips(), gpu_.punctual_light_count(), 0);
-    frame.debug = glm::ivec4(settings_.debug.view == DebugView::visibility ? 1 : settings_.debug.view == DebugView::ao ? 2 : 0,
-                             settings_.debug.light, 0, 0);
+    frame.light_count = gpu_.light_count();
+    frame.env_mips = gpu_.environment_mips();
+    frame.punctual_light_count = gpu_.punctual_light_count();
+    frame.debug_view = settings_.debug.view == DebugView::visibility ? 1 : settings_.debug.view == DebugView::ao ? 2 : 0;
+    frame.debug_light = settings_.debug.light;
     frame.viewport = glm::vec4(static_cast<float>(width), static_cast<float>(height), 1.0f / static_cast<float>(width),
                                1.0f / static_cast<float>(height));
-    if (settings_.debug.view == DebugView::indirect) frame.debug.x = 3;
-    frame.view_flags = glm::ivec4(1, 0, 0, 0);  // the camera's view
-    frame.env_mode.x = env_cube_ ? 1 : 0;
-    frame.counts.y = env_cube_ ? env_cube_levels_ : 1;
+    if (settings_.debug.view == DebugView::indirect) frame.debug_view = 3;
+    frame.camera_view = 1;
+    frame.env_cube_bound = env_cube_ ? 1 : 0;
+    frame.env_mips = env_cube_ ? env_cube_levels_ : 1;
     for (size_t i = 0; i < effects_.size(); ++i)
         effects_[i]->prepare(
             {settings_, features_, features_.modules[i], gpu_, camera, aspect, scene_bounds_, width, height, frame, effect_ptrs_});

@@ -10,6 +10,7 @@
 
 #include "core/error.hpp"
 #include "core/log.hpp"
+#include "gpu/bindings.h"
 #include "rt/environment_cdf.hpp"
 #include "rt/intersect.hpp"
 #include "rt/progress_bar.hpp"
@@ -162,11 +163,11 @@ int RayTracer::slice_of(int sample) const {
 
 void RayTracer::refresh_counts(FrameGpu& f) const {
     const RtGeometry& g = rt_scene_.geometry();
-    f.counts.x = static_cast<int>(g.triangles.size());
-    f.counts.y = static_cast<int>(g.spheres.size());
-    f.counts.z = static_cast<int>(g.emitters.size());
-    f.counts2.x = static_cast<int>(g.surfaces.size());
-    f.fparams.z = static_cast<float>(g.emitted_power);
+    f.triangle_count = static_cast<int>(g.triangles.size());
+    f.sphere_count = static_cast<int>(g.spheres.size());
+    f.emitter_count = static_cast<int>(g.emitters.size());
+    f.surface_count = static_cast<int>(g.surfaces.size());
+    f.emitted_power = static_cast<float>(g.emitted_power);
 }
 
 RtUpdateStats RayTracer::update_geometry(RtUpdate how) {
@@ -195,27 +196,33 @@ FrameGpu scene_frame_block(const Scene& scene, const RtScene& rt_scene, const Gp
     FrameGpu f{};
     const Bounds b = scene.world_bounds();
     const float diagonal = b.empty() ? 1.0f : glm::length(b.extent());
-    f.env_radiance = glm::vec4(gpu.environment_radiance(), gpu.has_environment_map() ? 1.0f : 0.0f);
+    f.env_radiance = gpu.environment_radiance();
+    f.env_map_bound = gpu.has_environment_map() ? 1.0f : 0.0f;
     const RtGeometry& g = rt_scene.geometry();
-    f.counts = glm::ivec4(static_cast<int>(g.triangles.size()), static_cast<int>(g.spheres.size()),
-                          static_cast<int>(g.emitters.size()), static_cast<int>(scene.placed_lights().size()));
-    f.counts2 = glm::ivec4(static_cast<int>(g.surfaces.size()), 0, 0, 0);
-    f.params = glm::ivec4(1, 0, 1, 0);
-    f.fparams = glm::vec4(1.0f, 0.05f, static_cast<float>(g.emitted_power), 0.0f);
-    f.fparams2 = glm::vec4(ray_offset_for_extent(diagonal), 0.0f, 0.0f, 0.0f);
+    f.triangle_count = static_cast<int>(g.triangles.size());
+    f.sphere_count = static_cast<int>(g.spheres.size());
+    f.emitter_count = static_cast<int>(g.emitters.size());
+    f.punctual_light_count = static_cast<int>(scene.placed_lights().size());
+    f.surface_count = static_cast<int>(g.surfaces.size());
+    f.max_depth = 1;
+    f.indirect_occlusion = 1;
+    f.ao_radius = 1.0f;
+    f.whitted_max_roughness = 0.05f;
+    f.emitted_power = static_cast<float>(g.emitted_power);
+    f.ray_offset = ray_offset_for_extent(diagonal);
     return f;
 }
 
 void bind_scene(const RtScene& rt_scene, GpuScene& gpu) {
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, gpu.materials().id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, gpu.lights().id());  // punctual lights come first
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, MATERIALS_BINDING, gpu.materials().id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, LIGHTS_BINDING, gpu.lights().id());  // punctual lights come first
     rt_scene.bind();
-    glBindTextureUnit(5, gpu.environment_map().id());
-    glBindSampler(5, 0);
-    glBindTextureUnit(6, gpu.image_array().id());
-    glBindSampler(6, 0);
-    glBindTextureUnit(15, gpu.image_array_srgb().id());
-    glBindSampler(15, 0);
+    glBindTextureUnit(ENVIRONMENT_UNIT, gpu.environment_map().id());
+    glBindSampler(ENVIRONMENT_UNIT, 0);
+    glBindTextureUnit(RT_IMAGES_UNIT, gpu.image_array().id());
+    glBindSampler(RT_IMAGES_UNIT, 0);
+    glBindTextureUnit(RT_IMAGES_SRGB_UNIT, gpu.image_array_srgb().id());
+    glBindSampler(RT_IMAGES_SRGB_UNIT, 0);
 }
 
 FrameGpu RayTracer::make_frame(const Camera& camera, int width, int height) const {
@@ -228,12 +235,18 @@ FrameGpu RayTracer::make_frame(const Camera& camera, int width, int height) cons
     rotation[3] = glm::vec4(0.0f, 0.0f, 0.0f, 1.0f);
     f.inv_view_proj = glm::inverse(projection_matrix(camera, aspect) * glm::inverse(rotation));
     f.camera_pos = glm::vec4(glm::vec3(camera.world[3]), 1.0f);
-    f.counts2.y = env_width_;
-    f.counts2.z = env_height_;
-    f.params = glm::ivec4(options_.max_depth, options_.jitter, options_.indirect_occlusion ? 1 : 0, 0);
-    f.fparams = glm::vec4(options_.ao_radius, options_.whitted_max_roughness, f.fparams.z,
-                          static_cast<float>(options_.visibility_light));
-    f.fparams2 = glm::vec4(ray_offset_for_extent(scene_diagonal_), 0.0f, options_.camera_sees_emission ? 0.0f : 1.0f, 0.0f);
+    f.env_width = env_width_;
+    f.env_height = env_height_;
+    f.max_depth = options_.max_depth;
+    f.jitter = options_.jitter;
+    f.indirect_occlusion = options_.indirect_occlusion ? 1 : 0;
+    f.tile_y = 0;
+    f.ao_radius = options_.ao_radius;
+    f.whitted_max_roughness = options_.whitted_max_roughness;
+    f.visibility_light = static_cast<float>(options_.visibility_light);
+    f.ray_offset = ray_offset_for_extent(scene_diagonal_);
+    f.sample_stride = 0.0f;
+    f.camera_hides_emission = options_.camera_sees_emission ? 0.0f : 1.0f;
     // The thin lens (docs/raytracing.md, "Depth of field"): an orthonormal frame of the camera
     // (its -Z the view axis), the disk's axes scaled by the radius. Orthographic cameras stay
     // pinholes (has_thin_lens).
@@ -258,10 +271,10 @@ FrameGpu RayTracer::make_frame(const Camera& camera, int width, int height) cons
 void RayTracer::bind(const gl::Buffer& accum, const gl::Buffer& diagnostics) const {
     glUseProgram(program_.id());
     bind_scene(rt_scene_, gpu_);
-    glBindBufferBase(GL_UNIFORM_BUFFER, 8, frame_ubo_.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 9, accum.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 10, diagnostics.id());
-    if (env_distribution_) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 12, env_distribution_.id());
+    glBindBufferBase(GL_UNIFORM_BUFFER, RT_FRAME_BINDING, frame_ubo_.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RT_ACCUM_BINDING, accum.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RT_DIAGNOSTICS_BINDING, diagnostics.id());
+    if (env_distribution_) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RT_ENV_DISTRIBUTION_BINDING, env_distribution_.id());
 }
 
 void RayTracer::progressive_restart(const Camera& camera, int width, int height) {
@@ -297,8 +310,11 @@ void RayTracer::progressive_step(double budget_ms) {
     do {
         if (motion && pose_slice(slice_of(p.sample), *p.frame, nullptr)) bind(p.accum, p.diagnostics);
         FrameGpu f = *p.frame;
-        f.image = glm::ivec4(p.width, p.height, p.sample, static_cast<int>(options_.seed));
-        f.params.w = p.row;
+        f.width = p.width;
+        f.height = p.height;
+        f.sample_index = p.sample;
+        f.seed = static_cast<int>(options_.seed);
+        f.tile_y = p.row;
         frame_ubo_.update(0, sizeof(FrameGpu), &f);
         glDispatchCompute(static_cast<GLuint>((p.width + 7) / 8), static_cast<GLuint>((std::min(rows, p.height - p.row) + 7) / 8), 1);
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_UNIFORM_BARRIER_BIT);
@@ -361,7 +377,7 @@ Result RayTracer::render(const Camera& camera, int width, int height) {
     auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
     const int rows = std::max(1, options_.tile_rows);
     const int stride = options_.shard_count;
-    f.fparams2.y = static_cast<float>(stride);  // exact: spp <= 2^24
+    f.sample_stride = static_cast<float>(stride);  // exact: spp <= 2^24
     double sample_s = 0.0;  // measured seconds per sample (for --time-limit's chunk size)
     // This run's samples are s = shard, shard + N, ...; a dispatch traces `count` of them from
     // `s`, all in one motion-blur time slice.
@@ -384,9 +400,12 @@ Result RayTracer::render(const Camera& camera, int width, int height) {
         if (motion && pose_slice(slice_of(s), f, &result)) bind(accum, diagnostics);
         const double chunk_start = elapsed();
         for (int y0 = 0; y0 < height; y0 += rows) {
-            f.image = glm::ivec4(width, height, s, static_cast<int>(options_.seed));
-            f.params.w = y0;
-            f.counts2.w = count;
+            f.width = width;
+            f.height = height;
+            f.sample_index = s;
+            f.seed = static_cast<int>(options_.seed);
+            f.tile_y = y0;
+            f.dispatch_samples = count;
             frame_ubo_.update(0, sizeof(FrameGpu), &f);
             glDispatchCompute(static_cast<GLuint>((width + 7) / 8), static_cast<GLuint>((std::min(rows, height - y0) + 7) / 8), 1);
             glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_UNIFORM_BARRIER_BIT);

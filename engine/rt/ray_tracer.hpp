@@ -7,6 +7,7 @@
 #include <memory>
 #include <string>
 
+#include "gpu/rt_frame.h"
 #include "image/image.hpp"
 #include "render/gpu_scene.hpp"
 #include "rt/rt_scene.hpp"
@@ -92,28 +93,12 @@ struct Options {
     int shutter_slices = 0;
 };
 
-// The tracer's frame block (std140, binding 8; RtFrame in shaders/rt/scene.glsl).
-struct FrameGpu {
-    glm::mat4 inv_view_proj;
-    glm::vec4 camera_pos;
-    glm::vec4 env_radiance;
-    glm::ivec4 counts;
-    glm::ivec4 counts2;
-    glm::ivec4 image;
-    glm::ivec4 params;
-    glm::vec4 fparams;
-    glm::vec4 fparams2;
-    // The thin lens (depth of field): lens_x / lens_y.xyz the lens disk's axes (the camera's x and
-    // y) scaled by its radius, lens_x.w the radius (0: a pinhole), lens_y.w the focus distance
-    // along lens_axis.xyz (the view axis, unit length). Zero unless has_thin_lens(camera).
-    glm::vec4 lens_x;
-    glm::vec4 lens_y;
-    glm::vec4 lens_axis;
-};
+// The tracer's frame block (`rt` in the GLSL), declared with the GLSL in gpu/rt_frame.h.
+using FrameGpu = gpu::RtFrame;
 
 // For other compute programs over shaders/rt/scene.glsl (the GI probes, engine/effects/gi/): the
 // frame block with the scene's counts and ray offset (no camera), and the scene's bindings
-// (materials 1, lights 2, the RtScene's, environment 5, images 6 and 15). Environment-map
+// (materials, lights, the RtScene's, environment, image arrays: gpu/bindings.h). Environment-map
 // importance sampling is not bound.
 FrameGpu scene_frame_block(const Scene& scene, const RtScene& rt_scene, const GpuScene& gpu);
 void bind_scene(const RtScene& rt_scene, GpuScene& gpu);
@@ -199,7 +184,7 @@ private:
     std::string defines_;
     struct Progressive {
         gl::Buffer accum, diagnostics;
-        std::unique_ptr<struct FrameGpu> frame;
+        std::unique_ptr<FrameGpu> frame;
         int width = 0, height = 0;
         int sample = 0, row = 0;  // the next tile
     } progressive_;

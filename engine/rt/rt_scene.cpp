@@ -6,6 +6,7 @@
 #include <string>
 
 #include "core/error.hpp"
+#include "gpu/bindings.h"
 
 namespace candela::rt {
 
@@ -92,12 +93,12 @@ RtUpdateStats RtScene::update(const Scene& scene, RtUpdate how) {
 }
 
 void RtScene::bind() const {
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, spheres_.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 7, emitters_.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 11, surfaces_.id());
-    glBindTextureUnit(16, bvh_nodes_view_.id());
-    glBindTextureUnit(17, bvh_prims_view_.id());
-    glBindTextureUnit(18, triangles_view_.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RT_SPHERES_BINDING, spheres_.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RT_EMITTERS_BINDING, emitters_.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RT_SURFACES_BINDING, surfaces_.id());
+    glBindTextureUnit(RT_BVH_NODES_UNIT, bvh_nodes_view_.id());
+    glBindTextureUnit(RT_BVH_PRIMS_UNIT, bvh_prims_view_.id());
+    glBindTextureUnit(RT_TRIANGLES_UNIT, triangles_view_.id());
 }
 
 }  // namespace candela::rt

@@ -150,6 +150,7 @@ fs::path ShaderLibrary::default_effects_root() {
 std::vector<fs::path> ShaderLibrary::watched_dirs() const {
     std::vector<fs::path> dirs = {root_};
     if (fs::is_directory(effects_root_ / "effects")) dirs.push_back(effects_root_ / "effects");
+    if (fs::is_directory(effects_root_ / "gpu")) dirs.push_back(effects_root_ / "gpu");  // the shared blocks
     return dirs;
 }
 

@@ -35,7 +35,7 @@ public:
     // `root`: the shared GLSL (shaders/); `effects_root`: the directory holding effects/ (the
     // source tree's engine/), where each effect keeps its GLSL beside its C++. A file or an
     // #include is looked up relative to the including file, then in `root`, then in `effects_root`,
-    // so "effects/ssao/ssao_data.h" names the same file from C++ and from GLSL.
+    // so "effects/ssao/ssao_data.h" and "gpu/scene_blocks.h" name the same file from C++ and GLSL.
     explicit ShaderLibrary(std::filesystem::path root, std::filesystem::path effects_root = default_effects_root());
     // The directory from CANDELA_SHADER_DIR in the environment, else the source tree's shaders/.
     static std::filesystem::path default_root();
@@ -44,8 +44,8 @@ public:
 
     const std::filesystem::path& root() const { return root_; }
     const std::filesystem::path& effects_root() const { return effects_root_; }
-    // The directories whose files programs are built from (what hot reload watches): root() and
-    // effects_root()/effects.
+    // The directories whose files programs are built from (what hot reload watches): root(),
+    // effects_root()/effects and effects_root()/gpu (the blocks and bindings shared with C++).
     std::vector<std::filesystem::path> watched_dirs() const;
     // `#include "name"` in any file then includes each of `files`, in order, resolved like any
     // include. A library starts with the process-wide ones (set_default_generated_include).

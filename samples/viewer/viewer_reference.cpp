@@ -2,6 +2,7 @@
 // beside, over or against the raster) and the texture inspector.
 #include "viewer_internal.hpp"
 
+#include "gpu/bindings.h"
 #include "rt/tracer_options.hpp"
 #include "shader/program_catalog.hpp"
 
@@ -126,8 +127,8 @@ void Viewer::draw_inspected(int w, int h) {
     glProgramUniform1f(p, 2, inspect_.scale);
     glProgramUniform1i(p, 3, inspect_.layer);
     glProgramUniform1f(p, 4, inspect_.lod);
-    for (GLuint unit = 0; unit < 3; ++unit) glBindSampler(unit, 0);
-    glBindTextureUnit(static_cast<GLuint>(kind), t->id());
+    for (GLuint unit = DEBUG_2D_UNIT; unit <= DEBUG_CUBE_UNIT; ++unit) glBindSampler(unit, 0);
+    glBindTextureUnit(static_cast<GLuint>(DEBUG_2D_UNIT + kind), t->id());  // kind 0 2D, 1 array, 2 cube
     if (!empty_vao_) empty_vao_ = gl::VertexArray::create();
     glBindVertexArray(empty_vao_.id());
     glDrawArrays(GL_TRIANGLES, 0, 3);

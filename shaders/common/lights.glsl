@@ -1,5 +1,6 @@
 // KHR_lights_punctual evaluation, radiometric (point/spot intensity in W/sr, directional in W/m^2).
 #include "math.glsl"
+#include "gpu/scene_blocks.h"
 
 const int LIGHT_DIRECTIONAL = 0;
 const int LIGHT_POINT = 1;
@@ -7,14 +8,6 @@ const int LIGHT_SPOT = 2;
 // A small planar piece of an emissive surface, as a Lambertian emitter: the rasterizer's
 // approximation of area lights (the ray tracer samples the emissive triangles themselves).
 const int LIGHT_AREA_PATCH = 3;
-
-struct PunctualLight {
-    vec4 position_type;    // xyz world position, w type
-    vec4 direction_range;  // xyz direction the light points to (patch: its normal), w range (0: infinite)
-                           // (patch: 1 if it emits from both sides)
-    vec4 color;            // rgb = color * intensity (patch: radiance * area, W/sr at normal incidence)
-    vec4 cone;             // spot: x = 1 / (cos inner - cos outer), y = -cos outer * x; patch: x = area
-};
 
 // Range window recommended by KHR_lights_punctual: smooth cut-off at `range`.
 float range_attenuation(float distance, float range) {
@@ -25,29 +18,29 @@ float range_attenuation(float distance, float range) {
 }
 
 // Direction towards the light (l) and irradiance at normal incidence (E) for a surface point.
-void light_incidence(PunctualLight light, vec3 p, out vec3 l, out vec3 E, out float distance) {
-    int type = int(light.position_type.w);
+void light_incidence(LightData light, vec3 p, out vec3 l, out vec3 E, out float distance) {
+    int type = int(light.type);
     if (type == LIGHT_DIRECTIONAL) {
-        l = -light.direction_range.xyz;
+        l = -light.direction;
         E = light.color.rgb;
         distance = 1e30;
         return;
     }
-    vec3 d = light.position_type.xyz - p;
+    vec3 d = light.position - p;
     float dist2 = max(dot(d, d), 1e-12);
     distance = sqrt(dist2);
     l = d / distance;
     if (type == LIGHT_AREA_PATCH) {
-        float cos_e = dot(light.direction_range.xyz, -l);
-        if (light.direction_range.w > 0.5) cos_e = abs(cos_e);
+        float cos_e = dot(light.direction, -l);
+        if (light.patch_two_sided > 0.5) cos_e = abs(cos_e);
         // Below a patch's own size the point-emitter model breaks down: bound the 1/d^2.
-        E = light.color.rgb * max(cos_e, 0.0) / max(dist2, light.cone.x);
+        E = light.color.rgb * max(cos_e, 0.0) / max(dist2, light.patch_area);
         return;
     }
-    float att = range_attenuation(distance, light.direction_range.w) / dist2;
+    float att = range_attenuation(distance, light.range) / dist2;
     if (type == LIGHT_SPOT) {
-        float cd = dot(light.direction_range.xyz, -l);
-        float s = saturate(cd * light.cone.x + light.cone.y);
+        float cd = dot(light.direction, -l);
+        float s = saturate(cd * light.spot_scale + light.spot_offset);
         att *= s * s;
     }
     E = light.color.rgb * att;

@@ -24,14 +24,14 @@ layout(local_size_x = 16, local_size_y = 16) in;
 #endif
 
 #ifdef MULTISAMPLED
-layout(binding = 0) uniform sampler2DMS g_base_occlusion;
-layout(binding = 1) uniform sampler2DMS g_normal_rm;
-layout(binding = 2) uniform sampler2DMS g_f0_f90;
-layout(binding = 3) uniform sampler2DMS g_depth;
-layout(rgba32f, binding = 0) uniform image2DMS light_buffer;
+layout(binding = GBUFFER_BASE_UNIT) uniform sampler2DMS g_base_occlusion;
+layout(binding = GBUFFER_NORMAL_UNIT) uniform sampler2DMS g_normal_rm;
+layout(binding = GBUFFER_F0_UNIT) uniform sampler2DMS g_f0_f90;
+layout(binding = GBUFFER_DEPTH_UNIT) uniform sampler2DMS g_depth;
+layout(rgba32f, binding = LIGHT_BUFFER_IMAGE) uniform image2DMS light_buffer;
 layout(location = 0) uniform int u_count_edges;    // 1: count into AaEdgeStats (a debug readback)
 layout(location = 1) uniform vec2 u_sample_pos[8];  // sample positions in the pixel, [0,1], y up
-layout(std430, binding = 14) buffer AaEdgeStats {
+layout(std430, binding = AA_EDGE_STATS_BINDING) buffer AaEdgeStats {
     uint edge_pixels;      // pixels shaded more than once (samples on two or more surfaces)
     uint geometry_pixels;  // pixels with geometry in at least one sample
     uint shadings;         // surface groups shaded, over all pixels
@@ -42,19 +42,19 @@ const int kMaxSamples = 8;
 // them in the tiled pass, in a loop or at a second call site, made llvmpipe's whole pass about
 // 1.8x slower on generated:edges although they are 1.5 % of the shadings; here they cost what
 // they shade. EdgeDispatch is also the indirect dispatch's arguments.
-layout(rg32ui, binding = 1) uniform uimage2D edge_groups;
-layout(std430, binding = 15) buffer EdgeDispatch {
+layout(rg32ui, binding = EDGE_GROUPS_IMAGE) uniform uimage2D edge_groups;
+layout(std430, binding = EDGE_DISPATCH_BINDING) buffer EdgeDispatch {
     uint edge_workgroups;     // ceil(edge_entries / 64)
     uint edge_workgroups_y;   // 1
     uint edge_workgroups_z;   // 1
     uint edge_entries;
 };
 #else
-layout(binding = 0) uniform sampler2D g_base_occlusion;
-layout(binding = 1) uniform sampler2D g_normal_rm;
-layout(binding = 2) uniform sampler2D g_f0_f90;
-layout(binding = 3) uniform sampler2D g_depth;
-layout(rgba32f, binding = 0) uniform image2D light_buffer;
+layout(binding = GBUFFER_BASE_UNIT) uniform sampler2D g_base_occlusion;
+layout(binding = GBUFFER_NORMAL_UNIT) uniform sampler2D g_normal_rm;
+layout(binding = GBUFFER_F0_UNIT) uniform sampler2D g_f0_f90;
+layout(binding = GBUFFER_DEPTH_UNIT) uniform sampler2D g_depth;
+layout(rgba32f, binding = LIGHT_BUFFER_IMAGE) uniform image2D light_buffer;
 #endif
 
 // The tile's lights as a bit set, so that they are summed in index order, as the forward pass
@@ -72,11 +72,11 @@ vec3 view_point(mat4 inv_proj, vec2 ndc, float depth) {
 }
 
 // Conservative: a sphere that misses the tile's sub-frustum is dropped.
-bool light_in_tile(PunctualLight light) {
-    int type = int(light.position_type.w);
-    float range = light.direction_range.w;
+bool light_in_tile(LightData light) {
+    int type = int(light.type);
+    float range = light.range;
     if ((type != LIGHT_POINT && type != LIGHT_SPOT) || range <= 0.0) return true;
-    vec3 c = (frame.view * vec4(light.position_type.xyz, 1.0)).xyz;
+    vec3 c = (frame.view * vec4(light.position, 1.0)).xyz;
     if (c.z - range > s_zrange.y || c.z + range < s_zrange.x) return false;
     for (int i = 0; i < 4; ++i)
         if (dot(s_planes[i].xyz, c) + s_planes[i].w < -range) return false;
@@ -188,15 +188,15 @@ void shade_group(ivec2 q, uint m, int light_count, bool tiled, vec2 px_ndc) {
     vec3 v = normalize(frame.camera_pos.xyz - p);
     vec3 lit;
 #ifndef FORWARD_NO_DEBUG
-    if (frame.debug.x == 3) lit = rsm_indirect(bi, pixel, p) + shade_gi(bi, p, n, v, base_occlusion.a, 0.0);
-    else if (frame.debug.x != 0) lit = vec3(frame.debug.x == 1 ? light_visibility(p, n, pixel) : ssao_at(pixel));
+    if (frame.debug_view == 3) lit = rsm_indirect(bi, pixel, p) + shade_gi(bi, p, n, v, base_occlusion.a, 0.0);
+    else if (frame.debug_view != 0) lit = vec3(frame.debug_view == 1 ? light_visibility(p, n, pixel) : ssao_at(pixel));
     else
 #endif
     lit = shade_surface(vec3(0.0), bi, base_occlusion.a, p, n, v, pixel, light_count, tiled);
     for (int s = first; s < kMaxSamples; ++s)
         if ((m & (1u << uint(s))) != 0u) {
             vec3 emission = imageLoad(light_buffer, q, s).rgb;
-            imageStore(light_buffer, q, s, vec4(frame.debug.x != 0 ? lit : emission + lit, 1.0));
+            imageStore(light_buffer, q, s, vec4(frame.debug_view != 0 ? lit : emission + lit, 1.0));
         }
 }
 #endif
@@ -335,12 +335,12 @@ void main() {
     vec3 v = normalize(frame.camera_pos.xyz - p);
     vec2 pixel = vec2(gid) + 0.5;
 #ifndef FORWARD_NO_DEBUG
-    if (frame.debug.x == 3) {
+    if (frame.debug_view == 3) {
         imageStore(light_buffer, gid, vec4(rsm_indirect(bi, pixel, p) + shade_gi(bi, p, n, v, base_occlusion.a, 0.0), 1.0));
         return;
     }
-    if (frame.debug.x != 0) {
-        float value = frame.debug.x == 1 ? light_visibility(p, n, pixel) : ssao_at(pixel);
+    if (frame.debug_view != 0) {
+        float value = frame.debug_view == 1 ? light_visibility(p, n, pixel) : ssao_at(pixel);
         imageStore(light_buffer, gid, vec4(vec3(value), 1.0));
         return;
     }

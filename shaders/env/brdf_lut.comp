@@ -6,11 +6,12 @@
 // with h importance-sampled from D(h) (n.h): G_vis = 4 V(l, v) (n.l) (v.h) / (n.h).
 // Texel (i, j) holds NdotV = i / (size - 1) and roughness = j / (size - 1), so the end points
 // are texel centres (shading.glsl's env_brdf reads it that way).
+#include "gpu/bindings.h"
 #include "../common/brdf.glsl"
 #include "cube.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
-layout(rg32f, binding = 0) uniform writeonly image2D lut;
+layout(rg32f, binding = DST_IMAGE) uniform writeonly image2D lut;
 layout(location = 0) uniform int u_size;
 layout(location = 1) uniform int u_samples;
 

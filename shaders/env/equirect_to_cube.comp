@@ -1,12 +1,13 @@
 #version 450 core
 // An equirectangular environment map resampled into mip 0 of a cube map (one cube of a cube-map
 // array), filtered at the mip of the equirect map whose texels match the cube's in size.
+#include "gpu/bindings.h"
 #include "../common/math.glsl"
 #include "cube.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
-layout(binding = 0) uniform sampler2D t_equirect;  // linear, mipmapped, repeat in u
-layout(rgba32f, binding = 0) uniform writeonly imageCubeArray cube;
+layout(binding = SOURCE_UNIT) uniform sampler2D t_equirect;  // linear, mipmapped, repeat in u
+layout(rgba32f, binding = DST_IMAGE) uniform writeonly imageCubeArray cube;
 layout(location = 0) uniform int u_size;
 
 void main() {

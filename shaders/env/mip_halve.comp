@@ -9,14 +9,15 @@
 // a + 0 (a - a) = a as well).
 // CUBE_ARRAY: a cube-map array, each face on its own (gl_GlobalInvocationID.z = layer-face);
 // otherwise a 2D texture.
+#include "gpu/bindings.h"
 layout(local_size_x = 8, local_size_y = 8) in;
 #ifdef CUBE_ARRAY
-layout(rgba32f, binding = 0) uniform readonly imageCubeArray src;
-layout(rgba32f, binding = 1) uniform writeonly imageCubeArray dst;
+layout(rgba32f, binding = MIP_SRC_IMAGE) uniform readonly imageCubeArray src;
+layout(rgba32f, binding = MIP_DST_IMAGE) uniform writeonly imageCubeArray dst;
 #define AT(x, y) ivec3(x, y, int(gl_GlobalInvocationID.z))
 #else
-layout(rgba32f, binding = 0) uniform readonly image2D src;
-layout(rgba32f, binding = 1) uniform writeonly image2D dst;
+layout(rgba32f, binding = MIP_SRC_IMAGE) uniform readonly image2D src;
+layout(rgba32f, binding = MIP_DST_IMAGE) uniform writeonly image2D dst;
 #define AT(x, y) ivec2(x, y)
 #endif
 layout(location = 0) uniform ivec2 u_src_size;  // of level L-1

@@ -3,12 +3,13 @@
 // n = v = r, the NdotL-weighted mean of the radiance over GGX-sampled directions at this level's
 // roughness. Filtered importance sampling (Krivanek & Colbert 2008) reads each sample at the mip
 // whose texel solid angle matches the sample's, so few samples give a smooth result.
+#include "gpu/bindings.h"
 #include "../common/brdf.glsl"
 #include "cube.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
-layout(binding = 0) uniform samplerCubeArray t_source;  // mip 0 plus its box-filtered chain
-layout(rgba32f, binding = 0) uniform writeonly imageCubeArray dst;  // this level
+layout(binding = SOURCE_UNIT) uniform samplerCubeArray t_source;  // mip 0 plus its box-filtered chain
+layout(rgba32f, binding = DST_IMAGE) uniform writeonly imageCubeArray dst;  // this level
 layout(location = 0) uniform int u_size;        // face size at this level
 layout(location = 1) uniform float u_roughness;
 layout(location = 2) uniform int u_samples;

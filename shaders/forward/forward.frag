@@ -10,17 +10,17 @@ layout(location = 0) out vec4 out_radiance;
 // peeled fragment must lie in front of the opaque depth and behind the previous layer, and is
 // written premultiplied for front-to-back compositing (Everitt 2001; Bavoil & Myers 2008).
 layout(location = 8) uniform int u_peel;
-layout(binding = 11) uniform sampler2D t_opaque_depth;
-layout(binding = 12) uniform sampler2D t_previous_layer;
+layout(binding = OPAQUE_DEPTH_UNIT) uniform sampler2D t_opaque_depth;
+layout(binding = PREVIOUS_LAYER_UNIT) uniform sampler2D t_previous_layer;
 // 1: MASK materials output their coverage alpha (surface.glsl) with GL_SAMPLE_ALPHA_TO_COVERAGE on.
 layout(location = 9) uniform int u_alpha_to_coverage;
 
 // Specialisation (render/passes/pass_env.hpp, forward_program_name): FORWARD_NO_* leave out the
 // code of a feature whose uniforms say it is off this frame, so that the image is the same:
 // llvmpipe executes both sides of a branch under a lane mask, so dead features cost per pixel.
-// FORWARD_NO_PEEL (u_peel is 0), FORWARD_NO_DEBUG (frame.debug.x is 0), FORWARD_NO_REFRACTION
+// FORWARD_NO_PEEL (u_peel is 0), FORWARD_NO_DEBUG (frame.debug_view is 0), FORWARD_NO_REFRACTION
 // (reflections.refraction 0), FORWARD_NO_PROBES (reflections.probes 0), FORWARD_NO_AREA_LIGHTS,
-// FORWARD_NO_RSM (rsm.on 0), FORWARD_NO_GI (gi.origin.w < 0.5), FORWARD_NO_TEXTURES (no
+// FORWARD_NO_RSM (rsm.on 0), FORWARD_NO_GI (gi.on < 0.5), FORWARD_NO_TEXTURES (no
 // material has a texture: lighting/surface.glsl).
 #ifdef FORWARD_NO_PEEL
 #define PEELING false
@@ -42,12 +42,12 @@ void main() {
     vec3 v = normalize(frame.camera_pos.xyz - s.p);
     vec2 pixel = gl_FragCoord.xy;
 #ifndef FORWARD_NO_DEBUG
-    if (frame.debug.x == 3) {
+    if (frame.debug_view == 3) {
         out_radiance = vec4(rsm_indirect(s.brdf, pixel, s.p) + shade_gi(s.brdf, s.p, s.n, v, s.occlusion, 0.0), 1.0);
         return;
     }
-    if (frame.debug.x != 0) {
-        float value = frame.debug.x == 1 ? light_visibility(s.p, s.n, pixel) : ssao_at(pixel);
+    if (frame.debug_view != 0) {
+        float value = frame.debug_view == 1 ? light_visibility(s.p, s.n, pixel) : ssao_at(pixel);
         out_radiance = vec4(vec3(value), 1.0);
         return;
     }

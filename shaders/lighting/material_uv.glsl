@@ -33,9 +33,9 @@ vec2 material_slot_uv(MaterialData m, int slot, int set, vec2 uv0, vec2 uv1) {
 
 void write_material_uvs(vec2 uv0, vec2 uv1) {
     MaterialData m = materials[u_material];
-    int sets[5] = int[5](m.texcoord.x, m.texcoord.y, m.texcoord.z, m.texcoord.w, m.texcoord2.x);
+    int sets[5] = int[5](m.texcoord.x, m.texcoord.y, m.texcoord.z, m.texcoord.w, m.emissive_texcoord);
     vec2 uv[5];
-    int bits = int(m.params.z) == 1 ? 32 : 0;
+    int bits = int(m.alpha_mode) == 1 ? 32 : 0;
     for (int s = 0; s < 5; ++s) {
         uv[s] = sets[s] >= 0 ? material_slot_uv(m, s, sets[s], uv0, uv1) : uv0;
         if (sets[s] >= 0) bits |= 1 << s;

@@ -3,15 +3,16 @@
 // Expects the varyings of forward/forward.vert (texture coordinates: lighting/material_uv.glsl)
 // and the per-draw uniforms below.
 #include "../common/brdf.glsl"
+#include "gpu/bindings.h"
 
 layout(location = 2) uniform int u_material;
 layout(location = 3) uniform int u_mirrored;  // 1 when the model matrix has a negative determinant
 
-layout(binding = 0) uniform sampler2D t_base_color;
-layout(binding = 1) uniform sampler2D t_metallic_roughness;
-layout(binding = 2) uniform sampler2D t_normal;
-layout(binding = 3) uniform sampler2D t_occlusion;
-layout(binding = 4) uniform sampler2D t_emissive;
+layout(binding = BASE_COLOR_UNIT) uniform sampler2D t_base_color;
+layout(binding = METALLIC_ROUGHNESS_UNIT) uniform sampler2D t_metallic_roughness;
+layout(binding = NORMAL_UNIT) uniform sampler2D t_normal;
+layout(binding = OCCLUSION_UNIT) uniform sampler2D t_occlusion;
+layout(binding = EMISSIVE_UNIT) uniform sampler2D t_emissive;
 
 layout(location = 0) centroid in vec3 v_world_pos;
 layout(location = 1) centroid in vec3 v_normal;
@@ -74,7 +75,7 @@ void alpha_test() {
     if ((v_material_bits & 32) == 0) return;
     float a = slot_textured(0) ? texture(t_base_color, in_slot_uv01().xy).a : 1.0;
     MaterialData m = materials[u_material];
-    if (m.base_color.a * in_color().a * a < m.params.y) discard;
+    if (m.base_color.a * in_color().a * a < m.alpha_cutoff) discard;
 }
 
 // Alpha to coverage (forward with multisampling, aa.alpha_to_coverage): a MASK fragment is not
@@ -95,11 +96,11 @@ Surface fragment_surface() {
     Surface s;
     vec4 base = m.base_color * in_color() * tex_base;
     float alpha_width = fwidth(base.a);  // here: derivatives need uniform control flow
-    s.alpha_mode = int(m.params.z);
+    s.alpha_mode = int(m.alpha_mode);
     s.alpha = base.a;
 
-    float metallic = m.emission_metallic.a;
-    float roughness = m.params.x;
+    float metallic = m.metallic;
+    float roughness = m.roughness;
     roughness *= tex_mr.g;
     metallic *= tex_mr.b;
 
@@ -116,23 +117,23 @@ Surface fragment_surface() {
             vec3 b = cross(n, t) * (tangent.w < 0.0 ? -1.0 : 1.0) * (gl_FrontFacing ? 1.0 : -1.0) *
                      (u_mirrored != 0 ? -1.0 : 1.0);
             vec3 tn = tex_normal * 2.0 - 1.0;
-            tn.xy *= m.params2.z;
+            tn.xy *= m.normal_scale;
             vec3 mapped = mat3(t, b, n) * tn;
             float ml = length(mapped);
             if (ml > 1e-8) n = mapped / ml;
         }
     }
-    s.occlusion = slot_textured(3) ? mix(1.0, tex_occlusion, m.params2.w) : 1.0;
-    s.emission = m.emission_metallic.rgb * tex_emission;
+    s.occlusion = slot_textured(3) ? mix(1.0, tex_occlusion, m.occlusion_strength) : 1.0;
+    s.emission = m.emission * tex_emission;
 
     s.brdf.base_color = base.rgb;
     s.brdf.metallic = saturate(metallic);
     s.brdf.roughness = saturate(roughness);
-    s.brdf.ior = m.params2.x;
-    s.brdf.specular_factor = m.specular.a;
-    s.brdf.specular_color = m.specular.rgb;
-    s.transmission = m.params2.y;
-    s.thin = m.volume.x <= 0.0;
+    s.brdf.ior = m.ior;
+    s.brdf.specular_factor = m.specular_factor;
+    s.brdf.specular_color = m.specular_color;
+    s.transmission = m.transmission;
+    s.thin = m.thickness <= 0.0;
 
     s.p = in_world_pos();
     // Shading normals facing away from the viewer are bent back to the horizon.
@@ -142,9 +143,9 @@ Surface fragment_surface() {
     s.n = n;
     if (s.alpha_mode == 1) {
         if (g_alpha_to_coverage) {
-            s.alpha = clamp((base.a - m.params.y) / max(alpha_width, 1e-4) + 0.5, 0.0, 1.0);
+            s.alpha = clamp((base.a - m.alpha_cutoff) / max(alpha_width, 1e-4) + 0.5, 0.0, 1.0);
             if (s.alpha <= 0.0) discard;
-        } else if (base.a < m.params.y)
+        } else if (base.a < m.alpha_cutoff)
             discard;
     }
     return s;

@@ -2,13 +2,14 @@
 // The viewer's buffer inspector: one channel or all of a frame-graph texture, a layer of an
 // array (shadow maps, reflective shadow maps) or a probe cube unwrapped to longitude/latitude,
 // scaled, then sRGB-encoded for the window.
+#include "gpu/bindings.h"
 #include "../common/math.glsl"
 
 layout(location = 0) in vec2 v_uv;
 layout(location = 0) out vec4 out_color;
-layout(binding = 0) uniform sampler2D t_2d;
-layout(binding = 1) uniform sampler2DArray t_array;
-layout(binding = 2) uniform samplerCubeArray t_cube;
+layout(binding = DEBUG_2D_UNIT) uniform sampler2D t_2d;
+layout(binding = DEBUG_ARRAY_UNIT) uniform sampler2DArray t_array;
+layout(binding = DEBUG_CUBE_UNIT) uniform samplerCubeArray t_cube;
 layout(location = 0) uniform int u_kind;     // 0 2D, 1 2D array, 2 cube-map array
 layout(location = 1) uniform int u_channel;  // 0 rgb, 1 r, 2 g, 3 b, 4 a
 layout(location = 2) uniform float u_scale;

@@ -1,8 +1,9 @@
 #version 450 core
 // Linear HDR radiance to display values: exposure + ACES fit + sRGB (the PNG/screen transform).
+#include "gpu/bindings.h"
 #include "../common/tonemap.glsl"
 
-layout(binding = 0) uniform sampler2D t_hdr;
+layout(binding = SOURCE_UNIT) uniform sampler2D t_hdr;
 layout(location = 0) uniform float u_exposure_ev;
 layout(location = 0) in vec2 v_uv;
 layout(location = 0) out vec4 out_display;

@@ -15,14 +15,14 @@ vec3 opaque_visibility(Ray ray, float tmax) {
 
 vec3 direct_punctual(SurfaceHit s, BrdfInput m, vec3 v) {
     vec3 sum = vec3(0.0);
-    for (int i = 0; i < rt.counts.w; ++i) {
+    for (int i = 0; i < rt.punctual_light_count; ++i) {
         vec3 l, E;
         float dist;
         light_incidence(lights[i], s.p, l, E, dist);
         if (max(E.r, max(E.g, E.b)) <= 0.0) continue;
         vec3 fc = brdf_cos_folded(m, s, l, v);
         if (max(fc.r, max(fc.g, fc.b)) <= 0.0) continue;
-        vec3 visible = shadow_visibility(make_ray(offset_ray(s.p, s.ng, rt.fparams2.x), l), dist);
+        vec3 visible = shadow_visibility(make_ray(offset_ray(s.p, s.ng, rt.ray_offset), l), dist);
         sum += fc * E * visible;
     }
     return sum;
@@ -40,7 +40,7 @@ float sphere_cone_one_minus_cos(float r, float d2) {
 // 1 / (2 pi (1 - cos_max))), the point where it meets the sphere, and MIS with the BRDF. From
 // inside the sphere there is no cone: BRDF rays alone see its emission (emitter_pdf is 0 there).
 vec3 direct_sphere(SurfaceHit s, BrdfInput m, vec3 v, inout Rng rng, bool use_mis, Emitter e) {
-    RtSphere sp = spheres[int(e.triangle) - rt.counts.x];
+    RtSphere sp = spheres[int(e.triangle) - rt.triangle_count];
     vec3 c = sp.center_radius.xyz;
     float r = sp.center_radius.w;
     vec3 dc = c - s.p;
@@ -62,10 +62,10 @@ vec3 direct_sphere(SurfaceHit s, BrdfInput m, vec3 v, inout Rng rng, bool use_mi
     vec3 q = s.p + l * t;
     vec3 nl = normalize(q - c);
     int mat = sp.material_node.x;
-    vec3 Le = materials[mat].emission_metallic.rgb;
+    vec3 Le = materials[mat].emission;
     float pdf = e.pdf / (2.0 * PI * omc);
-    vec3 origin = offset_ray(s.p, s.ng, rt.fparams2.x);
-    vec3 target = offset_ray(q, nl, rt.fparams2.x);
+    vec3 origin = offset_ray(s.p, s.ng, rt.ray_offset);
+    vec3 target = offset_ray(q, nl, rt.ray_offset);
     vec3 visible = shadow_visibility(make_ray(origin, target - origin), 1.0);
     float w = use_mis ? power_heuristic(pdf, brdf_pdf_folded(m, s, v, l)) : 1.0;
     return fc * Le * w * visible / pdf;
@@ -75,14 +75,14 @@ vec3 direct_sphere(SurfaceHit s, BrdfInput m, vec3 v, inout Rng rng, bool use_mi
 // emissive sphere (direct_sphere); MIS with the BRDF.
 vec3 direct_emitters(SurfaceHit s, BrdfInput m, vec3 v, inout Rng rng, bool use_mis) {
     float u = rng_next(rng);
-    int lo = 0, hi = rt.counts.z - 1;
+    int lo = 0, hi = rt.emitter_count - 1;
     while (lo < hi) {
         int mid = (lo + hi) / 2;
         if (emitters[mid].cdf < u) lo = mid + 1; else hi = mid;
     }
     Emitter e = emitters[lo];
 #ifndef RT_NO_SPHERES
-    if (int(e.triangle) >= rt.counts.x) return direct_sphere(s, m, v, rng, use_mis, e);
+    if (int(e.triangle) >= rt.triangle_count) return direct_sphere(s, m, v, rng, use_mis, e);
 #endif
     RtTriangle tri = load_triangle(int(e.triangle));
     float su = sqrt(rng_next(rng));
@@ -92,15 +92,15 @@ vec3 direct_emitters(SurfaceHit s, BrdfInput m, vec3 v, inout Rng rng, bool use_
     int mat = floatBitsToInt(tri.p0.w);
     // The emission at the sampled point, with the emissive texture, as a BRDF ray would see it
     // (the emitter was chosen by its untextured power: still unbiased where the texture is > 0).
-    vec3 Le = materials[mat].emission_metallic.rgb;
+    vec3 Le = materials[mat].emission;
 #ifndef RT_NO_TEXTURES
-    if (materials[mat].texcoord2.x >= 0) {
+    if (materials[mat].emissive_texcoord >= 0) {
         vec2 b = vec2(su * (1.0 - u2), su * u2);
         float w0 = 1.0 - b.x - b.y;
         vec2 uv0 = tri.uv_a.xy * w0 + tri.uv_a.zw * b.x + tri.uv_b.xy * b.y;
         vec2 uv1 = tri.uv_b.zw * w0 + tri.uv_c.xy * b.x + tri.uv_c.zw * b.y;
         MaterialData me = materials[mat];
-        Le *= material_texture(me, 4, me.images2.x, me.texcoord2.x, uv0, uv1).rgb;
+        Le *= material_texture(me, 4, me.emissive_image, me.emissive_texcoord, uv0, uv1).rgb;
     }
 #endif
     vec3 d = q - s.p;
@@ -113,8 +113,8 @@ vec3 direct_emitters(SurfaceHit s, BrdfInput m, vec3 v, inout Rng rng, bool use_
     vec3 fc = brdf_cos_folded(m, s, l, v);
     if (max(fc.r, max(fc.g, fc.b)) <= 0.0) return vec3(0.0);
     float pdf = e.pdf / e.area * dist2 / cos_l;  // solid angle
-    vec3 origin = offset_ray(s.p, s.ng, rt.fparams2.x);
-    vec3 target = offset_ray(q, dot(nl, -l) > 0.0 ? nl : -nl, rt.fparams2.x);
+    vec3 origin = offset_ray(s.p, s.ng, rt.ray_offset);
+    vec3 target = offset_ray(q, dot(nl, -l) > 0.0 ? nl : -nl, rt.ray_offset);
     vec3 visible = shadow_visibility(make_ray(origin, target - origin), 1.0);
     float w = use_mis ? power_heuristic(pdf, brdf_pdf_folded(m, s, v, l)) : 1.0;
     return fc * Le * w * visible / pdf;
@@ -123,8 +123,8 @@ vec3 direct_emitters(SurfaceHit s, BrdfInput m, vec3 v, inout Rng rng, bool use_
 // Solid-angle pdf with which direct_emitters would have chosen the point the BRDF ray hit.
 float emitter_pdf(Ray ray, Hit hit, SurfaceHit s) {
 #ifndef RT_NO_SPHERES
-    if (hit.prim >= rt.counts.x) {
-        RtSphere sp = spheres[hit.prim - rt.counts.x];
+    if (hit.prim >= rt.triangle_count) {
+        RtSphere sp = spheres[hit.prim - rt.triangle_count];
         float select = intBitsToFloat(sp.material_node.z);
         vec3 dc = sp.center_radius.xyz - ray.origin;
         float d2 = dot(dc, dc), r = sp.center_radius.w;
@@ -155,7 +155,7 @@ vec3 lambert_direct_light(SurfaceHit y, vec3 to_x, inout Rng rng) {
     lambert_y.specular_factor = 0.0;
     vec3 L = direct_punctual(y, lambert_y, to_x);
 #ifdef HAS_EMITTERS
-    if (rt.counts.z > 0) L += direct_emitters(y, lambert_y, to_x, rng, false);
+    if (rt.emitter_count > 0) L += direct_emitters(y, lambert_y, to_x, rng, false);
 #endif
     return L;
 }

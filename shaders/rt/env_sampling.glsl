@@ -3,11 +3,11 @@
 #include "trace_common.glsl"
 #ifdef HAS_ENV_MAP_SAMPLING
 // env_dist: texel probabilities, row-conditional CDFs, marginal CDF (engine/rt/ray_tracer.hpp).
-layout(std430, binding = 12) readonly buffer EnvDistribution { float env_dist[]; };
+layout(std430, binding = RT_ENV_DISTRIBUTION_BINDING) readonly buffer EnvDistribution { float env_dist[]; };
 
 // Solid-angle pdf of drawing `dir` from the environment distribution.
 float env_pdf(vec3 dir) {
-    int w = rt.counts2.y, h = rt.counts2.z;
+    int w = rt.env_width, h = rt.env_height;
     vec2 uv = direction_to_equirect(normalize(dir));
     int x = clamp(int(uv.x * float(w)), 0, w - 1);
     int y = clamp(int(uv.y * float(h)), 0, h - 1);
@@ -17,7 +17,7 @@ float env_pdf(vec3 dir) {
 }
 
 vec3 sample_env(inout Rng rng, out float pdf) {
-    int w = rt.counts2.y, h = rt.counts2.z;
+    int w = rt.env_width, h = rt.env_height;
     int n = w * h;
     float u = rng_next(rng);
     int lo = 0, hi = h - 1;

@@ -10,8 +10,8 @@ BrdfInput brdf_input(SurfaceHit s) {
     MaterialData m = materials[mi];
     BrdfInput b;
     b.base_color = m.base_color.rgb;
-    b.metallic = saturate(m.emission_metallic.a);
-    b.roughness = saturate(m.params.x);
+    b.metallic = saturate(m.metallic);
+    b.roughness = saturate(m.roughness);
 #ifndef RT_NO_TEXTURES
     if (m.texcoord.x >= 0)
         b.base_color *= material_texture(m, 0, m.images.x, m.texcoord.x, s.uv0, s.uv1).rgb;
@@ -21,21 +21,21 @@ BrdfInput brdf_input(SurfaceHit s) {
         b.metallic *= mr.b;
     }
 #endif
-    b.ior = m.params2.x;
-    b.specular_factor = m.specular.a;
-    b.specular_color = m.specular.rgb;
+    b.ior = m.ior;
+    b.specular_factor = m.specular_factor;
+    b.specular_color = m.specular_color;
     return b;
 }
 vec3 surface_emission(SurfaceHit s) {
     MaterialData m = materials[s.material];
-    vec3 e = m.emission_metallic.rgb;
+    vec3 e = m.emission;
 #ifndef RT_NO_TEXTURES
-    if (m.texcoord2.x >= 0)
-        e *= material_texture(m, 4, m.images2.x, m.texcoord2.x, s.uv0, s.uv1).rgb;
+    if (m.emissive_texcoord >= 0)
+        e *= material_texture(m, 4, m.emissive_image, m.emissive_texcoord, s.uv0, s.uv1).rgb;
 #endif
     return e;
 }
-bool material_double_sided(int mi) { return materials[mi].params.w > 0.5; }
+bool material_double_sided(int mi) { return materials[mi].double_sided > 0.5; }
 
 // alphaMode BLEND: the coverage the rasterizer blends with (SRC_ALPHA, ONE_MINUS_SRC_ALPHA); 1 for
 // every other mode. Camera paths composite blended layers with it, in depth order, which is the
@@ -43,16 +43,16 @@ bool material_double_sided(int mi) { return materials[mi].params.w > 0.5; }
 // blended surfaces as opaque, as the shadow maps do.
 float blend_alpha(SurfaceHit s) {
     MaterialData m = materials[s.material];
-    if (int(m.params.z) != 2) return 1.0;
+    if (int(m.alpha_mode) != 2) return 1.0;
     float a = m.base_color.a;
 #ifndef RT_NO_TEXTURES
     if (m.texcoord.x >= 0) a *= material_texture(m, 0, m.images.x, m.texcoord.x, s.uv0, s.uv1).a;
 #endif
     return saturate(a);
 }
-float material_transmission(int mi) { return materials[mi].params2.y; }
+float material_transmission(int mi) { return materials[mi].transmission; }
 // KHR_materials_volume: thickness 0 is a thin wall (light passes without bending).
-bool material_thin(int mi) { return materials[mi].volume.x <= 0.0; }
+bool material_thin(int mi) { return materials[mi].thickness <= 0.0; }
 
 // Light leaving a surface towards the viewer by emission: front side, or both if double-sided.
 vec3 emitted(SurfaceHit s) {

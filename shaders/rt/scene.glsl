@@ -1,4 +1,4 @@
-// The ray tracer's view of the scene (layouts mirror engine/rt/gpu_rt_scene.hpp) and BVH
+// The ray tracer's view of the scene (layouts mirror engine/rt/rt_geometry.hpp) and BVH
 // traversal: closest hit for camera and bounce rays, any hit for shadow and AO rays.
 #include "intersect.glsl"
 
@@ -33,10 +33,10 @@ struct Emitter {
 // The BVH in its traversal layout (rt::pack_traversal, engine/rt/rt_geometry.hpp): 4 texels per
 // interior node holding both children's boxes and refs, 3 texels per primitive in leaf order.
 // Texel fetches, not SSBO loads: llvmpipe gathers them for 8 lanes at once.
-layout(binding = 16) uniform samplerBuffer t_bvh_nodes;
-layout(binding = 17) uniform samplerBuffer t_bvh_prims;
+layout(binding = RT_BVH_NODES_UNIT) uniform samplerBuffer t_bvh_nodes;
+layout(binding = RT_BVH_PRIMS_UNIT) uniform samplerBuffer t_bvh_prims;
 // The triangles (rt::TriangleGpu), 12 texels each, read through load_triangle().
-layout(binding = 18) uniform samplerBuffer t_triangles;
+layout(binding = RT_TRIANGLES_UNIT) uniform samplerBuffer t_triangles;
 
 RtTriangle load_triangle(int i) {
     int b = i * 12;
@@ -55,33 +55,20 @@ RtTriangle load_triangle(int i) {
     t.t2 = texelFetch(t_triangles, b + 11);
     return t;
 }
-layout(std430, binding = 6) readonly buffer Spheres { RtSphere spheres[]; };
-layout(std430, binding = 7) readonly buffer Emitters { Emitter emitters[]; };
-layout(std430, binding = 11) readonly buffer Surfaces { Emitter surfaces[]; };  // every triangle by area
+layout(std430, binding = RT_SPHERES_BINDING) readonly buffer Spheres { RtSphere spheres[]; };
+layout(std430, binding = RT_EMITTERS_BINDING) readonly buffer Emitters { Emitter emitters[]; };
+layout(std430, binding = RT_SURFACES_BINDING) readonly buffer Surfaces { Emitter surfaces[]; };  // every triangle by area
 
-layout(std140, binding = 8) uniform RtFrame {
-    mat4 inv_view_proj;  // camera-relative: of the view without its translation
-    vec4 camera_pos;
-    vec4 env_radiance;   // rgb constant radiance, or the map's scale when w = 1
-    ivec4 counts;        // x triangles, y spheres, z emitters, w punctual lights
-    ivec4 counts2;       // x surfaces (triangles with area), y/z environment map width/height
-    ivec4 image;         // x width, y height, z sample index, w seed
-    ivec4 params;        // x max depth, y jitter, z indirect occlusion, w tile y offset
-    vec4 fparams;        // x ao radius, y whitted max roughness, z emitter power total
-    vec4 fparams2;       // x smallest secondary-ray offset (rt::ray_offset_for_extent), z 1: camera rays
-                         // do not see emission or the environment (path/direct: Options::camera_sees_emission)
-    vec4 lens_x;         // thin lens: xyz the camera's x axis * lens radius, w lens radius (0: pinhole)
-    vec4 lens_y;         // xyz the camera's y axis * lens radius, w focus distance along lens_axis
-    vec4 lens_axis;      // xyz the view axis (unit)
-} rt;
+// The frame block `rt`.
+#include "gpu/rt_frame.h"
 
 // Scene images as array layers (layer = image index; GpuScene::image_array).
-layout(binding = 6) uniform sampler2DArray t_images;
+layout(binding = RT_IMAGES_UNIT) uniform sampler2DArray t_images;
 // The same storage viewed as sRGB (GpuScene::image_array_srgb): colour slots (base colour,
 // emissive) decode before filtering, as the rasterizer's sRGB textures do.
-layout(binding = 15) uniform sampler2DArray t_images_srgb;
+layout(binding = RT_IMAGES_SRGB_UNIT) uniform sampler2DArray t_images_srgb;
 
-// The glTF sampler's wrap mode per axis (images2.y: 4 bits per slot, s then t; 0 repeat,
+// The glTF sampler's wrap mode per axis (wrap_modes: 4 bits per slot, s then t; 0 repeat,
 // 1 clamp to edge, 2 mirrored repeat), applied by hand: the image array itself repeats.
 float wrap_coordinate(float x, int mode, float size) {
     if (mode == 1) return clamp(x, 0.5 / size, 1.0 - 0.5 / size);
@@ -95,7 +82,7 @@ float wrap_coordinate(float x, int mode, float size) {
 vec2 material_uv(MaterialData m, int slot, int set, vec2 uv0, vec2 uv1) {
     vec3 uv = vec3(set == 1 ? uv1 : uv0, 1.0);
     vec2 r = vec2(dot(m.uv_transform[slot * 2].xyz, uv), dot(m.uv_transform[slot * 2 + 1].xyz, uv));
-    int wrap = (m.images2.y >> (4 * slot)) & 15;
+    int wrap = (m.wrap_modes >> (4 * slot)) & 15;
     if (wrap != 0) {
         vec2 size = vec2(textureSize(t_images, 0).xy);
         r = vec2(wrap_coordinate(r.x, wrap & 3, size.x), wrap_coordinate(r.y, wrap >> 2, size.y));
@@ -105,13 +92,13 @@ vec2 material_uv(MaterialData m, int slot, int set, vec2 uv0, vec2 uv1) {
 // A material's texture in one slot (0 base colour, 1 metallic-roughness, 2 normal, 3 occlusion,
 // 4 emissive) at a hit, linear values (colour slots decoded from sRGB): its uv set and transform,
 // the sampler's wrap modes, and its filter: a
-// NEAREST magnification filter (images2.z bit per slot) fetches the texel under uv (the array's
+// NEAREST magnification filter (nearest_magnification bit per slot) fetches the texel under uv (the array's
 // layers replicate each image's texels, exact when the image's size divides the layer's), else
 // bilinear at level 0 (supersampling integrates the pixel's footprint).
 vec4 material_texture(MaterialData m, int slot, int image, int set, vec2 uv0, vec2 uv1) {
     vec2 uv = material_uv(m, slot, set, uv0, uv1);
     bool srgb = slot == 0 || slot == 4;
-    if (((m.images2.z >> slot) & 1) != 0) {
+    if (((m.nearest_magnification >> slot) & 1) != 0) {
         ivec2 size = textureSize(t_images, 0).xy;
         ivec3 texel = ivec3(clamp(ivec2(floor(fract(uv) * vec2(size))), ivec2(0), size - 1), image);
         return srgb ? texelFetch(t_images_srgb, texel, 0) : texelFetch(t_images, texel, 0);
@@ -163,7 +150,7 @@ Hit trace(Ray ray, float tmax, bool any_hit) {
     hit.t = tmax;
     hit.prim = -1;
     hit.bary = vec2(0.0);
-    if (rt.counts.x + rt.counts.y == 0) return hit;
+    if (rt.triangle_count + rt.sphere_count == 0) return hit;
     WatertightRay w = watertight_setup(ray);
     vec3 inv_dir = 1.0 / ray.dir;
     int stack_base = int(gl_LocalInvocationIndex);
@@ -212,7 +199,7 @@ Hit trace(Ray ray, float tmax, bool any_hit) {
                 float t;
                 vec2 bary = vec2(0.0);
 #ifndef RT_NO_SPHERES
-                if (prim < rt.counts.x) {
+                if (prim < rt.triangle_count) {
 #endif
                     t = intersect_triangle(w, a.xyz, texelFetch(t_bvh_prims, r + 1).xyz, texelFetch(t_bvh_prims, r + 2).xyz, hit.t, bary);
 #ifdef HAS_MASK
@@ -221,7 +208,7 @@ Hit trace(Ray ray, float tmax, bool any_hit) {
                         // Only the mode is read for every candidate: copying the whole material
                         // here costs a third of the ray rate on llvmpipe.
                         int mi = floatBitsToInt(texelFetch(t_triangles, prim * 12).w);
-                        if (int(materials[mi].params.z) == 1) {
+                        if (int(materials[mi].alpha_mode) == 1) {
                             float alpha = materials[mi].base_color.a;
                             if (materials[mi].texcoord.x >= 0) {
                                 MaterialData m = materials[mi];
@@ -231,7 +218,7 @@ Hit trace(Ray ray, float tmax, bool any_hit) {
                                 vec2 uv1 = tri.uv_b.zw * w0 + tri.uv_c.xy * bary.x + tri.uv_c.zw * bary.y;
                                 alpha *= material_texture(m, 0, m.images.x, m.texcoord.x, uv0, uv1).a;
                             }
-                            if (alpha < materials[mi].params.y) t = -1.0;
+                            if (alpha < materials[mi].alpha_cutoff) t = -1.0;
                         }
                     }
 #endif
@@ -287,7 +274,7 @@ SurfaceHit surface_at(Ray ray, Hit hit) {
     // Compiled for what the scene has (ray_tracer.cpp's defines): llvmpipe runs both sides of a
     // branch under a lane mask, so code the scene cannot reach still costs every hit.
 #ifndef RT_NO_SPHERES
-    if (hit.prim < rt.counts.x) {
+    if (hit.prim < rt.triangle_count) {
 #endif
         RtTriangle tri = load_triangle(hit.prim);
         vec3 ng = normalize(cross(tri.p1.xyz - tri.p0.xyz, tri.p2.xyz - tri.p0.xyz));
@@ -317,7 +304,7 @@ SurfaceHit surface_at(Ray ray, Hit hit) {
                 t /= tl;
                 vec3 b = cross(s.ns, t) * (tri.t0.w < 0.0 ? -1.0 : 1.0) * (s.front ? 1.0 : -1.0);
                 vec3 tn = material_texture(m, 2, m.images.z, m.texcoord.z, s.uv0, s.uv1).xyz * 2.0 - 1.0;
-                tn.xy *= m.params2.z;
+                tn.xy *= m.normal_scale;
                 vec3 mapped = mat3(t, b, s.ns) * tn;
                 float ml = length(mapped);
                 if (ml > 1e-8) s.ns = mapped / ml;
@@ -337,7 +324,7 @@ SurfaceHit surface_at(Ray ray, Hit hit) {
         if (nv < 1e-4) s.ns = normalize(s.ns + v * (1e-4 - nv));
 #ifndef RT_NO_SPHERES
     } else {
-        RtSphere sp = spheres[hit.prim - rt.counts.x];
+        RtSphere sp = spheres[hit.prim - rt.triangle_count];
         vec3 n = normalize(s.p - sp.center_radius.xyz);
         // Project the point back onto the sphere: removes the error of origin + t * dir.
         s.p = sp.center_radius.xyz + n * sp.center_radius.w;

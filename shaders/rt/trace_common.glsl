@@ -19,7 +19,7 @@
 #include "../common/scene_data.glsl"
 #include "../common/brdf.glsl"
 #include "../common/sampling.glsl"
-layout(std430, binding = 10) buffer Diagnostics {
+layout(std430, binding = RT_DIAGNOSTICS_BINDING) buffer Diagnostics {
     uint nonfinite_samples;
     uint traversal_nodes;      // RT_STATS only: BVH nodes visited, all rays
     uint traversal_primitives; // RT_STATS only: primitives intersected, all rays
@@ -29,11 +29,11 @@ layout(std430, binding = 10) buffer Diagnostics {
 layout(local_size_x = 8, local_size_y = 8) in;  // before scene.glsl: its traversal stacks are sized by it
 #include "scene.glsl"
 
-layout(std430, binding = 9) buffer Accum { vec4 accum[]; };  // rgb sum, w sample count
-layout(binding = 5) uniform sampler2D t_environment;
+layout(std430, binding = RT_ACCUM_BINDING) buffer Accum { vec4 accum[]; };  // rgb sum, w sample count
+layout(binding = ENVIRONMENT_UNIT) uniform sampler2D t_environment;
 
 vec3 environment(vec3 dir) {
-    if (rt.env_radiance.w < 0.5) return rt.env_radiance.rgb;
+    if (rt.env_map_bound < 0.5) return rt.env_radiance.rgb;
     return rt.env_radiance.rgb * textureLod(t_environment, direction_to_equirect(normalize(dir)), 0.0).rgb;
 }
 
@@ -67,9 +67,9 @@ vec2 sample_uniform_disk(vec2 u) {
 // lens (rt.lens_x.w > 0: perspective cameras only), from a random point of the lens. `index`
 // and `sample_index` are the pixel's and the sample's, for the lens's random stream.
 Ray camera_ray(ivec2 pixel, uint index, uint sample_index, inout Rng rng) {
-    vec2 jitter = rt.params.y != 0 ? vec2(rng_next(rng), rng_next(rng)) : vec2(0.5);
-    vec2 ndc = vec2((float(pixel.x) + jitter.x) / float(rt.image.x) * 2.0 - 1.0,
-                    1.0 - (float(pixel.y) + jitter.y) / float(rt.image.y) * 2.0);
+    vec2 jitter = rt.jitter != 0 ? vec2(rng_next(rng), rng_next(rng)) : vec2(0.5);
+    vec2 ndc = vec2((float(pixel.x) + jitter.x) / float(rt.width) * 2.0 - 1.0,
+                    1.0 - (float(pixel.y) + jitter.y) / float(rt.height) * 2.0);
     vec4 far_point = rt.inv_view_proj * vec4(ndc, 0.5, 1.0);
     vec4 near_point = rt.inv_view_proj * vec4(ndc, 1.0, 1.0);
     vec3 a = near_point.xyz / near_point.w;
@@ -85,7 +85,7 @@ Ray camera_ray(ivec2 pixel, uint index, uint sample_index, inout Rng rng) {
         // distance along the view axis), so that points on that plane stay sharp and others
         // blur into a circle of diameter 2 A |d - F| / d there. Its own random stream: the
         // pixel jitter and the mode's samples are those of the pinhole image.
-        Rng lens_rng = rng_init(pcg_hash(uint(rt.image.w) ^ 0x6c656e73u), index, sample_index);
+        Rng lens_rng = rng_init(pcg_hash(uint(rt.seed) ^ 0x6c656e73u), index, sample_index);
         vec2 u = sample_uniform_disk(vec2(rng_next(lens_rng), rng_next(lens_rng)));
         vec3 axis = rt.lens_axis.xyz;
         vec3 focus = r.dir * (rt.lens_y.w / dot(r.dir, axis));  // camera-relative
@@ -97,13 +97,13 @@ Ray camera_ray(ivec2 pixel, uint index, uint sample_index, inout Rng rng) {
     return r;
 }
 
-// The samples of one dispatch: rt.counts2.w samples per pixel (0 counts as 1), the k-th being
-// sample rt.image.z + k * stride, stride = rt.fparams2.y (--spp-shard's N; 0 counts as 1). Each
+// The samples of one dispatch: rt.dispatch_samples samples per pixel (0 counts as 1), the k-th being
+// sample rt.sample_index + k * stride, stride = rt.sample_stride (--spp-shard's N; 0 counts as 1). Each
 // sample's random stream depends on (seed, pixel, sample index) only, so how samples are grouped
 // into dispatches does not change them.
-int dispatch_samples() { return max(rt.counts2.w, 1); }
-int dispatch_sample_stride() { return max(int(rt.fparams2.y), 1); }
-ivec2 dispatch_pixel() { return ivec2(gl_GlobalInvocationID.xy) + ivec2(0, rt.params.w); }
+int dispatch_samples() { return max(rt.dispatch_samples, 1); }
+int dispatch_sample_stride() { return max(int(rt.sample_stride), 1); }
+ivec2 dispatch_pixel() { return ivec2(gl_GlobalInvocationID.xy) + ivec2(0, rt.tile_y); }
 
 // Adds a dispatch's samples of a pixel (their radiance sum) to the accumulation buffer; a
 // non-finite sample is counted and replaced by 0 (checked_sample).
@@ -122,13 +122,13 @@ vec3 radiance(Ray ray, inout Rng rng);
 
 void main() {
     ivec2 pixel = dispatch_pixel();
-    if (pixel.x >= rt.image.x || pixel.y >= rt.image.y) return;
-    uint index = uint(pixel.y * rt.image.x + pixel.x);
+    if (pixel.x >= rt.width || pixel.y >= rt.height) return;
+    uint index = uint(pixel.y * rt.width + pixel.x);
     int count = dispatch_samples(), stride = dispatch_sample_stride();
     vec3 sum = vec3(0.0);
     for (int k = 0; k < count; ++k) {
-        uint sample_index = uint(rt.image.z + k * stride);
-        Rng rng = rng_init(uint(rt.image.w), index, sample_index);
+        uint sample_index = uint(rt.sample_index + k * stride);
+        Rng rng = rng_init(uint(rt.seed), index, sample_index);
         Ray ray = camera_ray(pixel, index, sample_index, rng);
         sum += checked_sample(radiance(ray, rng));
     }

@@ -13,6 +13,9 @@
 #include "effects/registry.hpp"
 #include "gl_fixture.hpp"
 #include "render/features.hpp"
+#include "gpu/bindings.h"
+#include "gpu/rt_frame.h"
+#include "gpu/scene_blocks.h"
 #include "render/gpu_scene.hpp"
 #include "render/settings.hpp"
 #include "rt/tracer_options.hpp"
@@ -121,7 +124,7 @@ using EffectBlocks = test::GlContextTest;
 
 TEST_P(EffectBlocks, CxxStructsMatchTheGlslBlocks) {
     const ShaderLibrary shaders(ShaderLibrary::default_root());
-    std::set<int> bindings = {0, 8};  // Frame and the tracer's RtFrame
+    std::set<int> bindings = {FRAME_BINDING, RT_FRAME_BINDING};
     int checked = 0;
     for (const Effect* e : effect_registry())
         for (const GpuBlockInfo& b : e->gpu_blocks()) {
@@ -138,15 +141,39 @@ TEST_P(EffectBlocks, CxxStructsMatchTheGlslBlocks) {
             ++checked;
         }
     EXPECT_GT(checked, 0);
-    // The base Frame block (render/gpu_scene.hpp and shaders/common/scene_data.glsl) too.
-    ShaderLibrary::BuildResult r = shaders.build(program_desc("forward"));
-    ASSERT_TRUE(r.ok()) << r.log;
-    const GLuint index = glGetProgramResourceIndex(r.program.id(), GL_UNIFORM_BLOCK, "Frame");
-    ASSERT_NE(index, GL_INVALID_INDEX);
-    const GLenum prop = GL_BUFFER_DATA_SIZE;
-    GLint size = 0;
-    glGetProgramResourceiv(r.program.id(), GL_UNIFORM_BLOCK, index, 1, &prop, 1, nullptr, &size);
-    EXPECT_EQ(static_cast<std::size_t>(size), sizeof(FrameData));
+}
+
+// The base's and the tracer's blocks (gpu/scene_blocks.h, gpu/rt_frame.h): the frame blocks, and
+// the storage buffers of materials and lights, whose size with one element is the C++ struct's.
+TEST_P(EffectBlocks, BaseBlocksMatchTheGlsl) {
+    const ShaderLibrary shaders(ShaderLibrary::default_root());
+    const ProgramDesc rt_path{"rt_path", {{ShaderStage::compute, "rt/modes/path.comp"}}, {}};
+    struct Block {
+        GLenum interface;
+        const char* name;
+        int binding;
+        std::size_t size;
+        ProgramDesc program;
+    };
+    const Block blocks[] = {
+        {GL_UNIFORM_BLOCK, "FrameData", FRAME_BINDING, sizeof(gpu::FrameData), program_desc("forward")},
+        {GL_SHADER_STORAGE_BLOCK, "Materials", MATERIALS_BINDING, sizeof(gpu::MaterialData), program_desc("forward")},
+        {GL_SHADER_STORAGE_BLOCK, "Lights", LIGHTS_BINDING, sizeof(gpu::LightData), program_desc("forward")},
+        {GL_UNIFORM_BLOCK, "RtFrame", RT_FRAME_BINDING, sizeof(gpu::RtFrame), rt_path},
+        {GL_SHADER_STORAGE_BLOCK, "Materials", MATERIALS_BINDING, sizeof(gpu::MaterialData), rt_path},
+        {GL_SHADER_STORAGE_BLOCK, "Lights", LIGHTS_BINDING, sizeof(gpu::LightData), rt_path},
+    };
+    for (const Block& b : blocks) {
+        ShaderLibrary::BuildResult r = shaders.build(b.program);
+        ASSERT_TRUE(r.ok()) << r.log;
+        const GLuint index = glGetProgramResourceIndex(r.program.id(), b.interface, b.name);
+        ASSERT_NE(index, GL_INVALID_INDEX) << b.name << " not in program " << b.program.name;
+        const GLenum props[2] = {GL_BUFFER_DATA_SIZE, GL_BUFFER_BINDING};
+        GLint values[2] = {0, -1};
+        glGetProgramResourceiv(r.program.id(), b.interface, index, 2, props, 2, nullptr, values);
+        EXPECT_EQ(static_cast<std::size_t>(values[0]), b.size) << b.name << " in " << b.program.name << ": the C++ struct and the GLSL differ";
+        EXPECT_EQ(values[1], b.binding) << b.name << " in " << b.program.name;
+    }
 }
 
 INSTANTIATE_TEST_SUITE_P(Backends, EffectBlocks, ::testing::Values(Backend::egl), test::backend_name);

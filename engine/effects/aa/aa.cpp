@@ -5,6 +5,7 @@
 
 #include <glad/gl.h>
 
+#include "effects/aa/aa_data.h"
 #include "effects/aa/aa_sweep.hpp"
 #include "effects/transparency/transparency.hpp"
 #include "render/features.hpp"
@@ -82,17 +83,17 @@ public:
                 ctx.state.viewport(0, 0, env.width, env.height);
                 const GLuint program = env.programs.get(ms ? "aa_resolve" : "aa_resolve_single").id();
                 ctx.state.use_program(program);
-                glBindTextureUnit(0, ctx.texture(data.hdr).id());
-                glBindTextureUnit(1, ctx.texture(data.depth).id());
-                glBindSampler(0, 0);
-                glBindSampler(1, 0);
+                glBindTextureUnit(AA_HDR_UNIT, ctx.texture(data.hdr).id());
+                glBindTextureUnit(AA_DEPTH_UNIT, ctx.texture(data.depth).id());
+                glBindSampler(AA_HDR_UNIT, 0);
+                glBindSampler(AA_DEPTH_UNIT, 0);
                 ctx.state.bind_vertex_array(env.empty_vao.id());
                 glDrawArrays(GL_TRIANGLES, 0, 3);
                 ++ctx.counters.draw_calls;
                 ctx.counters.triangles += 1;
                 // The pool may attach these textures to framebuffers next: leave no unit on them.
-                glBindTextureUnit(0, 0);
-                glBindTextureUnit(1, 0);
+                glBindTextureUnit(AA_HDR_UNIT, 0);
+                glBindTextureUnit(AA_DEPTH_UNIT, 0);
             });
         (void)d;
         targets.depth = d.out_depth;

@@ -3,17 +3,19 @@
 // radiance (a box filter over the pixel, what the tracer's jittered camera rays estimate) and the
 // nearest of its depths (reversed-Z: the largest) for the post filters. With sub-frames the
 // pass's blend state keeps the running mean over them.
+#include "effects/aa/aa_data.h"
 #ifdef MULTISAMPLED
-layout(binding = 0) uniform sampler2DMS t_hdr;
-layout(binding = 1) uniform sampler2DMS t_depth;
+layout(binding = AA_HDR_UNIT) uniform sampler2DMS t_hdr;
+layout(binding = AA_DEPTH_UNIT) uniform sampler2DMS t_depth;
 #else
-layout(binding = 0) uniform sampler2D t_hdr;
-layout(binding = 1) uniform sampler2D t_depth;
+layout(binding = AA_HDR_UNIT) uniform sampler2D t_hdr;
+layout(binding = AA_DEPTH_UNIT) uniform sampler2D t_depth;
 #endif
 layout(location = 0) out vec4 out_color;
 
 void main() {
     ivec2 p = ivec2(gl_FragCoord.xy);
+#include "effects/aa/aa_data.h"
 #ifdef MULTISAMPLED
     int n = textureSamples(t_hdr);
     vec4 sum = vec4(0.0);

@@ -1,5 +1,5 @@
-// The area-light effect's uniform block, shared by area_lights.cpp and the GLSL (effects/gpu_block.h).
-#include "effects/gpu_block.h"
+// The area-light effect's uniform block, shared by area_lights.cpp and the GLSL (gpu/gpu_block.h).
+#include "gpu/gpu_block.h"
 #define AREA_LIGHTS_BINDING 5
 #define AREA_POLYGONS_BINDING 7   // SSBO: one PolygonLight per emissive triangle
 #define LTC_MATRIX_UNIT 19        // RGBA32F: M^-1 entries, engine/effects/area_lights/ltc.hpp

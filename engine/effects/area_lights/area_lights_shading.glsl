@@ -21,7 +21,7 @@ layout(binding = LTC_MATRIX_UNIT) uniform sampler2D t_ltc_matrix;
 layout(binding = LTC_AMPLITUDE_UNIT) uniform sampler2D t_ltc_amplitude;
 
 // The lights the per-light loops shade one by one: with LTC the pieces only cast shadows.
-int shaded_light_count() { return area_lights.method == 1 ? frame.counts.z : frame.counts.x; }
+int shaded_light_count() { return area_lights.method == 1 ? frame.punctual_light_count : frame.light_count; }
 
 // Integral over the edge a->b (unit vectors) of the clamped cosine's vector form factor, z part:
 // theta * normalize(a x b).z with theta the angle between a and b, stable near 0.
@@ -93,7 +93,7 @@ float area_visibility(int first, int count, vec3 p, vec3 n, vec2 pixel) {
     }
     float shadowed = 0.0, unshadowed = 0.0, plain = 0.0;
     for (int k = first; k < first + count; ++k) {
-        PunctualLight light = lights[k];
+        LightData light = lights[k];
         vec3 l, E;
         float dist;
         light_incidence(light, p, l, E, dist);

@@ -5,8 +5,8 @@
 #include "common/scene_data.glsl"
 #include "effects/dof/dof_data.h"
 
-layout(binding = 0) uniform sampler2D t_hdr;
-layout(binding = 1) uniform sampler2D t_depth;  // reversed Z, 0 = far
+layout(binding = DOF_IN_UNIT) uniform sampler2D t_hdr;
+layout(binding = DOF_IN2_UNIT) uniform sampler2D t_depth;  // reversed Z, 0 = far
 
 layout(location = 0) out vec4 out_color;
 

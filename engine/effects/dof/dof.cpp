@@ -6,6 +6,7 @@
 
 #include "effects/dof/dof_data.h"
 #include "effects/dof/dof_sweep.hpp"
+#include "gpu/bindings.h"
 #include "render/features.hpp"
 #include "render/passes/pass_env.hpp"
 #include "scene/scene.hpp"
@@ -52,7 +53,7 @@ private:
     };
 
     void fullscreen(const PassEnv& env, FrameGraph::Context& ctx, GLuint fbo, int w, int h, GLuint program) const {
-        glBindBufferBase(GL_UNIFORM_BUFFER, 0, env.frame_ubo.id());
+        glBindBufferBase(GL_UNIFORM_BUFFER, FRAME_BINDING, env.frame_ubo.id());
         glBindBufferBase(GL_UNIFORM_BUFFER, DOF_BINDING, block_.id());
         draw_fullscreen(env, ctx, fbo, w, h, program);
     }
@@ -67,14 +68,14 @@ private:
                 d.out = b.create("dof_color", {GL_RGBA32F, env.width, env.height});
             },
             [this, &env, program](const Data& d, FrameGraph::Context& ctx) {
-                glBindTextureUnit(0, ctx.texture(d.in).id());
-                glBindSampler(0, 0);
-                glBindTextureUnit(1, ctx.texture(d.in2).id());
-                glBindSampler(1, 0);
+                glBindTextureUnit(DOF_IN_UNIT, ctx.texture(d.in).id());
+                glBindSampler(DOF_IN_UNIT, 0);
+                glBindTextureUnit(DOF_IN2_UNIT, ctx.texture(d.in2).id());
+                glBindSampler(DOF_IN2_UNIT, 0);
                 fullscreen(env, ctx, env.fbos.get({&ctx.texture(d.out)}, nullptr), env.width, env.height, program);
                 // The pool may attach these textures next frame: leave nothing bound to them.
-                glBindTextureUnit(0, 0);
-                glBindTextureUnit(1, 0);
+                glBindTextureUnit(DOF_IN_UNIT, 0);
+                glBindTextureUnit(DOF_IN2_UNIT, 0);
             });
         color_ = data.out;
     }
@@ -90,11 +91,11 @@ private:
                                  {GL_R32F, (env.width + kTile - 1) / kTile, (env.height + kTile - 1) / kTile});
             },
             [this, &env, program](const Data& d, FrameGraph::Context& ctx) {
-                glBindTextureUnit(0, ctx.texture(d.in).id());
-                glBindSampler(0, 0);
+                glBindTextureUnit(DOF_IN_UNIT, ctx.texture(d.in).id());
+                glBindSampler(DOF_IN_UNIT, 0);
                 const TextureDesc& desc = ctx.desc(d.out);
                 fullscreen(env, ctx, env.fbos.get({&ctx.texture(d.out)}, nullptr), desc.width, desc.height, program);
-                glBindTextureUnit(0, 0);
+                glBindTextureUnit(DOF_IN_UNIT, 0);
             });
         tiles_ = data.out;
     }
@@ -109,13 +110,13 @@ private:
                 d.out = b.write(targets.hdr);
             },
             [this, &env, program](const Data& d, FrameGraph::Context& ctx) {
-                glBindTextureUnit(0, ctx.texture(d.in).id());
-                glBindSampler(0, 0);
-                glBindTextureUnit(1, ctx.texture(d.in2).id());
-                glBindSampler(1, 0);
+                glBindTextureUnit(DOF_IN_UNIT, ctx.texture(d.in).id());
+                glBindSampler(DOF_IN_UNIT, 0);
+                glBindTextureUnit(DOF_IN2_UNIT, ctx.texture(d.in2).id());
+                glBindSampler(DOF_IN2_UNIT, 0);
                 fullscreen(env, ctx, env.fbos.get({&ctx.texture(d.out)}, nullptr), env.width, env.height, program);
-                glBindTextureUnit(0, 0);
-                glBindTextureUnit(1, 0);
+                glBindTextureUnit(DOF_IN_UNIT, 0);
+                glBindTextureUnit(DOF_IN2_UNIT, 0);
             });
     }
 

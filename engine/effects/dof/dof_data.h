@@ -1,7 +1,9 @@
 // Depth of field's uniform block, shared by engine/effects/dof/dof.cpp and the GLSL
-// (effects/gpu_block.h).
-#include "effects/gpu_block.h"
+// (gpu/gpu_block.h).
+#include "gpu/gpu_block.h"
 #define DOF_BINDING 9
+#define DOF_IN_UNIT 0    // a pass's first input (coc: the HDR image; tiles: its input; gather: colour and CoC)
+#define DOF_IN2_UNIT 1   // a pass's second input (coc: the depth; gather: the near-field tiles)
 
 GPU_NAMESPACE_BEGIN
 GPU_BLOCK(DofData, DOF_BINDING) {

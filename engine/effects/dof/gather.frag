@@ -19,8 +19,8 @@
 //   what the lens sees past the near object's edge).
 #include "effects/dof/dof_data.h"
 
-layout(binding = 0) uniform sampler2D t_color;  // rgb radiance, a signed CoC radius (pixels)
-layout(binding = 1) uniform sampler2D t_near;   // r: near-field reach of the pixel's tile (pixels)
+layout(binding = DOF_IN_UNIT) uniform sampler2D t_color;  // rgb radiance, a signed CoC radius (pixels)
+layout(binding = DOF_IN2_UNIT) uniform sampler2D t_near;   // r: near-field reach of the pixel's tile (pixels)
 
 layout(location = 0) out vec4 out_radiance;
 

@@ -5,7 +5,7 @@
 // radius covers every near-field blur circle that can reach it, and no more.
 #include "effects/dof/dof_data.h"
 
-layout(binding = 0) uniform sampler2D t_in;  // TILES: colour + signed CoC; DILATE: the tiles
+layout(binding = DOF_IN_UNIT) uniform sampler2D t_in;  // TILES: colour + signed CoC; DILATE: the tiles
 
 layout(location = 0) out vec4 out_near;
 

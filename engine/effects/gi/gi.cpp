@@ -18,6 +18,7 @@
 #include "effects/gi/estimate.hpp"
 #include "effects/gi/gi_data.h"
 #include "effects/gi/gi_sweep.hpp"
+#include "gpu/bindings.h"
 #include "render/features.hpp"
 #include "render/passes/pass_env.hpp"
 #include "rt/ray_tracer.hpp"
@@ -183,11 +184,20 @@ private:
 
     gpu::GiData shading_block() const {
         gpu::GiData d{};
-        d.origin = glm::vec4(origin_, on_ && iteration_ > 0 ? 1.0f : 0.0f);
-        d.spacing = glm::vec4(spacing_, shading_bias_);
-        d.counts = glm::ivec4(counts_, kIrradianceTexels);
-        d.params = glm::ivec4(kDepthTexels, rays_, iteration_, 0);
-        d.fparams = glm::vec4(1.0f, max_distance_, 0.0f, 50.0f);
+        d.origin = origin_;
+        d.on = on_ && iteration_ > 0 ? 1.0f : 0.0f;
+        d.spacing = spacing_;
+        d.shading_bias = shading_bias_;
+        d.probe_counts = counts_;
+        d.irradiance_texels = kIrradianceTexels;
+        d.depth_texels = kDepthTexels;
+        d.rays_per_probe = rays_;
+        d.iteration = iteration_;
+        d.first_probe = 0;
+        d.weight = 1.0f;
+        d.miss_distance = max_distance_;
+        d.seed = 0.0f;
+        d.depth_sharpness = 50.0f;
         d.rotation = glm::mat4(1.0f);
         return d;
     }
@@ -197,7 +207,7 @@ private:
     void upload(const gpu::GiData& d) {
         block_.update(0, sizeof d, &d);
         defines_.clear();
-        if (d.origin.w < 0.5f) defines_.push_back("FORWARD_NO_GI");  // no probe data to read yet
+        if (d.on < 0.5f) defines_.push_back("FORWARD_NO_GI");  // no probe data to read yet
     }
 
     // The weight of iteration k's estimate: the first `bounces_` replace (each adds a bounce),
@@ -218,30 +228,31 @@ private:
                                             : std::max<long long>(1, budget / rays_);
         const GLuint trace = env.programs.get("gi_trace").id();
         const GLuint update = env.programs.get("gi_update").id();
-        frame_block_.image = glm::ivec4(0);
+        frame_block_.width = frame_block_.height = frame_block_.sample_index = frame_block_.seed = 0;
         if (!frame_ubo_) frame_ubo_ = gl::Buffer(sizeof(rt::FrameGpu), nullptr, GL_DYNAMIC_STORAGE_BIT);
         frame_ubo_.update(0, sizeof(rt::FrameGpu), &frame_block_);
         rt::bind_scene(*rt_scene_, env.scene);
-        glBindBufferBase(GL_UNIFORM_BUFFER, 8, frame_ubo_.id());
+        glBindBufferBase(GL_UNIFORM_BUFFER, RT_FRAME_BINDING, frame_ubo_.id());
         glBindBufferBase(GL_UNIFORM_BUFFER, GI_BINDING, block_.id());
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 10, diagnostics_.id());
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RT_DIAGNOSTICS_BINDING, diagnostics_.id());
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, GI_RAYS_BINDING, rays_buffer_.id());
         glBindTextureUnit(GI_IRRADIANCE_UNIT, irradiance_.id());
         glBindSampler(GI_IRRADIANCE_UNIT, sampler_.id());
         glBindTextureUnit(GI_DEPTH_UNIT, depth_.id());
         glBindSampler(GI_DEPTH_UNIT, sampler_.id());
         glBindTextureUnit(GI_RAYS_UNIT, rays_view_.id());
-        glBindImageTexture(0, irradiance_.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
-        glBindImageTexture(1, depth_.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RG32F);
+        glBindImageTexture(GI_IRRADIANCE_IMAGE, irradiance_.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
+        glBindImageTexture(GI_DEPTH_IMAGE, depth_.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RG32F);
         // Batches of at most 64 probes: short dispatches (no GPU watchdog trips on big grids).
         const int batch_max = 64;
         while (probes_left > 0 && iteration_ < iterations_) {
             const int batch = static_cast<int>(std::min<long long>({probes_left, batch_max, total - cursor_}));
             gpu::GiData d = shading_block();
             // The trace reads the previous iteration (a bounce more), except with exactly one bounce.
-            d.origin.w = iteration_ > 0 && bounces_ > 1 ? 1.0f : 0.0f;
-            d.params = glm::ivec4(kDepthTexels, rays_, iteration_, cursor_);
-            d.fparams = glm::vec4(weight(iteration_), max_distance_, glm::uintBitsToFloat(0x2545F491u), 50.0f);
+            d.on = iteration_ > 0 && bounces_ > 1 ? 1.0f : 0.0f;
+            d.first_probe = cursor_;
+            d.weight = weight(iteration_);
+            d.seed = glm::uintBitsToFloat(0x2545F491u);
             d.rotation = random_rotation(static_cast<std::uint32_t>(iteration_), 1u);
             upload(d);
             ctx.state.use_program(trace);
@@ -260,8 +271,8 @@ private:
                 ++iteration_;
             }
         }
-        glBindImageTexture(0, 0, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
-        glBindImageTexture(1, 0, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+        glBindImageTexture(GI_IRRADIANCE_IMAGE, 0, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+        glBindImageTexture(GI_DEPTH_IMAGE, 0, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
         unsigned diag = 0;
         glGetNamedBufferSubData(diagnostics_.id(), 0, sizeof diag, &diag);
         nonfinite_ = diag;

@@ -24,25 +24,25 @@ vec3 gi_oct_decode(vec2 e) {
 }
 
 ivec3 gi_probe_coord(int index) {
-    return ivec3(index % gi.counts.x, (index / gi.counts.x) % gi.counts.y, index / (gi.counts.x * gi.counts.y));
+    return ivec3(index % gi.probe_counts.x, (index / gi.probe_counts.x) % gi.probe_counts.y, index / (gi.probe_counts.x * gi.probe_counts.y));
 }
 
-vec3 gi_probe_position(ivec3 c) { return gi.origin.xyz + vec3(c) * gi.spacing.xyz; }
+vec3 gi_probe_position(ivec3 c) { return gi.origin + vec3(c) * gi.spacing; }
 
 // A probe's tile in an atlas: tiles side by side, x = i + k * nx, y = j; each tile has a one-texel
 // border that repeats the octahedral map across its edges, so bilinear filtering stays on the sphere.
 vec2 gi_atlas_uv(ivec3 c, vec3 dir, int interior, vec2 atlas_size) {
-    vec2 tile = vec2(float(c.x + c.z * gi.counts.x), float(c.y)) * float(interior + 2) + 1.0;
+    vec2 tile = vec2(float(c.x + c.z * gi.probe_counts.x), float(c.y)) * float(interior + 2) + 1.0;
     return (tile + (gi_oct_encode(dir) * 0.5 + 0.5) * float(interior)) / atlas_size;
 }
 
 // Irradiance E at p for the normal n (v: unit vector from p towards the viewer, which the
 // sampling point is moved towards, with the normal, to stay off the surface the probes saw).
 vec3 gi_irradiance(vec3 p, vec3 n, vec3 v) {
-    if (gi.origin.w < 0.5) return vec3(0.0);
-    vec3 biased = p + (0.2 * n + 0.8 * v) * gi.spacing.w;
-    ivec3 last = max(gi.counts.xyz - 1, ivec3(0));
-    vec3 g = (biased - gi.origin.xyz) / gi.spacing.xyz;
+    if (gi.on < 0.5) return vec3(0.0);
+    vec3 biased = p + (0.2 * n + 0.8 * v) * gi.shading_bias;
+    ivec3 last = max(gi.probe_counts - 1, ivec3(0));
+    vec3 g = (biased - gi.origin) / gi.spacing;
     ivec3 base = clamp(ivec3(floor(g)), ivec3(0), max(last - 1, ivec3(0)));
     vec3 alpha = clamp(g - vec3(base), vec3(0.0), vec3(1.0));
     vec2 irr_size = vec2(textureSize(t_gi_irradiance, 0));
@@ -66,7 +66,7 @@ vec3 gi_irradiance(vec3 p, vec3 n, vec3 v) {
         vec3 from_probe = biased - probe;
         float d = length(from_probe);
         if (d > 0.0) {
-            vec2 m = textureLod(t_gi_depth, gi_atlas_uv(c, from_probe / d, gi.params.x, depth_size), 0.0).rg;
+            vec2 m = textureLod(t_gi_depth, gi_atlas_uv(c, from_probe / d, gi.depth_texels, depth_size), 0.0).rg;
             if (d > m.x) {
                 float variance = abs(m.y - m.x * m.x);
                 float excess = d - m.x;
@@ -78,7 +78,7 @@ vec3 gi_irradiance(vec3 p, vec3 n, vec3 v) {
         // Crush tiny weights (DDGI): a probe that barely sees the point should not tint it.
         const float crush = 0.2;
         if (w < crush) w *= w * w / (crush * crush);
-        vec4 e = textureLod(t_gi_irradiance, gi_atlas_uv(c, n, gi.counts.w, irr_size), 0.0);
+        vec4 e = textureLod(t_gi_irradiance, gi_atlas_uv(c, n, gi.irradiance_texels, irr_size), 0.0);
         w *= trilinear * e.a;  // a: the probe is active (it is not inside geometry)
         sum += e.rgb * w;
         wsum += w;

@@ -1,6 +1,6 @@
 #version 450 core
 // GI probes, step 1 of an update (engine/effects/gi/gi.cpp): every probe of the batch traces
-// gi.params.y rays with the tracer's BVH, in spherical Fibonacci directions under this
+// gi.rays_per_probe rays with the tracer's BVH, in spherical Fibonacci directions under this
 // iteration's random rotation. A ray records the light leaving what it hits towards the probe
 // and its distance: the direct light the hit reflects back along the ray with its full BRDF (the
 // tracer's next-event estimation, as in path mode: shadow rays, its own light sampling), so that
@@ -28,16 +28,16 @@ vec3 gi_ray_direction(int i, int n) {
 }
 
 void main() {
-    int rays = gi.params.y;
-    int probe = gi.params.w + int(gl_WorkGroupID.y);
-    int total = gi.counts.x * gi.counts.y * gi.counts.z;
+    int rays = gi.rays_per_probe;
+    int probe = gi.first_probe + int(gl_WorkGroupID.y);
+    int total = gi.probe_counts.x * gi.probe_counts.y * gi.probe_counts.z;
     int ray_index = int(gl_WorkGroupID.x) * 64 + int(gl_LocalInvocationIndex);
     if (probe >= total || ray_index >= rays) return;
     vec3 dir = gi_ray_direction(ray_index, rays);
     Ray ray = make_ray(gi_probe_position(gi_probe_coord(probe)), dir);
-    Rng rng = rng_init(floatBitsToUint(gi.fparams.z), uint(probe * rays + ray_index), uint(gi.params.z));
+    Rng rng = rng_init(floatBitsToUint(gi.seed), uint(probe * rays + ray_index), uint(gi.iteration));
     Hit hit = trace_closest(ray, 3.0e38);
-    vec4 result = vec4(0.0, 0.0, 0.0, gi.fparams.y);
+    vec4 result = vec4(0.0, 0.0, 0.0, gi.miss_distance);
     if (hit.prim >= 0) {
         SurfaceHit y = surface_at(ray, hit);
         if (!y.front && !material_double_sided(y.material)) {
@@ -51,19 +51,19 @@ void main() {
             BrdfInput m = brdf_input(y);
             vec3 L = direct_punctual(y, m, -dir);
 #ifdef HAS_EMITTERS
-            if (rt.counts.z > 0) L += direct_emitters(y, m, -dir, rng, false);
+            if (rt.emitter_count > 0) L += direct_emitters(y, m, -dir, rng, false);
 #endif
             // The bounces before: the previous iteration's probes give irradiance, so this part
             // stays diffuse (the diffuse albedo times E / pi); light a metal reflects from the
             // lit room, rather than from the lights, is not in it.
-            if (gi.origin.w > 0.5)
+            if (gi.on > 0.5)
                 L += m.base_color * (1.0 - m.metallic) * INV_PI * gi_irradiance(y.p, y.ns, -dir);
-            result = vec4(L, min(hit.t, gi.fparams.y));
+            result = vec4(L, min(hit.t, gi.miss_distance));
         }
     }
     if (any(isnan(result)) || any(isinf(result.rgb))) {
         atomicAdd(nonfinite_samples, 1u);
-        result = vec4(0.0, 0.0, 0.0, gi.fparams.y);
+        result = vec4(0.0, 0.0, 0.0, gi.miss_distance);
     }
     gi_rays[2 * (probe * rays + ray_index)] = result;
     gi_rays[2 * (probe * rays + ray_index) + 1] = vec4(dir, 0.0);

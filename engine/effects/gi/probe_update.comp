@@ -3,7 +3,7 @@
 // 64 texels of the probe's two tiles). Each invocation sums the probe's rays for its texel: irradiance E(n) = pi * sum(L cos+) / sum(cos+)
 // over the ray directions (uniform on the sphere), and the first two moments of the hit distance
 // weighted by cos^50 (Majercik et al. 2019). The new estimate is blended with the stored one by
-// gi.fparams.x (1: replace). Border texels repeat the octahedral map across the tile's edges.
+// gi.weight (1: replace). Border texels repeat the octahedral map across the tile's edges.
 // Irradiance alpha: 1 for an active probe, 0 for one that sees back faces in more than a quarter
 // of its rays (it is inside geometry).
 #include "common/math.glsl"
@@ -12,8 +12,8 @@ layout(local_size_x = 64) in;
 // The rays probe_trace.comp wrote (GiRays), as a buffer texture: texel fetches are what llvmpipe
 // reads fastest.
 layout(binding = GI_RAYS_UNIT) uniform samplerBuffer t_gi_rays;
-layout(binding = 0, rgba32f) uniform image2D i_irradiance;
-layout(binding = 1, rg32f) uniform image2D i_depth;
+layout(binding = GI_IRRADIANCE_IMAGE, rgba32f) uniform image2D i_irradiance;
+layout(binding = GI_DEPTH_IMAGE, rg32f) uniform image2D i_depth;
 
 
 // The interior texel a tile texel shows: itself, or for a border texel the one it repeats (the
@@ -27,12 +27,12 @@ ivec2 interior_texel(ivec2 t, int n) {
 }
 
 void main() {
-    int total = gi.counts.x * gi.counts.y * gi.counts.z;
-    int probe = gi.params.w + int(gl_WorkGroupID.x);
+    int total = gi.probe_counts.x * gi.probe_counts.y * gi.probe_counts.z;
+    int probe = gi.first_probe + int(gl_WorkGroupID.x);
     if (probe >= total) return;  // the whole group
     ivec3 c = gi_probe_coord(probe);
-    ivec2 tile_index = ivec2(c.x + c.z * gi.counts.x, c.y);
-    int ni = gi.counts.w, nd = gi.params.x;
+    ivec2 tile_index = ivec2(c.x + c.z * gi.probe_counts.x, c.y);
+    int ni = gi.irradiance_texels, nd = gi.depth_texels;
     int irr_side = ni + 2, depth_side = nd + 2;
     int irr_texels = irr_side * irr_side;
     int count = irr_texels + depth_side * depth_side;
@@ -44,7 +44,7 @@ void main() {
     ivec2 t = interior_texel(ivec2(local % side, local / side), irr ? ni : nd);
     vec3 dir = gi_oct_decode((vec2(t) - 0.5) / float(irr ? ni : nd) * 2.0 - 1.0);
     vec4 acc = vec4(0.0);
-    int rays = gi.params.y;
+    int rays = gi.rays_per_probe;
     int first = probe * rays;
     int back = 0;
     if (idx >= count) return;
@@ -65,7 +65,7 @@ void main() {
             acc += vec4(w * dist, w * dist * dist, w, 0.0);
         }
     }
-    float alpha = gi.fparams.x;
+    float alpha = gi.weight;
     if (irr) {
         ivec2 texel = tile_index * irr_side + ivec2(local % irr_side, local / irr_side);
         vec3 E = acc.w > 0.0 ? PI * acc.rgb / acc.w : vec3(0.0);
@@ -73,7 +73,7 @@ void main() {
         imageStore(i_irradiance, texel, vec4(mix(old.rgb, E, alpha), float(back * 4 <= rays)));
     } else {
         ivec2 texel = tile_index * depth_side + ivec2(local % depth_side, local / depth_side);
-        vec2 m = acc.z > 0.0 ? acc.xy / acc.z : vec2(gi.fparams.y, gi.fparams.y * gi.fparams.y);
+        vec2 m = acc.z > 0.0 ? acc.xy / acc.z : vec2(gi.miss_distance, gi.miss_distance * gi.miss_distance);
         vec4 old = imageLoad(i_depth, texel);
         imageStore(i_depth, texel, vec4(mix(old.rg, m, alpha), 0.0, 0.0));
     }

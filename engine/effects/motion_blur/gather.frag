@@ -14,10 +14,10 @@
 #include "common/scene_data.glsl"
 #include "effects/motion_blur/motion_blur_data.h"
 
-layout(binding = 0) uniform sampler2D t_color;     // the sharp radiance (rgb)
-layout(binding = 1) uniform sampler2D t_velocity;  // rg: half vector V in pixels
-layout(binding = 2) uniform sampler2D t_depth;     // the velocity pass's depth (reversed-Z)
-layout(binding = 3) uniform sampler2D t_neighbor;  // rg: NeighborMax per tile
+layout(binding = MOTION_BLUR_COLOR_UNIT) uniform sampler2D t_color;     // the sharp radiance (rgb)
+layout(binding = MOTION_BLUR_VELOCITY_UNIT) uniform sampler2D t_velocity;  // rg: half vector V in pixels
+layout(binding = MOTION_BLUR_DEPTH_UNIT) uniform sampler2D t_depth;     // the velocity pass's depth (reversed-Z)
+layout(binding = MOTION_BLUR_NEIGHBOR_UNIT) uniform sampler2D t_neighbor;  // rg: NeighborMax per tile
 
 layout(location = 0) out vec4 out_radiance;
 

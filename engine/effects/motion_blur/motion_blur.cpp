@@ -7,6 +7,7 @@
 
 #include "effects/motion_blur/motion_blur_data.h"
 #include "effects/motion_blur/motion_blur_sweep.hpp"
+#include "gpu/bindings.h"
 #include "render/features.hpp"
 #include "render/passes/pass_env.hpp"
 
@@ -50,7 +51,7 @@ private:
     };
 
     void bind_blocks(const PassEnv& env) const {
-        glBindBufferBase(GL_UNIFORM_BUFFER, 0, env.frame_ubo.id());
+        glBindBufferBase(GL_UNIFORM_BUFFER, FRAME_BINDING, env.frame_ubo.id());
         glBindBufferBase(GL_UNIFORM_BUFFER, MOTION_BLUR_BINDING, block_.id());
     }
 
@@ -117,11 +118,11 @@ private:
                                  {GL_RG16F, (env.width + k - 1) / k, (env.height + k - 1) / k});
             },
             [this, &env, program](const Data& d, FrameGraph::Context& ctx) {
-                glBindTextureUnit(0, ctx.texture(d.in).id());
-                glBindSampler(0, 0);
+                glBindTextureUnit(MOTION_BLUR_IN_UNIT, ctx.texture(d.in).id());
+                glBindSampler(MOTION_BLUR_IN_UNIT, 0);
                 const TextureDesc& desc = ctx.desc(d.out);
                 fullscreen(env, ctx, env.fbos.get({&ctx.texture(d.out)}, nullptr), desc.width, desc.height, program);
-                glBindTextureUnit(0, 0);  // the pool may attach it next frame
+                glBindTextureUnit(MOTION_BLUR_IN_UNIT, 0);  // the pool may attach it next frame
             });
         tiles_ = data.out;
     }
@@ -140,11 +141,11 @@ private:
             [this, &env, program](const Gather& d, FrameGraph::Context& ctx) {
                 const FrameGraph::ResourceId in[4] = {d.color, d.velocity, d.depth, d.neighbor};
                 for (GLuint u = 0; u < 4; ++u) {
-                    glBindTextureUnit(u, ctx.texture(in[u]).id());
-                    glBindSampler(u, 0);
+                    glBindTextureUnit(MOTION_BLUR_COLOR_UNIT + u, ctx.texture(in[u]).id());
+                    glBindSampler(MOTION_BLUR_COLOR_UNIT + u, 0);
                 }
                 fullscreen(env, ctx, env.fbos.get({&ctx.texture(d.out)}, nullptr), env.width, env.height, program);
-                for (GLuint u = 0; u < 4; ++u) glBindTextureUnit(u, 0);
+                for (GLuint u = 0; u < 4; ++u) glBindTextureUnit(MOTION_BLUR_COLOR_UNIT + u, 0);
             });
     }
 

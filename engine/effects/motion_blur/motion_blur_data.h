@@ -1,7 +1,13 @@
 // Motion blur's uniform block, shared by engine/effects/motion_blur/motion_blur.cpp and the GLSL
-// (effects/gpu_block.h).
-#include "effects/gpu_block.h"
+// (gpu/gpu_block.h).
+#include "gpu/gpu_block.h"
 #define MOTION_BLUR_BINDING 10
+#define MOTION_BLUR_IN_UNIT 0        // tilemax.frag's input
+// gather.frag's inputs, in this order from MOTION_BLUR_COLOR_UNIT.
+#define MOTION_BLUR_COLOR_UNIT 0
+#define MOTION_BLUR_VELOCITY_UNIT 1
+#define MOTION_BLUR_DEPTH_UNIT 2
+#define MOTION_BLUR_NEIGHBOR_UNIT 3
 
 GPU_NAMESPACE_BEGIN
 GPU_BLOCK(MotionBlurData, MOTION_BLUR_BINDING) {

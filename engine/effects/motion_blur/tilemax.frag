@@ -5,7 +5,7 @@
 // the next tile that blurs over it (a blur never extends past one tile, as max_radius = tile).
 #include "effects/motion_blur/motion_blur_data.h"
 
-layout(binding = 0) uniform sampler2D t_in;  // rg: half vectors (velocity, or the tiles')
+layout(binding = MOTION_BLUR_IN_UNIT) uniform sampler2D t_in;  // rg: half vectors (velocity, or the tiles')
 
 layout(location = 0) out vec2 out_max;
 

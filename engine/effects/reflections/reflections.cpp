@@ -9,6 +9,7 @@
 #include "core/log.hpp"
 #include "effects/reflections/reflections_data.h"
 #include "effects/reflections/reflections_sweep.hpp"
+#include "gpu/bindings.h"
 #include "render/environment.hpp"
 #include "render/features.hpp"
 #include "render/passes/pass_env.hpp"
@@ -113,8 +114,9 @@ void ReflectionsRuntime::prepare_faces(const FramePrep& prep) {
                 f.camera_pos = glm::vec4(p, 1.0f);
                 f.viewport = glm::vec4(static_cast<float>(size), static_cast<float>(size), 1.0f / static_cast<float>(size),
                                        1.0f / static_cast<float>(size));
-                f.view_flags = glm::ivec4(0);  // no screen-space effect buffers in a probe's faces
-                f.debug = glm::ivec4(0);
+                f.camera_view = 0;  // no screen-space effect buffers in a probe's faces
+                f.debug_view = 0;
+                f.debug_light = 0;
                 std::memcpy(bytes.data() + pr.frame_stride * (6 * k + face), &f, sizeof(FrameData));
             }
         }
@@ -143,9 +145,9 @@ void ReflectionsRuntime::read_shading_inputs(FrameGraph::Builder& b) const {
 void ReflectionsRuntime::bind_shading_inputs(const PassEnv&, FrameGraph::Context*) const {
     glBindBufferBase(GL_UNIFORM_BUFFER, REFLECTIONS_BINDING, block_.id());
     if (on_) {
-        glBindTextureUnit(14, res_.filtered.id());
-        glBindSampler(14, 0);
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, res_.data.id());
+        glBindTextureUnit(REFLECTIONS_PROBES_UNIT, res_.filtered.id());
+        glBindSampler(REFLECTIONS_PROBES_UNIT, 0);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, REFLECTIONS_PROBES_BINDING, res_.data.id());
     }
 }
 
@@ -177,7 +179,7 @@ void ReflectionsRuntime::add_capture(FrameGraph& graph, const PassEnv& env) {
                     for (int i : placement.excluded_draws) skip[static_cast<size_t>(i)] = true;
                     for (int face = 0; face < 6; ++face) {
                         const int layer = 6 * k + face;
-                        glBindBufferRange(GL_UNIFORM_BUFFER, 0, pr.frames.id(), pr.frame_stride * layer, sizeof(FrameData));
+                        glBindBufferRange(GL_UNIFORM_BUFFER, FRAME_BINDING, pr.frames.id(), pr.frame_stride * layer, sizeof(FrameData));
                         gl::PipelineState ps;
                         ps.depth_test = true;
                         ps.depth_func = GL_GREATER;
@@ -210,7 +212,7 @@ void ReflectionsRuntime::add_capture(FrameGraph& graph, const PassEnv& env) {
                         }
                     }
                 }
-                glBindBufferBase(GL_UNIFORM_BUFFER, 0, env.frame_ubo.id());
+                glBindBufferBase(GL_UNIFORM_BUFFER, FRAME_BINDING, env.frame_ubo.id());
                 glTextureBarrier();
                 env.ibl.float_mipmaps().generate(pr.capture, GL_TEXTURE_CUBE_MAP_ARRAY, pr.size, pr.size, 6 * pr.cubes, 0);
                 env.ibl.prefilter(pr.capture, pr.filtered, pr.size, pr.levels, pr.cubes, options_.probe_samples);

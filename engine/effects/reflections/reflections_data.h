@@ -1,7 +1,9 @@
 // The reflections effect's uniform block, shared by reflections.cpp and the GLSL
-// (effects/gpu_block.h).
-#include "effects/gpu_block.h"
+// (gpu/gpu_block.h).
+#include "gpu/gpu_block.h"
 #define REFLECTIONS_BINDING 4
+#define REFLECTIONS_PROBES_UNIT 14    // the probes' filtered cube array
+#define REFLECTIONS_PROBES_BINDING 5  // SSBO: ProbeData per probe
 
 GPU_NAMESPACE_BEGIN
 GPU_BLOCK(ReflectionsData, REFLECTIONS_BINDING) {

@@ -2,14 +2,14 @@
 // the probes captured by the env_probe pass and prefiltered like the static environment.
 #include "effects/reflections/reflections_data.h"
 
-layout(binding = 14) uniform samplerCubeArray t_probes;   // bound when reflections.probes > 0
+layout(binding = REFLECTIONS_PROBES_UNIT) uniform samplerCubeArray t_probes;   // bound when reflections.probes > 0
 struct ProbeData {
     vec4 position_radius;  // capture point; influence radius when there is no box
     vec4 box_min;          // w = 1: box-projected lookups inside [box_min, box_max]
     vec4 box_max;          // w >= 0: lights only reflective surfaces (metallic with roughness
                            // below w, or transmissive); w < 0: every surface in range
 };
-layout(std430, binding = 5) readonly buffer Probes { ProbeData probes[]; };
+layout(std430, binding = REFLECTIONS_PROBES_BINDING) readonly buffer Probes { ProbeData probes[]; };
 
 // The probe that lights p on a surface with these properties: of those whose box (or radius)
 // contains p and that light such a surface, the nearest; -1 if none.

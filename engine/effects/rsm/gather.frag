@@ -9,12 +9,13 @@
 // tests visibility between the texel and the pixel: RSM's known missing occlusion.
 #include "common/scene_data.glsl"
 #include "lighting/gbuffer.glsl"
+#include "effects/rsm/rsm_data.h"
 
-layout(binding = 0) uniform sampler2D t_depth;    // full resolution, reversed-Z
-layout(binding = 1) uniform sampler2D t_normals;  // xy: octahedral normal
-layout(binding = 2) uniform sampler2DArray t_rsm_position;
-layout(binding = 3) uniform sampler2DArray t_rsm_normal;
-layout(binding = 4) uniform sampler2DArray t_rsm_flux;
+layout(binding = RSM_DEPTH_UNIT) uniform sampler2D t_depth;    // full resolution, reversed-Z
+layout(binding = RSM_NORMALS_UNIT) uniform sampler2D t_normals;  // xy: octahedral normal
+layout(binding = RSM_POSITION_UNIT) uniform sampler2DArray t_rsm_position;
+layout(binding = RSM_NORMAL_UNIT) uniform sampler2DArray t_rsm_normal;
+layout(binding = RSM_FLUX_UNIT) uniform sampler2DArray t_rsm_flux;
 
 struct RsmView {
     mat4 view_proj;
@@ -22,7 +23,7 @@ struct RsmView {
                   // w cube faces: the face's tangent half-width (> 1: a guard band beyond the 90
                   // degrees); 0: one view (directional, spot)
 };
-layout(std430, binding = 4) readonly buffer RsmViews { RsmView rsm_views[]; };  // per layer
+layout(std430, binding = RSM_VIEWS_BINDING) readonly buffer RsmViews { RsmView rsm_views[]; };  // per layer
 layout(location = 0) uniform int u_lights;       // RSM lights: rsm_views[first layer of each]
 layout(location = 1) uniform ivec4 u_rsm;        // x resolution, y samples, z downscale
 layout(location = 2) uniform float u_radius;     // sampling radius, fraction of the map width

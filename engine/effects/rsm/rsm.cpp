@@ -60,8 +60,8 @@ public:
     void bind_shading_inputs(const PassEnv& env, FrameGraph::Context* ctx) const override {
         glBindBufferBase(GL_UNIFORM_BUFFER, RSM_BINDING, block_.id());
         if (ctx && indirect_ >= 0) {
-            glBindTextureUnit(10, ctx->texture(indirect_).id());
-            glBindSampler(10, env.linear_clamp.id());
+            glBindTextureUnit(RSM_INDIRECT_UNIT, ctx->texture(indirect_).id());
+            glBindSampler(RSM_INDIRECT_UNIT, env.linear_clamp.id());
         }
     }
 
@@ -258,16 +258,16 @@ private:
             [this, &env](const Data& d, FrameGraph::Context& ctx) {
                 const Resources& r = res_;
                 bind_scene_buffers(env);
-                glBindTextureUnit(0, ctx.texture(d.depth).id());
-                glBindSampler(0, 0);
-                glBindTextureUnit(1, ctx.texture(d.normals).id());
-                glBindSampler(1, 0);
+                glBindTextureUnit(RSM_DEPTH_UNIT, ctx.texture(d.depth).id());
+                glBindSampler(RSM_DEPTH_UNIT, 0);
+                glBindTextureUnit(RSM_NORMALS_UNIT, ctx.texture(d.normals).id());
+                glBindSampler(RSM_NORMALS_UNIT, 0);
                 const gl::Texture* maps[3] = {&r.position, &r.normal, &r.flux};
                 for (int i = 0; i < 3; ++i) {
-                    glBindTextureUnit(static_cast<GLuint>(2 + i), maps[i]->id());
-                    glBindSampler(static_cast<GLuint>(2 + i), nearest_.id());  // nearest: never blend two surfaces
+                    glBindTextureUnit(static_cast<GLuint>(RSM_POSITION_UNIT + i), maps[i]->id());
+                    glBindSampler(static_cast<GLuint>(RSM_POSITION_UNIT + i), nearest_.id());  // nearest: never blend two surfaces
                 }
-                glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, r.views_buffer.id());
+                glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RSM_VIEWS_BINDING, r.views_buffer.id());
                 const GLuint program = env.programs.get("rsm_gather").id();
                 const int f = downscale(options_.gather);
                 glProgramUniform1i(program, 0, static_cast<int>(r.light_first.size()));

@@ -22,12 +22,12 @@ layout(location = 2) out vec4 out_flux;      // rgb reflected flux (W), a sqrt o
 
 void main() {
     Surface s = fragment_surface();
-    PunctualLight light = lights[u_light];
+    LightData light = lights[u_light];
     vec3 l, E;
     float dist;
     light_incidence(light, v_world_pos, l, E, dist);
     vec3 n = normalize(v_normal);
-    if (dot(n, l) < 0.0 && materials[u_material].params.w > 0.5) n = -n;  // double-sided: the lit side
+    if (dot(n, l) < 0.0 && materials[u_material].double_sided > 0.5) n = -n;  // double-sided: the lit side
     float area;
     if (u_view.x < 0.5) {
         area = u_view.y * u_view.y;

@@ -2,13 +2,13 @@
 // one-bounce irradiance.
 #include "effects/rsm/rsm_data.h"
 
-layout(binding = 10) uniform sampler2D t_rsm_indirect;  // bound when rsm.on = 1 (camera views only)
+layout(binding = RSM_INDIRECT_UNIT) uniform sampler2D t_rsm_indirect;  // bound when rsm.on = 1 (camera views only)
 // One-bounce diffuse light from the reflective shadow maps, reflected by the Lambert part. A
 // gather at lower resolution is upsampled geometry-aware: the four nearest gather samples
 // weighted bilinearly and by how close their view depth (alpha) is to this pixel's, so light
 // does not leak across silhouettes (joint bilateral upsampling, Kopf et al. 2007).
 vec3 rsm_indirect(BrdfInput bi, vec2 pixel, vec3 p) {
-    if (rsm.on == 0 || frame.view_flags.x == 0) return vec3(0.0);
+    if (rsm.on == 0 || frame.camera_view == 0) return vec3(0.0);
     int f = max(rsm.downscale, 1);
     vec3 E;
     if (f == 1) {

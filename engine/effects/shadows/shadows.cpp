@@ -111,11 +111,11 @@ void ShadowsRuntime::read_shading_inputs(FrameGraph::Builder& b) const {
 void ShadowsRuntime::bind_shading_inputs(const PassEnv&, FrameGraph::Context*) const {
     glBindBufferBase(GL_UNIFORM_BUFFER, SHADOWS_BINDING, block_.id());
     if (!on_) return;
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, views_.id());
-    glBindTextureUnit(7, array_.id());
-    glBindSampler(7, compare_.id());
-    glBindTextureUnit(8, array_.id());
-    glBindSampler(8, raw_.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SHADOW_VIEWS_BINDING, views_.id());
+    glBindTextureUnit(SHADOW_UNIT, array_.id());
+    glBindSampler(SHADOW_UNIT, compare_.id());
+    glBindTextureUnit(SHADOW_DEPTH_UNIT, array_.id());
+    glBindSampler(SHADOW_DEPTH_UNIT, raw_.id());
 }
 
 void ShadowsRuntime::add_pass(const std::string&, FrameGraph& graph, const PassEnv& env, FrameTargets&) {

@@ -1,6 +1,9 @@
-// The shadows effect's uniform block, shared by shadows.cpp and the GLSL (effects/gpu_block.h).
-#include "effects/gpu_block.h"
+// The shadows effect's uniform block, shared by shadows.cpp and the GLSL (gpu/gpu_block.h).
+#include "gpu/gpu_block.h"
 #define SHADOWS_BINDING 1
+#define SHADOW_VIEWS_BINDING 3  // SSBO: ShadowView per shadow view (layer)
+#define SHADOW_UNIT 7           // the depth array with a GEQUAL compare sampler (PCF)
+#define SHADOW_DEPTH_UNIT 8     // the same array with a raw sampler (blocker search)
 
 GPU_NAMESPACE_BEGIN
 GPU_BLOCK(ShadowsData, SHADOWS_BINDING) {

@@ -17,18 +17,18 @@ struct ShadowView {
                    // angular diameter in radians), zw unused
 };
 
-layout(std430, binding = 3) readonly buffer ShadowViews { ShadowView shadow_views[]; };
-layout(binding = 7) uniform sampler2DArrayShadow t_shadow;  // GEQUAL compare, linear: 2x2 PCF
-layout(binding = 8) uniform sampler2DArray t_shadow_depth;  // raw depths for the blocker search
+layout(std430, binding = SHADOW_VIEWS_BINDING) readonly buffer ShadowViews { ShadowView shadow_views[]; };
+layout(binding = SHADOW_UNIT) uniform sampler2DArrayShadow t_shadow;  // GEQUAL compare, linear: 2x2 PCF
+layout(binding = SHADOW_DEPTH_UNIT) uniform sampler2DArray t_shadow_depth;  // raw depths for the blocker search
 
 const int SHADOW_OFF = 0, SHADOW_HARD = 1, SHADOW_PCF = 2, SHADOW_PCSS = 3;
 
 // Which of a light's views covers p.
-int shadow_view_index(PunctualLight light, vec3 p) {
-    int first = int(light.cone.z);
-    int count = int(light.cone.w);
+int shadow_view_index(LightData light, vec3 p) {
+    int first = int(light.first_shadow_view);
+    int count = int(light.shadow_view_count);
     if (count == 6) {
-        vec3 d = p - light.position_type.xyz;
+        vec3 d = p - light.position;
         vec3 a = abs(d);
         if (a.x >= a.y && a.x >= a.z) return first + (d.x >= 0.0 ? 0 : 1);
         if (a.y >= a.z) return first + (d.y >= 0.0 ? 2 : 3);
@@ -59,7 +59,7 @@ float shadow_linear_depth(ShadowView sv, float d) {
 }
 
 // Fraction of the light reaching p (1 lit, 0 shadowed). n: the shading normal, l: towards the light.
-float shadow_factor(PunctualLight light, vec3 p, vec3 n, vec3 l, vec2 pixel) {
+float shadow_factor(LightData light, vec3 p, vec3 n, vec3 l, vec2 pixel) {
     // SHADOW_FILTER_MODE: the mode as a constant (the forward program's variant, pass_env.cpp),
     // so only its code is compiled; llvmpipe would run the other modes' code masked.
 #ifdef SHADOW_FILTER_MODE
@@ -67,7 +67,7 @@ float shadow_factor(PunctualLight light, vec3 p, vec3 n, vec3 l, vec2 pixel) {
 #else
     int mode = shadows.filter_mode;
 #endif
-    if (mode == SHADOW_OFF || light.cone.w < 0.5) return 1.0;
+    if (mode == SHADOW_OFF || light.shadow_view_count < 0.5) return 1.0;
     ShadowView sv = shadow_views[shadow_view_index(light, p)];
     bool ortho = sv.params.x < 0.5;
     vec4 c0 = sv.view_proj * vec4(p, 1.0);

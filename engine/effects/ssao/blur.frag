@@ -4,7 +4,7 @@
 // so occlusion does not bleed across silhouettes.
 #include "effects/ssao/ssao_data.h"
 
-layout(binding = 0) uniform sampler2D t_ao;  // r AO, g view depth
+layout(binding = SSAO_BLUR_IN_UNIT) uniform sampler2D t_ao;  // r AO, g view depth
 layout(location = 0) uniform ivec2 u_axis;
 
 layout(location = 0) out vec4 out_ao;

@@ -6,6 +6,7 @@
 #include "render/passes/pass_env.hpp"
 #include "effects/ssao/ssao_sweep.hpp"
 #include "effects/ssao/ssao_data.h"
+#include "gpu/bindings.h"
 
 namespace candela {
 namespace {
@@ -42,8 +43,8 @@ public:
     void bind_shading_inputs(const PassEnv& env, FrameGraph::Context* ctx) const override {
         glBindBufferBase(GL_UNIFORM_BUFFER, SSAO_BINDING, block_.id());
         if (ao_ >= 0 && ctx) {
-            glBindTextureUnit(9, ctx->texture(ao_).id());
-            glBindSampler(9, env.linear_clamp.id());
+            glBindTextureUnit(SSAO_UNIT, ctx->texture(ao_).id());
+            glBindSampler(SSAO_UNIT, env.linear_clamp.id());
         }
     }
 
@@ -82,14 +83,14 @@ private:
                 d.ao = b.create("ssao", {GL_RG16F, (env.width + f - 1) / f, (env.height + f - 1) / f});
             },
             [this, &env, program](const Data& d, FrameGraph::Context& ctx) {
-                glBindBufferBase(GL_UNIFORM_BUFFER, 0, env.frame_ubo.id());
+                glBindBufferBase(GL_UNIFORM_BUFFER, FRAME_BINDING, env.frame_ubo.id());
                 glBindBufferBase(GL_UNIFORM_BUFFER, SSAO_BINDING, block_.id());
-                glBindTextureUnit(0, ctx.texture(d.depth).id());
-                glBindSampler(0, 0);
-                glBindTextureUnit(1, ctx.texture(d.normals).id());
-                glBindSampler(1, 0);
-                glBindTextureUnit(2, noise_.id());
-                glBindSampler(2, 0);
+                glBindTextureUnit(SSAO_DEPTH_UNIT, ctx.texture(d.depth).id());
+                glBindSampler(SSAO_DEPTH_UNIT, 0);
+                glBindTextureUnit(SSAO_NORMALS_UNIT, ctx.texture(d.normals).id());
+                glBindSampler(SSAO_NORMALS_UNIT, 0);
+                glBindTextureUnit(SSAO_NOISE_UNIT, noise_.id());
+                glBindSampler(SSAO_NOISE_UNIT, 0);
                 const TextureDesc& desc = ctx.desc(d.ao);
                 fullscreen(env, ctx, env.fbos.get({&ctx.texture(d.ao)}, nullptr), desc.width, desc.height, program);
             });
@@ -111,8 +112,8 @@ private:
             },
             [this, &env, axis, program](const Data& d, FrameGraph::Context& ctx) {
                 glBindBufferBase(GL_UNIFORM_BUFFER, SSAO_BINDING, block_.id());
-                glBindTextureUnit(0, ctx.texture(d.in).id());
-                glBindSampler(0, 0);
+                glBindTextureUnit(SSAO_BLUR_IN_UNIT, ctx.texture(d.in).id());
+                glBindSampler(SSAO_BLUR_IN_UNIT, 0);
                 glProgramUniform2i(program, 0, axis == 0 ? 1 : 0, axis == 0 ? 0 : 1);
                 const TextureDesc& desc = ctx.desc(d.out);
                 fullscreen(env, ctx, env.fbos.get({&ctx.texture(d.out)}, nullptr), desc.width, desc.height, program);

@@ -10,9 +10,9 @@
 #include "lighting/gbuffer.glsl"
 #include "effects/ssao/ssao_data.h"
 
-layout(binding = 0) uniform sampler2D t_depth;    // full resolution, reversed-Z
-layout(binding = 1) uniform sampler2D t_normals;  // xy: octahedral normal (world)
-layout(binding = 2) uniform sampler2D t_noise;    // 4x4: rg rotation (cos, sin), b step jitter
+layout(binding = SSAO_DEPTH_UNIT) uniform sampler2D t_depth;    // full resolution, reversed-Z
+layout(binding = SSAO_NORMALS_UNIT) uniform sampler2D t_normals;  // xy: octahedral normal (world)
+layout(binding = SSAO_NOISE_UNIT) uniform sampler2D t_noise;    // 4x4: rg rotation (cos, sin), b step jitter
 
 layout(location = 0) out vec4 out_ao;
 

@@ -1,6 +1,12 @@
-// SSAO's uniform block, shared by engine/effects/ssao/ssao.cpp and the GLSL (effects/gpu_block.h).
-#include "effects/gpu_block.h"
+// SSAO's uniform block, shared by engine/effects/ssao/ssao.cpp and the GLSL (gpu/gpu_block.h).
+#include "gpu/gpu_block.h"
 #define SSAO_BINDING 2
+#define SSAO_UNIT 9           // the blurred AO, while shading (camera views)
+// ssao.frag's inputs: the camera's depth and normals, the 4x4 noise; blur.frag's: the raw AO.
+#define SSAO_DEPTH_UNIT 0
+#define SSAO_NORMALS_UNIT 1
+#define SSAO_NOISE_UNIT 2
+#define SSAO_BLUR_IN_UNIT 0
 
 GPU_NAMESPACE_BEGIN
 GPU_BLOCK(SsaoData, SSAO_BINDING) {

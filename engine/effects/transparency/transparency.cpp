@@ -4,6 +4,7 @@
 #include <array>
 
 #include "effects/transparency/transparency_sweep.hpp"
+#include "gpu/bindings.h"
 #include "render/features.hpp"
 #include "render/passes/pass_env.hpp"
 
@@ -111,8 +112,8 @@ private:
                 const GLuint forward = env.programs.get("forward").id();
                 const GLuint copy = env.programs.get("copy").id();
                 auto fullscreen = [&](GLuint source) {
-                    glBindTextureUnit(0, source);
-                    glBindSampler(0, 0);
+                    glBindTextureUnit(SOURCE_UNIT, source);
+                    glBindSampler(SOURCE_UNIT, 0);
                     ctx.state.use_program(copy);
                     ctx.state.bind_vertex_array(env.empty_vao.id());
                     glDrawArrays(GL_TRIANGLES, 0, 3);
@@ -123,8 +124,8 @@ private:
                 ctx.state.bind_framebuffer(env.fbos.get({&ctx.texture(accum)}, nullptr));
                 const float zero[4] = {0, 0, 0, 0};
                 glClearBufferfv(GL_COLOR, 0, zero);
-                glBindTextureUnit(11, ctx.texture(targets.depth).id());
-                glBindSampler(11, 0);
+                glBindTextureUnit(OPAQUE_DEPTH_UNIT, ctx.texture(targets.depth).id());
+                glBindSampler(OPAQUE_DEPTH_UNIT, 0);
                 for (int layer = 0; layer < options_.layers; ++layer) {
                     const FrameGraph::ResourceId depth = layer % 2 == 0 ? depth_a : depth_b;
                     const FrameGraph::ResourceId previous = layer % 2 == 0 ? depth_b : depth_a;
@@ -137,8 +138,8 @@ private:
                     glClearBufferfv(GL_DEPTH, 0, &clear_depth);
                     bind_scene_buffers(env);
                     bind_effect_inputs(env, ctx);
-                    glBindTextureUnit(12, ctx.texture(previous).id());
-                    glBindSampler(12, 0);
+                    glBindTextureUnit(PREVIOUS_LAYER_UNIT, ctx.texture(previous).id());
+                    glBindSampler(PREVIOUS_LAYER_UNIT, 0);
                     ctx.state.use_program(forward);
                     glProgramUniform1i(forward, 8, layer == 0 ? 1 : 2);
                     ctx.state.bind_vertex_array(env.scene.vertex_array().id());
@@ -155,8 +156,8 @@ private:
                 }
                 glProgramUniform1i(forward, 8, 0);
                 // The pool may attach these depth textures next frame: leave no sampler on them.
-                glBindTextureUnit(11, 0);
-                glBindTextureUnit(12, 0);
+                glBindTextureUnit(OPAQUE_DEPTH_UNIT, 0);
+                glBindTextureUnit(PREVIOUS_LAYER_UNIT, 0);
                 // hdr = accum + (1 - accum.a) * hdr: OVER the opaque image; hdr's alpha stays.
                 gl::PipelineState over;
                 over.blend = true;

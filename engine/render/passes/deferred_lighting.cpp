@@ -13,6 +13,7 @@
 
 #include "core/log.hpp"
 #include "effects/effect.hpp"
+#include "gpu/bindings.h"
 #include "render/passes/pass_env.hpp"
 
 namespace candela {
@@ -67,12 +68,12 @@ void add_deferred_lighting_pass(FrameGraph& graph, const PassEnv& env, FrameTarg
             bind_scene_buffers(env);
             bind_effect_inputs(env, ctx);
             for (int i = 0; i < 3; ++i) {
-                glBindTextureUnit(static_cast<GLuint>(i), ctx.texture(d.gbuffer[i]).id());
-                glBindSampler(static_cast<GLuint>(i), 0);
+                glBindTextureUnit(static_cast<GLuint>(GBUFFER_BASE_UNIT + i), ctx.texture(d.gbuffer[i]).id());
+                glBindSampler(static_cast<GLuint>(GBUFFER_BASE_UNIT + i), 0);
             }
-            glBindTextureUnit(3, ctx.texture(d.depth).id());
-            glBindSampler(3, 0);
-            glBindImageTexture(0, ctx.texture(d.hdr).id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
+            glBindTextureUnit(GBUFFER_DEPTH_UNIT, ctx.texture(d.depth).id());
+            glBindSampler(GBUFFER_DEPTH_UNIT, 0);
+            glBindImageTexture(LIGHT_BUFFER_IMAGE, ctx.texture(d.hdr).id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
             const bool ms = n > 1;
             const GLuint program =
                 env.programs.get(deferred_light_program_name(env, ms ? "deferred_light_ms" : "deferred_light")).id();
@@ -86,7 +87,7 @@ void add_deferred_lighting_pass(FrameGraph& graph, const PassEnv& env, FrameTarg
                     const GLuint zero[3] = {0, 0, 0};
                     glCreateBuffers(1, &stats);
                     glNamedBufferStorage(stats, sizeof(zero), zero, 0);
-                    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 14, stats);
+                    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, AA_EDGE_STATS_BINDING, stats);
                 }
             }
             GLuint edge_dispatch = 0;
@@ -95,8 +96,8 @@ void add_deferred_lighting_pass(FrameGraph& graph, const PassEnv& env, FrameTarg
                 const GLuint args[4] = {0, 1, 1, 0};
                 glCreateBuffers(1, &edge_dispatch);
                 glNamedBufferStorage(edge_dispatch, sizeof(args), args, 0);
-                glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 15, edge_dispatch);
-                glBindImageTexture(1, ctx.texture(d.edge_groups).id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RG32UI);
+                glBindBufferBase(GL_SHADER_STORAGE_BUFFER, EDGE_DISPATCH_BINDING, edge_dispatch);
+                glBindImageTexture(EDGE_GROUPS_IMAGE, ctx.texture(d.edge_groups).id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RG32UI);
             }
             glDispatchCompute(static_cast<GLuint>((env.width + 15) / 16), static_cast<GLuint>((env.height + 15) / 16), 1);
             ++ctx.counters.dispatches;
@@ -110,8 +111,8 @@ void add_deferred_lighting_pass(FrameGraph& graph, const PassEnv& env, FrameTarg
                 glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, edge_dispatch);
                 glDispatchComputeIndirect(0);
                 glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
-                glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 15, 0);
-                glBindImageTexture(1, 0, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RG32UI);
+                glBindBufferBase(GL_SHADER_STORAGE_BUFFER, EDGE_DISPATCH_BINDING, 0);
+                glBindImageTexture(EDGE_GROUPS_IMAGE, 0, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RG32UI);
                 glDeleteBuffers(1, &edge_dispatch);  // freed once the dispatch is done with it
                 ++ctx.counters.dispatches;
             }
@@ -123,7 +124,7 @@ void add_deferred_lighting_pass(FrameGraph& graph, const PassEnv& env, FrameTarg
                 glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
                 GLuint counts[3] = {0, 0, 0};
                 glGetNamedBufferSubData(stats, 0, sizeof(counts), counts);
-                glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 14, 0);
+                glBindBufferBase(GL_SHADER_STORAGE_BUFFER, AA_EDGE_STATS_BINDING, 0);
                 glDeleteBuffers(1, &stats);
                 {
                     std::lock_guard<std::mutex> lock(g_stats_mutex);

@@ -5,6 +5,7 @@
 // textures for the screen-space effects (Stage::screen), and the lighting pass shades once per
 // pixel, or at the edge pixels once per surface their samples show (shaders/deferred/light.comp).
 #include "effects/effect.hpp"
+#include "gpu/bindings.h"
 #include "render/passes/pass_env.hpp"
 
 namespace candela {
@@ -89,17 +90,17 @@ void add_gbuffer_resolve_pass(FrameGraph& graph, const PassEnv& env, FrameTarget
             ctx.state.bind_framebuffer(env.fbos.get({&ctx.texture(d.normals)}, &ctx.texture(d.depth)));
             ctx.state.viewport(0, 0, env.width, env.height);
             ctx.state.use_program(env.programs.get("gbuffer_resolve").id());
-            glBindTextureUnit(0, ctx.texture(d.depth_ms).id());
-            glBindTextureUnit(1, ctx.texture(d.normal_ms).id());
-            glBindSampler(0, 0);
-            glBindSampler(1, 0);
+            glBindTextureUnit(RESOLVE_DEPTH_UNIT, ctx.texture(d.depth_ms).id());
+            glBindTextureUnit(RESOLVE_NORMAL_UNIT, ctx.texture(d.normal_ms).id());
+            glBindSampler(RESOLVE_DEPTH_UNIT, 0);
+            glBindSampler(RESOLVE_NORMAL_UNIT, 0);
             ctx.state.bind_vertex_array(env.empty_vao.id());
             glDrawArrays(GL_TRIANGLES, 0, 3);
             ++ctx.counters.draw_calls;
             ctx.counters.triangles += 1;
             // The pool may attach these textures to framebuffers next: leave no unit on them.
-            glBindTextureUnit(0, 0);
-            glBindTextureUnit(1, 0);
+            glBindTextureUnit(RESOLVE_DEPTH_UNIT, 0);
+            glBindTextureUnit(RESOLVE_NORMAL_UNIT, 0);
         });
 }
 

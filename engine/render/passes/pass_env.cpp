@@ -6,6 +6,7 @@
 
 #include "core/error.hpp"
 #include "effects/effect.hpp"
+#include "gpu/bindings.h"
 
 namespace candela {
 
@@ -42,18 +43,18 @@ void draw_fullscreen(const PassEnv& env, FrameGraph::Context& ctx, GLuint fbo, i
 }
 
 void bind_scene_buffers(const PassEnv& env) {
-    glBindBufferBase(GL_UNIFORM_BUFFER, 0, env.frame_ubo.id());
+    glBindBufferBase(GL_UNIFORM_BUFFER, FRAME_BINDING, env.frame_ubo.id());
     for (const EffectRuntime* e : env.effects) e->bind_shading_inputs(env, nullptr);  // their blocks
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, env.scene.materials().id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, env.scene.lights().id());
-    glBindTextureUnit(5, env.scene.environment_map().id());
-    glBindSampler(5, 0);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, MATERIALS_BINDING, env.scene.materials().id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, LIGHTS_BINDING, env.scene.lights().id());
+    glBindTextureUnit(ENVIRONMENT_UNIT, env.scene.environment_map().id());
+    glBindSampler(ENVIRONMENT_UNIT, 0);
     if (env.env_cube) {
-        glBindTextureUnit(6, env.env_cube.id());
-        glBindSampler(6, 0);
+        glBindTextureUnit(ENV_CUBE_UNIT, env.env_cube.id());
+        glBindSampler(ENV_CUBE_UNIT, 0);
     }
-    glBindTextureUnit(13, env.ibl.brdf_lut().id());
-    glBindSampler(13, 0);
+    glBindTextureUnit(BRDF_LUT_UNIT, env.ibl.brdf_lut().id());
+    glBindSampler(BRDF_LUT_UNIT, 0);
 }
 
 void read_lighting_inputs(FrameGraph::Builder& b, const PassEnv& env) {
@@ -80,7 +81,7 @@ void begin_forward_shading(const PassEnv& env, FrameGraph::Context& ctx, const F
 // branch under a lane mask, so dead features cost per pixel, not only at compile time.
 static std::string lighting_defines(const PassEnv& env, std::string defines) {
     auto add = [&defines](const std::string& d) { defines += (defines.empty() ? "" : ",") + d; };
-    if (env.frame.debug.x == 0) add("FORWARD_NO_DEBUG");
+    if (env.frame.debug_view == 0) add("FORWARD_NO_DEBUG");
     for (const EffectRuntime* e : env.effects)
         for (const std::string& d : e->shading_defines()) add(d);
     return defines;
@@ -109,11 +110,11 @@ void draw_item(const PassEnv& env, FrameGraph::Context& ctx, const GpuScene::Dra
     if (!depth_only) glProgramUniformMatrix3fv(program, 1, 1, GL_FALSE, glm::value_ptr(d.normal_matrix));
     glProgramUniform1i(program, 2, d.primitive_material);
     if (!depth_only) glProgramUniform1i(program, 3, d.mirrored ? 1 : 0);
-    for (int s = 0; s < (depth_only ? 1 : 5); ++s) {
+    for (int s = 0; s < (depth_only ? 1 : MATERIAL_UNIT_COUNT); ++s) {
         const auto su = static_cast<size_t>(s);
         const gl::Texture& t = d.textures[su] >= 0 ? env.scene.texture(d.textures[su], d.srgb[su]) : env.scene.white_texture();
-        glBindTextureUnit(static_cast<GLuint>(s), t.id());
-        glBindSampler(static_cast<GLuint>(s), env.scene.sampler(d.samplers[su]).id());
+        glBindTextureUnit(static_cast<GLuint>(BASE_COLOR_UNIT + s), t.id());
+        glBindSampler(static_cast<GLuint>(BASE_COLOR_UNIT + s), env.scene.sampler(d.samplers[su]).id());
     }
     glDrawElementsBaseVertex(GL_TRIANGLES, d.index_count, GL_UNSIGNED_INT,
                              reinterpret_cast<const void*>(d.first_index * sizeof(std::uint32_t)), d.base_vertex);

@@ -1,5 +1,6 @@
 // Display transform on the GPU into an RGBA8 target: what a window shows and what a .png holds.
 // Planned only when the output is a display image; for .exr the HDR target is the output.
+#include "gpu/bindings.h"
 #include "render/passes/pass_env.hpp"
 
 namespace candela {
@@ -19,8 +20,8 @@ void add_tonemap_pass(FrameGraph& graph, const PassEnv& env, FrameTargets& targe
             ctx.state.viewport(0, 0, env.width, env.height);
             ctx.state.use_program(env.programs.get("tonemap").id());
             glProgramUniform1f(env.programs.get("tonemap").id(), 0, exposure_ev);
-            glBindTextureUnit(0, ctx.texture(targets.hdr).id());
-            glBindSampler(0, 0);
+            glBindTextureUnit(SOURCE_UNIT, ctx.texture(targets.hdr).id());
+            glBindSampler(SOURCE_UNIT, 0);
             ctx.state.bind_vertex_array(env.empty_vao.id());
             glDrawArrays(GL_TRIANGLES, 0, 3);
             ++ctx.counters.draw_calls;

@@ -16,11 +16,11 @@ vec3 radiance(Ray ray, inout Rng rng) {
     SurfaceHit x = surface_at(ray, hit);
     BrdfInput mx = brdf_input(x);
     vec3 albedo_x = mx.base_color * (1.0 - mx.metallic);
-    if (rt.params.z != 0) {
+    if (rt.indirect_occlusion != 0) {
         // With occlusion: y is what a cosine-distributed ray from x sees.
         vec3 dir = to_world(sample_cosine_hemisphere(vec2(rng_next(rng), rng_next(rng))), x.ns);
         if (dot(dir, x.ng) <= 0.0) return vec3(0.0);
-        Ray bounce = make_ray(offset_ray(x.p, x.ng, rt.fparams2.x), dir);
+        Ray bounce = make_ray(offset_ray(x.p, x.ng, rt.ray_offset), dir);
         Hit hy = trace_closest(bounce, 3.0e38);
         if (hy.prim < 0) return vec3(0.0);
         // Cosine sampling: f_x * cos / pdf = albedo_x.
@@ -28,9 +28,9 @@ vec3 radiance(Ray ray, inout Rng rng) {
     }
     // Without occlusion between x and y: y uniform by area over every triangle,
     // L = f_x * L_o(y) * cos_x * cos_y / d^2 / pdf_area(y).
-    if (rt.counts2.x == 0) return vec3(0.0);
+    if (rt.surface_count == 0) return vec3(0.0);
     float u = rng_next(rng);
-    int lo = 0, hi = rt.counts2.x - 1;
+    int lo = 0, hi = rt.surface_count - 1;
     while (lo < hi) {
         int mid = (lo + hi) / 2;
         if (surfaces[mid].cdf < u) lo = mid + 1; else hi = mid;

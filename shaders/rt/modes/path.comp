@@ -1,6 +1,6 @@
 #version 450 core
 #define RT_OWN_MAIN  // main() below: samples scheduled per lane
-// Tracer modes `path` and `direct` (path with one bounce, rt.params.x = 1).
+// Tracer modes `path` and `direct` (path with one bounce, rt.max_depth = 1).
 #include "../trace_common.glsl"
 #include "../materials.glsl"
 #include "../brdf_sampling.glsl"
@@ -33,7 +33,7 @@ struct PathState {
 
 PathState path_start(ivec2 pixel, uint index, uint sample_index) {
     PathState p;
-    p.rng = rng_init(uint(rt.image.w), index, sample_index);
+    p.rng = rng_init(uint(rt.seed), index, sample_index);
     p.ray = camera_ray(pixel, index, sample_index, p.rng);
     p.sum = vec3(0.0);
     p.throughput = vec3(1.0);
@@ -48,11 +48,11 @@ PathState path_start(ivec2 pixel, uint index, uint sample_index) {
 // One vertex of the path: the closest hit along p.ray, its emission, direct light and the next
 // direction. Returns true when the path has ended (p.sum is then the sample's radiance).
 bool path_step(inout PathState p) {
-    int max_depth = rt.params.x;
+    int max_depth = rt.max_depth;
     Hit hit = trace_closest(p.ray, 3.0e38);
-    // rt.fparams2.z: camera rays do not see emission or the environment; the image is then the
+    // rt.camera_hides_emission: camera rays do not see emission or the environment; the image is then the
     // light that surfaces reflect (the planner's view measurements).
-    bool seen = p.depth > 0 || rt.fparams2.z == 0.0;
+    bool seen = p.depth > 0 || rt.camera_hides_emission == 0.0;
     if (hit.prim < 0) {
         if (!seen) return true;
         float w = 1.0;
@@ -67,7 +67,7 @@ bool path_step(inout PathState p) {
     // Camera rays pass a blended layer with probability 1 - alpha: in expectation
     // alpha * (the layer) + (1 - alpha) * (what is behind it), the OVER operator.
     if (p.depth == 0 && p.layers < 32 && rng_next(p.rng) >= blend_alpha(s)) {
-        p.ray = make_ray(offset_ray(s.p, -s.ng, rt.fparams2.x), p.ray.dir);
+        p.ray = make_ray(offset_ray(s.p, -s.ng, rt.ray_offset), p.ray.dir);
         ++p.layers;
         return false;
     }
@@ -93,9 +93,9 @@ bool path_step(inout PathState p) {
         // A thin wall reflects like the interface it stands for but does not bend the ray.
         float F = fresnel_dielectric(cos_i, thin ? 1.0 / m.ior : eta);
         if (rng_next(p.rng) < F) {
-            p.ray = make_ray(offset_ray(s.p, s.ng, rt.fparams2.x), reflect(-v, s.ng));
+            p.ray = make_ray(offset_ray(s.p, s.ng, rt.ray_offset), reflect(-v, s.ng));
         } else {
-            p.ray = make_ray(offset_ray(s.p, -s.ng, rt.fparams2.x), thin ? -v : refract(-v, s.ng, eta));
+            p.ray = make_ray(offset_ray(s.p, -s.ng, rt.ray_offset), thin ? -v : refract(-v, s.ng, eta));
             p.throughput *= m.base_color;
         }
         p.last_brdf_pdf = 0.0;
@@ -113,7 +113,7 @@ bool path_step(inout PathState p) {
         vec3 le = sample_env(p.rng, pdf_env);
         vec3 fc = pdf_env > 0.0 ? brdf_cos_folded(m, s, le, v) : vec3(0.0);
         if (max(fc.r, max(fc.g, fc.b)) > 0.0 &&
-            !trace_any(make_ray(offset_ray(s.p, s.ng, rt.fparams2.x), le), 3.0e38)) {
+            !trace_any(make_ray(offset_ray(s.p, s.ng, rt.ray_offset), le), 3.0e38)) {
             float w = power_heuristic(pdf_env, brdf_pdf_folded(m, s, v, le));
             p.sum += p.throughput * fc * environment(le) * w / pdf_env;
         }
@@ -130,23 +130,23 @@ bool path_step(inout PathState p) {
         if (rng_next(p.rng) >= survive) return true;
         p.throughput /= survive;
     }
-    p.ray = make_ray(offset_ray(s.p, s.ng, rt.fparams2.x), l);
+    p.ray = make_ray(offset_ray(s.p, s.ng, rt.ray_offset), l);
     return ++p.depth > max_depth;
 }
 
 void main() {
     ivec2 pixel = dispatch_pixel();
-    if (pixel.x >= rt.image.x || pixel.y >= rt.image.y) return;
-    uint index = uint(pixel.y * rt.image.x + pixel.x);
+    if (pixel.x >= rt.width || pixel.y >= rt.height) return;
+    uint index = uint(pixel.y * rt.width + pixel.x);
     int count = dispatch_samples(), stride = dispatch_sample_stride();
     vec3 total = vec3(0.0);
     int k = 0;
-    PathState p = path_start(pixel, index, uint(rt.image.z));
+    PathState p = path_start(pixel, index, uint(rt.sample_index));
     while (true) {
         if (!path_step(p)) continue;
         total += checked_sample(p.sum);
         if (++k == count) break;
-        p = path_start(pixel, index, uint(rt.image.z + k * stride));
+        p = path_start(pixel, index, uint(rt.sample_index + k * stride));
     }
     accumulate(index, total, count);
 }

@@ -15,15 +15,15 @@ vec3 shadow_visibility(Ray ray, float tmax) {
         Hit h = trace_closest(ray, tmax);
         if (h.prim < 0) return T;
         SurfaceHit s = surface_at(ray, h);
-        float transmission = materials[s.material].params2.y;
+        float transmission = materials[s.material].transmission;
         if (transmission <= 0.0) return vec3(0.0);
         BrdfInput m = brdf_input(s);
-        bool thin = materials[s.material].volume.x <= 0.0;
+        bool thin = materials[s.material].thickness <= 0.0;
         float eta = thin ? 1.0 / m.ior : (s.front ? 1.0 / m.ior : m.ior);
         float F = fresnel_dielectric(abs(dot(normalize(ray.dir), s.ng)), eta);
         T *= (1.0 - F) * transmission * m.base_color;
         if (max(T.r, max(T.g, T.b)) <= 0.0) return vec3(0.0);
-        ray.origin = offset_ray(s.p, -s.ng, rt.fparams2.x);
+        ray.origin = offset_ray(s.p, -s.ng, rt.ray_offset);
         tmax -= h.t;
     }
     return vec3(0.0);
@@ -61,7 +61,7 @@ vec3 radiance(Ray primary, inout Rng rng) {
         if (depth == 0) {
             float a = blend_alpha(s);
             if (a < 1.0 && n < kMaxStack) {
-                rays[n] = make_ray(offset_ray(s.p, -s.ng, rt.fparams2.x), ray.dir);
+                rays[n] = make_ray(offset_ray(s.p, -s.ng, rt.ray_offset), ray.dir);
                 weights[n] = w * (1.0 - a);
                 depths[n++] = 0;
                 w *= a;
@@ -70,18 +70,18 @@ vec3 radiance(Ray primary, inout Rng rng) {
 #endif
         BrdfInput m = brdf_input(s);
         sum += w * emitted(s);
-        bool can_branch = depth < rt.params.x && n + 2 <= kMaxStack;
+        bool can_branch = depth < rt.max_depth && n + 2 <= kMaxStack;
 #ifdef HAS_TRANSMISSION
         if (material_transmission(s.material) > 0.0) {
             bool thin = material_thin(s.material);
             float eta = thin ? 1.0 : (s.front ? 1.0 / m.ior : m.ior);
             float F = fresnel_dielectric(dot(v, s.ng), thin ? 1.0 / m.ior : eta);
             if (!can_branch) continue;
-            rays[n] = make_ray(offset_ray(s.p, s.ng, rt.fparams2.x), reflect(-v, s.ng));
+            rays[n] = make_ray(offset_ray(s.p, s.ng, rt.ray_offset), reflect(-v, s.ng));
             weights[n] = w * F;
             depths[n++] = depth + 1;
             if (F < 1.0) {
-                rays[n] = make_ray(offset_ray(s.p, -s.ng, rt.fparams2.x), thin ? -v : refract(-v, s.ng, eta));
+                rays[n] = make_ray(offset_ray(s.p, -s.ng, rt.ray_offset), thin ? -v : refract(-v, s.ng, eta));
                 weights[n] = w * (1.0 - F) * m.base_color;
                 depths[n++] = depth + 1;
             }
@@ -95,14 +95,14 @@ vec3 radiance(Ray primary, inout Rng rng) {
         sum += w * direct_emitters(s, m, v, rng, false);
 #endif
         sum += w * environment(s.ns) * m.base_color * (1.0 - m.metallic);
-        if (m.roughness <= rt.fparams.y && can_branch) {
+        if (m.roughness <= rt.whitted_max_roughness && can_branch) {
             // Mirror reflection weighted by the BRDF's Fresnel at normal-vector incidence.
             float cos_v = saturate(dot(v, s.ns));
             vec3 F = mix(F_Schlick(dielectric_f0(m), vec3(dielectric_f90(m)), cos_v),
                          F_Schlick(m.base_color, vec3(1.0), cos_v), m.metallic);
             // The mirror direction about ns, folded above the geometric surface as path mode
             // folds its BRDF (see fold_above).
-            rays[n] = make_ray(offset_ray(s.p, s.ng, rt.fparams2.x), fold_above(reflect(-v, s.ns), s.ng));
+            rays[n] = make_ray(offset_ray(s.p, s.ng, rt.ray_offset), fold_above(reflect(-v, s.ns), s.ng));
             weights[n] = w * F;
             depths[n++] = depth + 1;
         }

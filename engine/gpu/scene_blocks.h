@@ -1,0 +1,96 @@
+// The base's GPU data, declared once for C++ (engine/render/gpu_scene.hpp, renderer.cpp fill it)
+// and GLSL (shaders/common/scene_data.glsl and lights.glsl read it), through gpu/gpu_block.h:
+// the frame's uniform block, and the elements of the material and light storage buffers.
+#ifndef CANDELA_GPU_SCENE_BLOCKS_H
+#define CANDELA_GPU_SCENE_BLOCKS_H
+
+#include "gpu/bindings.h"
+#include "gpu/gpu_block.h"
+
+GPU_NAMESPACE_BEGIN
+
+// The rasterizer's frame: camera, environment, light counts, debug view. Reflection probes draw
+// their faces with their own copies (engine/effects/reflections/).
+GPU_BLOCK(FrameData, FRAME_BINDING) {
+    mat4 view;
+    mat4 proj;
+    mat4 view_proj;
+    mat4 inv_view_proj;
+    vec4 camera_pos;           // xyz
+    vec3 env_radiance;         // constant radiance, or the map's scale when env_map_bound = 1
+    float env_map_bound;       // 1: an environment map is bound (ENVIRONMENT_UNIT)
+    vec4 env_sh[9];            // irradiance SH of the environment map (rgb), scaled
+    int light_count;           // lights in the light buffer (punctual first, then area-light pieces)
+    int env_mips;              // mip count of the environment (map, or the cube when bound)
+    int punctual_light_count;
+    int pad0;
+    int debug_view;            // 0 radiance, 1 light visibility, 2 ssao, 3 indirect
+    int debug_light;           // the light of the visibility view
+    int camera_view;           // 1 in the camera's view (screen-space effect buffers are valid), 0 in
+                               // other views (reflection probe faces)
+    int env_cube_bound;        // 1: the static environment cube is bound (ENV_CUBE_UNIT)
+    vec4 viewport;             // width, height, 1/width, 1/height
+    vec4 depth_to_view;        // view z of a depth d: (x * d + y) / (z * d + w) (rows of the inverse projection)
+} GPU_BLOCK_INSTANCE(frame);
+GPU_BLOCK_CHECK(FrameData, 496)
+
+// A material (std430, MATERIALS_BINDING; the draw's index selects it). Texture slots, in this
+// order everywhere: 0 base colour, 1 metallic-roughness, 2 normal, 3 occlusion, 4 emissive.
+GPU_STRUCT(MaterialData) {
+    vec4 base_color;
+    vec3 emission;             // factor * strength
+    float metallic;
+    float roughness;
+    float alpha_cutoff;
+    float alpha_mode;          // 0 opaque, 1 mask, 2 blend
+    float double_sided;        // 1: double sided
+    vec3 specular_color;
+    float specular_factor;
+    float ior;
+    float transmission;
+    float normal_scale;
+    float occlusion_strength;
+    ivec4 texcoord;            // texcoord set of slots 0-3 (-1: none)
+    int emissive_texcoord;     // texcoord set of slot 4 (-1: none)
+    int pad0;
+    int pad1;
+    int pad2;
+    vec4 uv_transform[10];     // per slot two rows of the 2x3 affine KHR_texture_transform
+    vec3 attenuation_color;    // KHR_materials_volume
+    float thickness;           // 0: thin-walled
+    float attenuation_distance;  // 0: no attenuation
+    float pad3;
+    float pad4;
+    float pad5;
+    ivec4 images;              // scene image of slots 0-3 (-1: none)
+    int emissive_image;        // scene image of slot 4 (-1: none)
+    int wrap_modes;            // for the ray tracer: 4 bits per slot, s then t (0 repeat, 1 clamp
+                               // to edge, 2 mirrored repeat)
+    int nearest_magnification; // for the ray tracer: 1 bit per slot, NEAREST magnification
+    int pad6;
+};
+GPU_STRUCT_CHECK(MaterialData, 336)
+
+// A light (std430, LIGHTS_BINDING): KHR_lights_punctual lights, then the rasterizer's area-light
+// pieces (shaders/common/lights.glsl).
+GPU_STRUCT(LightData) {
+    vec3 position;             // world
+    float type;                // LIGHT_DIRECTIONAL, LIGHT_POINT, LIGHT_SPOT, LIGHT_AREA_PATCH
+    vec3 direction;            // where the light points to (patch: its normal)
+    float range;               // 0: infinite
+    vec3 color;                // color * intensity (patch: radiance * area, W/sr at normal incidence)
+    float patch_area;          // patch: its area (bounds the 1/d^2 below the patch's size)
+    float spot_scale;          // spot: 1 / (cos inner - cos outer)
+    float spot_offset;         // spot: -cos outer * spot_scale
+    float first_shadow_view;   // the light's first shadow view (engine/effects/shadows/), -1: none
+    float shadow_view_count;
+    float patch_two_sided;     // patch: 1 if it emits from both sides
+    float pad0;
+    float pad1;
+    float pad2;
+};
+GPU_STRUCT_CHECK(LightData, 80)
+
+GPU_NAMESPACE_END
+
+#endif
