@@ -5,7 +5,7 @@
 #include <utility>
 
 #include "core/error.hpp"
-#include "effects/registry.hpp"
+#include "render/effect_registry.hpp"
 #include "render/features.hpp"
 #include "render/settings.hpp"
 #include "scene/generate.hpp"

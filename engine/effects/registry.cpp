@@ -1,4 +1,4 @@
-#include "effects/registry.hpp"
+#include "render/effect_registry.hpp"
 
 #include "effects/aa/aa.hpp"
 #include "effects/area_lights/area_lights.hpp"

@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "gpu/bindings.h"
-#include "shader/program_catalog.hpp"
+#include "render/program_catalog.hpp"
 
 namespace candela {
 

@@ -5,7 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/error.hpp"
-#include "effects/registry.hpp"
+#include "render/effect_registry.hpp"
 
 namespace candela {
 namespace {

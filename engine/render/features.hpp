@@ -8,7 +8,7 @@
 
 #include <nlohmann/json_fwd.hpp>
 
-#include "effects/effect.hpp"
+#include "render/effect.hpp"
 #include "render/settings.hpp"
 #include "scene/features.hpp"
 #include "scene/scene.hpp"

@@ -2,7 +2,7 @@
 
 #include "gl/mipmaps.hpp"
 #include "render/environment.hpp"
-#include "shader/program_catalog.hpp"
+#include "render/program_catalog.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -3,7 +3,7 @@
 #include <algorithm>
 
 #include "core/error.hpp"
-#include "shader/program_catalog.hpp"
+#include "render/program_catalog.hpp"
 
 namespace candela {
 namespace {

@@ -1,5 +1,5 @@
 #pragma once
-// The renderer's GLSL programs by catalog name (shader/program_catalog.hpp, which includes every
+// The renderer's GLSL programs by catalog name (render/program_catalog.hpp, which includes every
 // registered effect's programs), built on first request and rebuilt by hot reload.
 #include <filesystem>
 #include <map>

@@ -6,8 +6,8 @@
 
 #include "core/error.hpp"
 #include "core/log.hpp"
-#include "effects/registry.hpp"
-#include "shader/program_catalog.hpp"
+#include "render/effect_registry.hpp"
+#include "render/program_catalog.hpp"
 
 #include <cstring>
 #include <map>
@@ -35,6 +35,13 @@ Renderer::Renderer(const ShaderLibrary& shaders, const Scene& scene, GpuScene& g
         effect_ptrs_.push_back(effects_.back().get());
     }
     set_settings(settings);
+}
+
+EffectProgress Renderer::effect_progress(std::string_view name) const {
+    const auto& reg = effect_registry();
+    for (size_t i = 0; i < reg.size() && i < effects_.size(); ++i)
+        if (name == reg[i]->name()) return effects_[i]->progress();
+    return {};
 }
 
 void Renderer::set_settings(const RenderSettings& settings) {
@@ -196,7 +203,7 @@ void Renderer::render_subframe(const Camera& camera, FrameOutput output, float e
     FrameGraph graph;
     // `targets`: what the scene is drawn into (FrameSampling::resolved: targets of their own,
     // perhaps multisampled); `post`: the single-sample image the post filters and the tonemap
-    // read (effects/effect.hpp, Stage::post).
+    // read (render/effect.hpp, Stage::post).
     FrameTargets targets, post;
     const FrameGraph::ResourceId hdr_output = graph.import_texture("hdr", output_, {GL_RGBA32F, width, height});
     targets.hdr = sampling.resolved ? -1 : hdr_output;

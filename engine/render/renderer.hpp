@@ -5,6 +5,7 @@
 #include <memory>
 #include <optional>
 #include <set>
+#include <string_view>
 #include <string>
 #include <vector>
 
@@ -16,7 +17,7 @@
 #include "render/gpu_scene.hpp"
 #include "render/passes/pass_env.hpp"
 #include "render/program_cache.hpp"
-#include "effects/effect.hpp"
+#include "render/effect.hpp"
 #include "render/settings.hpp"
 #include "shader/shader_library.hpp"
 
@@ -89,6 +90,8 @@ public:
             if (const auto* r = dynamic_cast<const Runtime*>(e.get())) return r;
         return nullptr;
     }
+    // The progress of the registered effect `name` (EffectRuntime::progress); inactive if unknown.
+    EffectProgress effect_progress(std::string_view name) const;
     // Cached captures (reflection probes) are redone on the next frame: call after changing the scene.
     void invalidate_captures() {
         for (auto& e : effects_) e->invalidate();

@@ -8,7 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/error.hpp"
-#include "effects/registry.hpp"
+#include "render/effect_registry.hpp"
 #include "scene/scene.hpp"
 
 namespace candela {

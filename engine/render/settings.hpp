@@ -10,7 +10,7 @@
 
 #include <nlohmann/json_fwd.hpp>
 
-#include "effects/knob.hpp"
+#include "render/knob.hpp"
 
 namespace candela {
 

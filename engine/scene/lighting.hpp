@@ -37,7 +37,7 @@ struct LightingChoice {
     std::string reason;  // one line for `info` and the log
     // `auto` kept the file's own lights and the file has no environment: whether those lights
     // light what the camera sees is measured with the tracer once a GL context exists
-    // (render/view_lighting.hpp: complete_lighting), which may add the default environment.
+    // (rt/view_lighting.hpp: complete_lighting), which may add the default environment.
     bool check_view = false;
     bool environment_added = false;  // complete_lighting added the default environment
 };

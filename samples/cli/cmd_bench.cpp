@@ -20,7 +20,7 @@
 #include "options.hpp"
 #include "rt/rt_scene.hpp"
 #include "scene/animation.hpp"
-#include "profile/stats.hpp"
+#include "render/stats.hpp"
 #include "render/renderer.hpp"
 #include "render/settings.hpp"
 #include "render/still.hpp"

@@ -6,13 +6,13 @@
 
 #include "core/error.hpp"
 #include "options.hpp"
-#include "effects/registry.hpp"
+#include "render/effect_registry.hpp"
 #include "platform/context.hpp"
 #include "render/features.hpp"
 #include "render/gpu_scene.hpp"
 #include "shader/shader_library.hpp"
 #include "render/settings.hpp"
-#include "render/view_lighting.hpp"
+#include "rt/view_lighting.hpp"
 
 namespace candela::cli {
 

@@ -19,7 +19,7 @@
 #include "options.hpp"
 #include "render_job.hpp"
 #include "shards.hpp"
-#include "profile/stats.hpp"
+#include "render/stats.hpp"
 #include "render/still.hpp"
 #include "rt/ray_tracer.hpp"
 #include "scene/animation.hpp"

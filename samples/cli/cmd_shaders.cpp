@@ -8,7 +8,7 @@
 #include "core/error.hpp"
 #include "core/log.hpp"
 #include "options.hpp"
-#include "shader/program_catalog.hpp"
+#include "render/program_catalog.hpp"
 #include "shader/shader_library.hpp"
 
 namespace candela::cli {

@@ -11,10 +11,10 @@
 #include "core/error.hpp"
 #include "core/log.hpp"
 #include "gl/debug.hpp"
-#include "effects/registry.hpp"
+#include "render/effect_registry.hpp"
 #include "render/features.hpp"
 #include "render/settings.hpp"
-#include "render/view_lighting.hpp"
+#include "rt/view_lighting.hpp"
 #include "scene/generate.hpp"
 #include "scene/gltf_loader.hpp"
 

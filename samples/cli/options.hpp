@@ -80,7 +80,7 @@ SceneSetup setup_scene(const Parsed& p, const std::string& scene_path, int defau
 // Opens the GL context the set-up asks for; on failure prints why (the caller returns exit 3).
 ContextResult open_context(const SceneSetup& s);
 // With the context current: `--lighting auto` measures whether the file's own lights light the
-// view and may add the default environment (render/view_lighting.hpp). Before the scene is
+// view and may add the default environment (rt/view_lighting.hpp). Before the scene is
 // uploaded or traced.
 void finish_lighting(SceneSetup& s, const ShaderLibrary& shaders);
 // Says on stderr which of p's --set knobs belong to an effect the planner did not run (switched

@@ -10,7 +10,7 @@
 #include <string_view>
 #include <vector>
 
-#include "effects/gi/gi.hpp"
+#include "render/effect_registry.hpp"
 #include "render/features.hpp"
 #include "render/settings.hpp"
 
@@ -60,14 +60,6 @@ inline EffectStatus effect_status(bool switch_on, const EffectDecision& d) {
     return s;
 }
 
-// GI probes in the viewer: a still converges them before its frame (gi.budget 0);
-// the viewer spreads their updates over frames so that the first frame and every frame after a
-// change stay interactive. 16384 rays per frame is 256 probes of 64 rays (the default; 128 of 128):
-// whole 64-probe batches of the GI pass, so the updates happen in the same batches as in a still
-// and the converged image equals `candela render`'s. Measured on llvmpipe, 2 shared cores, cornell_point (README,
-// viewer section).
-constexpr int kViewerGiBudget = 16384;
-
 // Whether the --set assignments (as given on the command line) set `knob`.
 inline bool sets_knob(const std::vector<std::string>& assignments, std::string_view knob) {
     for (const std::string& a : assignments) {
@@ -77,38 +69,12 @@ inline bool sets_knob(const std::vector<std::string>& assignments, std::string_v
     return false;
 }
 
-// The viewer's settings: gi.budget = kViewerGiBudget unless the user's --set gave one (0 there
-// means: converge before each frame, as a still does).
+// The viewer's settings: every effect's interactive defaults (Effect::interactive_defaults, e.g.
+// GI's rays per frame), each unless the user's --set gave that knob.
 inline void apply_viewer_defaults(RenderSettings& s, const std::vector<std::string>& set_knobs) {
-    if (!sets_knob(set_knobs, "gi.budget")) s.get<GiOptions>().budget = kViewerGiBudget;
-}
-
-// The panel's GI line (and the log's, when it changes): how far the probes are and at what
-// budget. Empty when the probes are not planned: the effect row says why.
-inline std::string gi_status_line(const GiStatus& st, int budget) {
-    if (!st.planned) return {};
-    char head[128];
-    std::snprintf(head, sizeof head, "GI probes %dx%dx%d, %d rays, %d bounce(s): ", st.counts.x, st.counts.y, st.counts.z,
-                  st.rays, st.bounces);
-    std::string line = head;
-    if (st.converged()) {
-        line += "converged (" + std::to_string(st.updates_planned) + " updates";
-        line += budget > 0 ? ")" : ", before the frame: gi.budget=0)";
-    } else {
-        // Rays still owed, and the frames they take at this budget (the current update's
-        // finished part is not known here: an upper bound).
-        const long long per_update = static_cast<long long>(st.counts.x) * st.counts.y * st.counts.z * st.rays;
-        const long long owed = static_cast<long long>(st.updates_planned - st.updates_done) * per_update;
-        line += std::to_string(st.updates_done) + "/" + std::to_string(st.updates_planned) + " updates done (converging, ";
-        if (budget > 0) {
-            const long long per_frame = std::max<long long>(budget, st.rays);
-            line += std::to_string(budget) + " rays/frame, <= " + std::to_string((owed + per_frame - 1) / per_frame) + " frames to go)";
-        } else {
-            line += "gi.budget=0: the next frame)";
-        }
-    }
-    if (st.nonfinite > 0) line += "; " + std::to_string(st.nonfinite) + " non-finite ray results replaced by 0";
-    return line;
+    for (const Effect* e : effect_registry())
+        for (const std::string& a : e->interactive_defaults())
+            if (!sets_knob(set_knobs, std::string_view(a).substr(0, a.find('=')))) apply_knob(s, a);
 }
 
 }  // namespace candela::viewer

@@ -27,12 +27,12 @@
 #include "platform/context.hpp"
 #include "render/features.hpp"
 #include "render/renderer.hpp"
-#include "render/view_lighting.hpp"
+#include "rt/view_lighting.hpp"
 #include "rt/ray_tracer.hpp"
 #include "rt/tracer_options.hpp"
 #include "scene/animation.hpp"
 #include "script.hpp"
-#include "shader/program_catalog.hpp"
+#include "render/program_catalog.hpp"
 #include "shader/file_watcher.hpp"
 
 #include "viewer_internal.hpp"
@@ -120,18 +120,29 @@ void Viewer::reload_shaders() {
     }
 }
 
-void Viewer::log_gi_progress(int frame) {
-    const GiStatus st = gi_status();
-    const int phase = !st.planned ? 0 : st.converged() ? 2 : 1;
-    // A restart (scene, shaders or GI settings changed) sets updates_done back.
-    if (phase == gi_logged_phase_ && !(phase == 1 && st.updates_done < gi_logged_updates_)) {
-        gi_logged_updates_ = st.updates_done;
-        return;
+void Viewer::log_progress(int frame) {
+    for (const std::string& name : effect_names()) {
+        const EffectProgress p = renderer_.effect_progress(name);
+        Logged& logged = progress_logged_[name];
+        const int phase = !p.active ? 0 : p.converged ? 2 : 1;
+        // A restart (scene, shaders or the effect's settings changed) sets the steps back.
+        const bool restarted = phase == 1 && p.steps_done < logged.steps;
+        logged.steps = p.steps_done;
+        if (phase == logged.phase && !restarted) continue;
+        logged.phase = phase;
+        if (phase != 0 && !p.line.empty()) log::info("viewer: frame " + std::to_string(frame) + ": " + p.line);
     }
-    gi_logged_phase_ = phase;
-    gi_logged_updates_ = st.updates_done;
-    if (phase == 0) return;
-    log::info("viewer: frame " + std::to_string(frame) + ": " + gi_status_line(st, settings_.get<GiOptions>().budget));
+}
+
+bool Viewer::progress_worked(std::string* pace) const {
+    for (const std::string& name : effect_names()) {
+        const EffectProgress p = renderer_.effect_progress(name);
+        if (p.work_last_frame > 0) {
+            if (pace) *pace = p.pace;
+            return true;
+        }
+    }
+    return false;
 }
 
 int Viewer::run() {
@@ -140,7 +151,8 @@ int Viewer::run() {
     int frame = 0;
     int w = 0, h = 0;  // the scene's viewport (left of the panel)
     std::vector<double> whole_frames;
-    std::vector<bool> gi_frames;  // whether the frame traced GI probe rays
+    std::vector<bool> converging_frames;  // whether the frame did work of a converging effect (GI probe rays)
+    std::string pace;                     // the knob that paces that work
     while (!glfwWindowShouldClose(window) && !quit_) {
         glfwPollEvents();
         int window_w = 0, window_h = 0;  // framebuffer pixels
@@ -164,8 +176,8 @@ int Viewer::run() {
         const Camera camera = controller_.camera();
         renderer_.render(camera, w, h, FrameOutput::display, o_.exposure_ev);
         renderer_.resolve_gpu_times();
-        gi_frames.push_back(gi_status().rays_last_frame > 0);
-        log_gi_progress(frame);
+        converging_frames.push_back(progress_worked(&pace));
+        log_progress(frame);
         update_reference(camera, w, h);
         // The panel is opaque, but the strip under it must not show stale frames either.
         const GLfloat backdrop[4] = {0.08f, 0.08f, 0.09f, 1.0f};
@@ -210,17 +222,18 @@ int Viewer::run() {
         log::info("viewer: " + std::to_string(frame) + " frames; median frame (render, UI, swap; after the first) " +
                   std::to_string(steady[steady.size() / 2]).substr(0, 6) + " ms; scene " + std::to_string(w) + "x" + std::to_string(h) +
                   (show_ui_ ? " left of the panel" : ", panel hidden"));
-        // The frames that updated GI probes against the others (the cost of gi.budget).
+        // The frames that did converging work (GI probe updates) against the others: the cost of
+        // the knob that paces it (gi.budget).
         std::vector<double> with, without;
-        for (size_t i = 1; i < whole_frames.size(); ++i) (gi_frames[i] ? with : without).push_back(whole_frames[i]);
+        for (size_t i = 1; i < whole_frames.size(); ++i) (converging_frames[i] ? with : without).push_back(whole_frames[i]);
         const auto median = [](std::vector<double>& v) {
             std::sort(v.begin(), v.end());
             return std::to_string(v[v.size() / 2]).substr(0, 6) + " ms";
         };
         if (!with.empty())
-            log::info("viewer: median frame while GI probes update " + median(with) + " (" + std::to_string(with.size()) + " frames), " +
+            log::info("viewer: median frame while an effect converges " + median(with) + " (" + std::to_string(with.size()) + " frames), " +
                       (without.empty() ? std::string("no frame without") : "without " + median(without) + " (" + std::to_string(without.size()) + " frames)") +
-                      "; gi.budget " + std::to_string(settings_.get<GiOptions>().budget) + " rays/frame");
+                      "; " + pace);
     }
     if (ref_.on && ref_.tracer)
         log::info(std::string("viewer: reference ") + Reference::kModes[ref_.mode] + ": " + std::to_string(ref_.tracer->progressive_samples()) +

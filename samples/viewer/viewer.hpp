@@ -2,8 +2,9 @@
 // `candela view SCENE`: the interactive viewer. A GLFW window shows the raster frame; a Dear
 // ImGui panel docked to its right edge (the scene is drawn only left of it; H hides it) holds the render path, every effect and knob of RenderSettings (the names of
 // --set), the planned and culled passes with their reasons, per-pass GPU times and counters,
-// and shader errors. Shaders under --shader-dir reload when saved. GI probes update over frames
-// (gi.budget rays per frame, kViewerGiBudget unless --set gives it) and the panel says how far.
+// and shader errors. Shaders under --shader-dir reload when saved. Effects that converge over
+// frames (GI probes: gi.budget rays per frame, their interactive default unless --set gives it)
+// do so and the panel says how far.
 // Animated scenes play their first animation, looping; the panel's Animation section
 // chooses the animation, plays, pauses, scrubs and sets the speed (viewer/playback.hpp).
 #include <filesystem>
@@ -29,7 +30,7 @@ struct ViewerOptions {
     bool vsync = true;
     float exposure_ev = 0.0f;
     // Which lighting the scene got and why (scene/lighting.hpp), shown in the panel; the viewer
-    // completes it with its context (render/view_lighting.hpp) before uploading the scene.
+    // completes it with its context (rt/view_lighting.hpp) before uploading the scene.
     LightingChoice lighting;
     // --animation N|NAME|none: the animation to play ("": the first, if the scene has any; none:
     // the rest pose). --time T: start paused at T seconds (the pose `render --time T` draws);

@@ -19,6 +19,7 @@
 #include <cstdint>
 #include <deque>
 #include <filesystem>
+#include <map>
 #include <memory>
 #include <string>
 #include <utility>
@@ -169,14 +170,16 @@ private:
         gl::Program program;
     } inspect_;
     void draw_reference(int w, int h);
-    // The GI probes' progress (effects/gi/gi.hpp); the log gets its line when the probes start
-    // over, and when they converge, so a scripted run shows it too.
-    GiStatus gi_status() const {
-        const GiStatusView* v = renderer_.effect_runtime<GiStatusView>();
-        return v ? v->gi_status() : GiStatus{};
-    }
-    void log_gi_progress(int frame);
-    int gi_logged_phase_ = 0, gi_logged_updates_ = 0;  // 0 not planned, 1 converging, 2 converged
+    // Effects that converge over frames (EffectRuntime::progress): the log gets an effect's line
+    // when it starts over and when it converges, so a scripted run shows it too.
+    void log_progress(int frame);
+    struct Logged {
+        int phase = 0;  // 0 inactive, 1 converging, 2 converged
+        int steps = 0;
+    };
+    std::map<std::string, Logged> progress_logged_;  // by effect name
+    // Whether the last frame did work of an effect that converges over frames, and at what pace.
+    bool progress_worked(std::string* pace) const;
     Reference ref_;
     gl::VertexArray empty_vao_;
 

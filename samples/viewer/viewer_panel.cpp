@@ -5,7 +5,7 @@
 #include <cstdio>
 
 #include "rt/tracer_options.hpp"
-#include "shader/program_catalog.hpp"
+#include "render/program_catalog.hpp"
 
 namespace candela::viewer {
 namespace {
@@ -199,15 +199,12 @@ void Viewer::draw_ui(double frame_ms) {
             ImGui::TextColored(colour, "%s", status.label.c_str());
             ImGui::Indent(ImGui::GetFrameHeightWithSpacing());
             wrapped_disabled(status.detail);
-            if (name == "gi") {
-                const GiStatus gi = gi_status();
-                const std::string line = gi_status_line(gi, settings_.get<GiOptions>().budget);
-                if (!line.empty()) {
-                    const ImVec4 c = gi.converged() ? ImVec4(0.45f, 0.85f, 0.45f, 1.0f) : ImVec4(0.95f, 0.75f, 0.35f, 1.0f);
-                    ImGui::PushStyleColor(ImGuiCol_Text, c);
-                    ImGui::TextWrapped("%s", line.c_str());
-                    ImGui::PopStyleColor();
-                }
+            // An effect that converges over frames says how far it has got (GI's probes).
+            if (const EffectProgress p = renderer_.effect_progress(name); p.active && !p.line.empty()) {
+                const ImVec4 c = p.converged ? ImVec4(0.45f, 0.85f, 0.45f, 1.0f) : ImVec4(0.95f, 0.75f, 0.35f, 1.0f);
+                ImGui::PushStyleColor(ImGuiCol_Text, c);
+                ImGui::TextWrapped("%s", p.line.c_str());
+                ImGui::PopStyleColor();
             }
             ImGui::Unindent(ImGui::GetFrameHeightWithSpacing());
         }

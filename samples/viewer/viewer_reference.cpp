@@ -4,7 +4,7 @@
 
 #include "gpu/bindings.h"
 #include "rt/tracer_options.hpp"
-#include "shader/program_catalog.hpp"
+#include "render/program_catalog.hpp"
 
 namespace candela::viewer {
 namespace {

@@ -34,7 +34,7 @@
 #include "render/still.hpp"
 #include "scene/animation.hpp"
 #include "scene/gltf_loader.hpp"
-#include "render/view_lighting.hpp"
+#include "rt/view_lighting.hpp"
 #include "scene/lighting.hpp"
 
 namespace fs = std::filesystem;

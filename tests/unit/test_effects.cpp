@@ -10,7 +10,7 @@
 
 #include "core/error.hpp"
 #include "effects/aa/aa.hpp"
-#include "effects/registry.hpp"
+#include "render/effect_registry.hpp"
 #include "gl_fixture.hpp"
 #include "render/features.hpp"
 #include "gpu/bindings.h"
@@ -19,7 +19,7 @@
 #include "render/gpu_scene.hpp"
 #include "render/settings.hpp"
 #include "rt/tracer_options.hpp"
-#include "shader/program_catalog.hpp"
+#include "render/program_catalog.hpp"
 
 namespace candela {
 namespace {

@@ -3,7 +3,7 @@
 #include <filesystem>
 #include <string>
 
-#include "shader/program_catalog.hpp"
+#include "render/program_catalog.hpp"
 #include "shader/shader_library.hpp"
 
 namespace candela {

@@ -25,7 +25,7 @@
 #include "render/still.hpp"
 #include "scene/gltf_loader.hpp"
 #include "scene/lighting.hpp"
-#include "shader/program_catalog.hpp"
+#include "render/program_catalog.hpp"
 
 namespace candela {
 namespace {

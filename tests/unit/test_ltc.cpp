@@ -1,4 +1,4 @@
-// The LTC table (engine/effects/area_lights/ltc_table.inc, written by samples/ltc_fit) against
+// The LTC table (engine/effects/area_lights/ltc_table.inc, written by effects/area_lights/ltc_fit) against
 // Candela's specular BRDF: its amplitude is the lobe's directional albedo, its distributions are
 // normalised and put the lobe's mass where the lobe has it, and it is what the fit gives today.
 #include <gtest/gtest.h>

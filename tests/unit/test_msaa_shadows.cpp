@@ -28,7 +28,7 @@
 #include "image/image.hpp"
 #include "render/settings.hpp"
 #include "render/still.hpp"
-#include "render/view_lighting.hpp"
+#include "rt/view_lighting.hpp"
 #include "scene/generate.hpp"
 #include "scene/gltf_loader.hpp"
 #include "scene/lighting.hpp"

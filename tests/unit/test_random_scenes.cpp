@@ -36,7 +36,7 @@
 #include "image/image.hpp"
 #include "render/features.hpp"
 #include "render/program_cache.hpp"
-#include "render/view_lighting.hpp"
+#include "rt/view_lighting.hpp"
 #include "render/still.hpp"
 #include "rt/ray_tracer.hpp"
 #include "scene/generate.hpp"

@@ -18,7 +18,7 @@
 #include "scene/gltf_loader.hpp"
 #include "scene/lighting.hpp"
 #include "shader/file_watcher.hpp"
-#include "shader/program_catalog.hpp"
+#include "render/program_catalog.hpp"
 
 #include "text_file.hpp"
 

@@ -17,7 +17,7 @@
 
 #include "effects/gi/estimate.hpp"
 #include "reference_fixture.hpp"
-#include "render/view_lighting.hpp"
+#include "rt/view_lighting.hpp"
 #include "rt/view_light.hpp"
 #include "scene/generate.hpp"
 #include "scene/gltf_loader.hpp"

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "../../samples/viewer/effect_status.hpp"
+#include "effects/gi/gi.hpp"
 #include "render/features.hpp"
 #include "render/settings.hpp"
 #include "scene/gltf_loader.hpp"
@@ -72,7 +73,7 @@ TEST(ViewerGi, BudgetDefaultsToTheViewersUnlessSetOnTheCommandLine) {
     RenderSettings s;
     ASSERT_EQ(s.get<GiOptions>().budget, 0) << "a still converges before its frame";
     apply_viewer_defaults(s, {"gi.bias=0.2", "ssao.samples=8"});
-    EXPECT_EQ(s.get<GiOptions>().budget, kViewerGiBudget) << "other knobs leave the viewer's default";
+    EXPECT_EQ(s.get<GiOptions>().budget, kGiInteractiveBudget) << "other knobs leave the viewer's default";
     for (const char* given : {"gi.budget=0", "gi.budget=4096"}) {
         RenderSettings user;
         apply_knob(user, given);
@@ -82,12 +83,12 @@ TEST(ViewerGi, BudgetDefaultsToTheViewersUnlessSetOnTheCommandLine) {
     }
     EXPECT_FALSE(sets_knob({"gi.budgets=1", "gi.budge=1", "xgi.budget=1"}, "gi.budget"));
     // 16384 rays are whole 64-probe batches of 128-ray probes: the same batches as a still.
-    EXPECT_EQ(kViewerGiBudget % (64 * GiOptions{}.rays), 0);
+    EXPECT_EQ(kGiInteractiveBudget % (64 * GiOptions{}.rays), 0);
 }
 
 TEST(ViewerGi, PanelLineSaysConvergingThenConverged) {
     GiStatus st;
-    EXPECT_EQ(gi_status_line(st, kViewerGiBudget), "") << "not planned: the effect row says why";
+    EXPECT_EQ(gi_status_line(st, kGiInteractiveBudget), "") << "not planned: the effect row says why";
     st.planned = true;
     st.counts = {8, 4, 2};
     st.rays = 128;

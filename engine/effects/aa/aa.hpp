@@ -16,7 +16,7 @@
 
 #include <glm/vec2.hpp>
 
-#include "effects/effect.hpp"
+#include "render/effect.hpp"
 
 namespace candela {
 

@@ -4,7 +4,7 @@
 // with its own shadow map. How the emitters shade (arealight.method):
 // - ltc (default): every emissive triangle is a polygon light, integrated exactly over the
 //   Lambert lobe and a linearly transformed cosine fitted to Candela's GGX lobe (Heitz et al.
-//   2016; the table: ltc.hpp, fitted by samples/ltc_fit). The pieces only cast shadows, applied
+//   2016; the table: ltc.hpp, fitted by effects/area_lights/ltc_fit). The pieces only cast shadows, applied
 //   as the ratio of their shadowed to unshadowed estimates (Heitz, Hill & McGuire 2018), so an
 //   unoccluded point gets exactly the LTC value. A textured emitter shades with its texture's
 //   average over each triangle.
@@ -16,7 +16,7 @@
 
 #include <vector>
 
-#include "effects/effect.hpp"
+#include "render/effect.hpp"
 
 namespace candela {
 

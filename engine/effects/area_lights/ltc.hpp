@@ -4,7 +4,7 @@
 // (shaders/common/brdf.glsl, F = 1) by a clamped cosine D_o(w) = max(0, w.z) / pi transformed by a
 // 3x3 matrix M:
 //     D(w) = D_o(M^-1 w / |M^-1 w|) * |det M^-1| / |M^-1 w|^3      (|w| = 1)
-// The fitting tool (samples/ltc_fit) writes ltc_table.inc from fit_table(); tests/unit/test_ltc.cpp
+// The fitting tool (effects/area_lights/ltc_fit) writes ltc_table.inc from fit_table(); tests/unit/test_ltc.cpp
 // checks the table against the BRDF.
 //
 // Frame of every fit: the normal is +Z and the view direction lies in the XZ plane on the +X side,

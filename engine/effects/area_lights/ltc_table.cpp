@@ -5,7 +5,7 @@
 
 namespace candela::ltc {
 namespace {
-// The table is data made by samples/ltc_fit, which itself links this library: before the first
+// The table is data made by effects/area_lights/ltc_fit, which itself links this library: before the first
 // fit (bootstrap only; the table is committed) the engine builds without it and says so when
 // the table is needed.
 #if __has_include("effects/area_lights/ltc_table.inc")

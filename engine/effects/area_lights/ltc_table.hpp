@@ -1,5 +1,5 @@
 #pragma once
-// The committed LTC table (ltc_table.inc, written by samples/ltc_fit) as arrays for upload:
+// The committed LTC table (ltc_table.inc, written by effects/area_lights/ltc_fit) as arrays for upload:
 // kTableSize^2 entries, index j * kTableSize + i (layout and parametrisation: ltc.hpp).
 #include <glm/glm.hpp>
 

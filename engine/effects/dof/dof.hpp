@@ -5,7 +5,7 @@
 // by each pixel's circle of confusion, sized by the same thin-lens formula as the tracer's, with
 // separate near and far fields composited in one pass (docs/effects/dof.md). Planned only when the
 // camera has an aperture.
-#include "effects/effect.hpp"
+#include "render/effect.hpp"
 
 namespace candela {
 

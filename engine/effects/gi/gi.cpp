@@ -159,6 +159,18 @@ public:
         return st;
     }
 
+    EffectProgress progress() const override {
+        const GiStatus st = gi_status();
+        EffectProgress p;
+        p.active = st.planned;
+        p.converged = st.converged();
+        p.steps_done = st.updates_done;
+        p.work_last_frame = st.rays_last_frame;
+        p.line = gi_status_line(st, options_.budget);
+        p.pace = "gi.budget " + std::to_string(options_.budget) + " rays/frame";
+        return p;
+    }
+
     int probe_count() const { return counts_.x * counts_.y * counts_.z; }
 
 private:
@@ -379,6 +391,7 @@ public:
     const char* shading_include() const override { return "effects/gi/gi_shading.glsl"; }
     std::unique_ptr<EffectRuntime> create_runtime() const override { return std::make_unique<GiRuntime>(); }
     std::vector<AccuracySweep> accuracy_sweeps(bool quick) const override { return gi_accuracy_sweeps(quick); }
+    std::vector<std::string> interactive_defaults() const override { return {"gi.budget=" + std::to_string(kGiInteractiveBudget)}; }
 };
 
 }  // namespace
@@ -406,6 +419,32 @@ int gi_planned_bounces(const GiOptions& o, const IndirectEstimate* estimate) {
 const IndirectEstimate* indirect_estimate(const Features& f) {
     const ViewEstimate* v = f.estimate("gi");
     return v ? std::any_cast<IndirectEstimate>(&v->value) : nullptr;
+}
+
+std::string gi_status_line(const GiStatus& st, int budget) {
+    if (!st.planned) return {};
+    char head[128];
+    std::snprintf(head, sizeof head, "GI probes %dx%dx%d, %d rays, %d bounce(s): ", st.counts.x, st.counts.y, st.counts.z,
+                  st.rays, st.bounces);
+    std::string line = head;
+    if (st.converged()) {
+        line += "converged (" + std::to_string(st.updates_planned) + " updates";
+        line += budget > 0 ? ")" : ", before the frame: gi.budget=0)";
+    } else {
+        // Rays still owed, and the frames they take at this budget (the current update's
+        // finished part is not known here: an upper bound).
+        const long long per_update = static_cast<long long>(st.counts.x) * st.counts.y * st.counts.z * st.rays;
+        const long long owed = static_cast<long long>(st.updates_planned - st.updates_done) * per_update;
+        line += std::to_string(st.updates_done) + "/" + std::to_string(st.updates_planned) + " updates done (converging, ";
+        if (budget > 0) {
+            const long long per_frame = std::max<long long>(budget, st.rays);
+            line += std::to_string(budget) + " rays/frame, <= " + std::to_string((owed + per_frame - 1) / per_frame) + " frames to go)";
+        } else {
+            line += "gi.budget=0: the next frame)";
+        }
+    }
+    if (st.nonfinite > 0) line += "; " + std::to_string(st.nonfinite) + " non-finite ray results replaced by 0";
+    return line;
 }
 
 const Effect& gi_effect() {

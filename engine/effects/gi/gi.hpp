@@ -7,7 +7,7 @@
 // image (estimate.hpp), with as many bounces as that fraction calls for.
 #include <glm/glm.hpp>
 
-#include "effects/effect.hpp"
+#include "render/effect.hpp"
 
 namespace candela {
 
@@ -53,6 +53,18 @@ public:
     virtual ~GiStatusView() = default;
     virtual GiStatus gi_status() const = 0;
 };
+
+// GI probes in an interactive front end (Effect::interactive_defaults): a still converges them
+// before its frame (gi.budget 0); the viewer spreads their updates over frames so that the first
+// frame and every frame after a change stay interactive. 16384 rays per frame is 256 probes of 64
+// rays (the default; 128 of 128): whole 64-probe batches of the GI pass, so the updates happen in
+// the same batches as in a still and the converged image equals `candela render`'s. Measured on
+// llvmpipe, 2 shared cores, cornell_point (docs/effects/gi.md).
+constexpr int kGiInteractiveBudget = 16384;
+
+// The progress line (EffectProgress::line): how far the probes are and at what budget (rays per
+// frame, 0: all before the frame). Empty when the probes are not planned.
+std::string gi_status_line(const GiStatus& st, int budget);
 
 const Effect& gi_effect();
 

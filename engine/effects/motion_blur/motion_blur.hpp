@@ -8,7 +8,7 @@
 // gather along the dominant velocity with soft depth comparisons and cone/cylinder weights)
 // blurs the HDR image (docs/effects/motion_blur.md). Planned only when the shutter is open and something
 // in view moves during it (Features::moving_draws).
-#include "effects/effect.hpp"
+#include "render/effect.hpp"
 
 namespace candela {
 

@@ -3,7 +3,7 @@
 // and GGX-prefiltered (the env_probe pass), read by the shading of smooth metals and refracting
 // surfaces (reflections_shading.glsl); on the deferred path a transmissive pass re-shades the
 // transmissive surfaces. Probe placement: probes.hpp.
-#include "effects/effect.hpp"
+#include "render/effect.hpp"
 #include "effects/reflections/probes.hpp"
 #include "render/gpu_scene.hpp"
 

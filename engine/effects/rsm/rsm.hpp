@@ -2,7 +2,7 @@
 // Indirect light from reflective shadow maps (engine/effects/rsm/; Dachsbacher & Stamminger
 // 2005): one bounce of the lights with shadow views (punctual lights, and area lights through
 // their shadowed pieces), gathered in screen space.
-#include "effects/effect.hpp"
+#include "render/effect.hpp"
 
 namespace candela {
 

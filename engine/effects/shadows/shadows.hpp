@@ -2,7 +2,7 @@
 // Shadow maps (engine/effects/shadows/): one depth layer per shadow view (shadow_views.hpp) of
 // every shadowed light, filtered by the lighting (shadows_shading.glsl) with a hard 2x2 PCF tap,
 // a PCF kernel or PCSS.
-#include "effects/effect.hpp"
+#include "render/effect.hpp"
 #include "effects/shadows/shadow_views.hpp"
 
 namespace candela {

@@ -2,7 +2,7 @@
 // Screen-space ambient occlusion (engine/effects/ssao/): the AO buffer from the camera's depth and
 // normals, at full or half resolution, and a separable depth-aware blur; the lighting multiplies
 // only the ambient/environment term by it (ssao_shading.glsl). It converges to `--raytrace ao`.
-#include "effects/effect.hpp"
+#include "render/effect.hpp"
 
 namespace candela {
 

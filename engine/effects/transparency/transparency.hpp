@@ -1,7 +1,7 @@
 #pragma once
 // Alpha-blended surfaces (engine/effects/transparency/): sorted blending back to front by object
 // or by triangle, or exact depth peeling, drawn after the opaque image and the sky.
-#include "effects/effect.hpp"
+#include "render/effect.hpp"
 
 namespace candela {
 

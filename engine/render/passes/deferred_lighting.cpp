@@ -12,7 +12,7 @@
 #include <mutex>
 
 #include "core/log.hpp"
-#include "effects/effect.hpp"
+#include "render/effect.hpp"
 #include "gpu/bindings.h"
 #include "render/passes/pass_env.hpp"
 

@@ -1,5 +1,5 @@
 // Forward shading of opaque and alpha-masked geometry into the linear HDR target.
-#include "effects/effect.hpp"
+#include "render/effect.hpp"
 #include "render/passes/pass_env.hpp"
 
 namespace candela {

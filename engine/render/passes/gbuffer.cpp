@@ -4,7 +4,7 @@
 // multisampled; "gbuffer_resolve" then copies sample 0's depth and normal into single-sample
 // textures for the screen-space effects (Stage::screen), and the lighting pass shades once per
 // pixel, or at the edge pixels once per surface their samples show (shaders/deferred/light.comp).
-#include "effects/effect.hpp"
+#include "render/effect.hpp"
 #include "gpu/bindings.h"
 #include "render/passes/pass_env.hpp"
 

@@ -5,7 +5,7 @@
 #include <string>
 
 #include "core/error.hpp"
-#include "effects/effect.hpp"
+#include "render/effect.hpp"
 #include "gpu/bindings.h"
 
 namespace candela {

@@ -44,7 +44,7 @@ struct PassEnv {
     // The effect modules' runtimes (engine/effects/), registry order: the shading passes let each
     // declare and bind what it made.
     const std::vector<EffectRuntime*>& effects;
-    // How the frame takes its samples (effects/effect.hpp): multisampled targets, alpha to
+    // How the frame takes its samples (render/effect.hpp): multisampled targets, alpha to
     // coverage, sub-frames. This is sub-frame `subframe` of sampling.subframes.
     const FrameSampling& sampling;
     int subframe = 0;

@@ -1,4 +1,4 @@
-#include "profile/stats.hpp"
+#include "render/stats.hpp"
 
 #include <fstream>
 

@@ -1,11 +1,11 @@
-#include "shader/program_catalog.hpp"
+#include "render/program_catalog.hpp"
 
 #include <algorithm>
 #include <map>
 #include <mutex>
 
 #include "core/error.hpp"
-#include "effects/registry.hpp"
+#include "render/effect_registry.hpp"
 
 namespace candela {
 

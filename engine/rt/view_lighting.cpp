@@ -1,4 +1,4 @@
-#include "render/view_lighting.hpp"
+#include "rt/view_lighting.hpp"
 
 #include <cstdio>
 #include <cstring>

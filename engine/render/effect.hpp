@@ -1,10 +1,10 @@
 #pragma once
-// An effect module (docs/design.md, docs/adding-an-effect.md): one folder holding the
-// effect's options and knob rows, its planning (on/off with the reason, the passes it adds), its
-// passes, programs and persistent GPU resources, its uniform block (a header shared by C++ and
-// GLSL) and its accuracy sweep. The registry (effects/registry.cpp) lists them; the renderer,
-// the planner, `info`, the stats JSON, the viewer and `bench accuracy` iterate it and know no
-// effect by name.
+// The interface of an effect module (docs/design.md, docs/adding-an-effect.md), which the base
+// declares and each folder under engine/effects/ implements: the effect's options and knob rows,
+// its planning (on/off with the reason, the passes it adds), its passes, programs and persistent
+// GPU resources, its uniform block (a header shared by C++ and GLSL) and its accuracy sweep.
+// effects/registry.cpp lists them (render/effect_registry.hpp); the renderer, the planner,
+// `info`, the stats JSON, the viewer and `bench accuracy` iterate it and know no effect by name.
 #include <any>
 #include <map>
 #include <memory>
@@ -15,13 +15,13 @@
 #include <glm/vec2.hpp>
 #include <nlohmann/json_fwd.hpp>
 
-#include "effects/accuracy_sweep.hpp"
-#include "effects/knob.hpp"
+#include "render/knob.hpp"
 #include "render/frame_graph.hpp"
 #include "shader/shader_library.hpp"
 
 namespace candela {
 
+struct AccuracySweep;  // effects/accuracy_sweep.hpp: what the accuracy engine runs
 struct Bounds;
 struct Camera;
 struct EffectDecision;
@@ -161,7 +161,24 @@ public:
     virtual std::vector<GpuBlockInfo> gpu_blocks() const { return {}; }
     // The renderer's per-effect state: persistent GPU resources and the frame's passes.
     virtual std::unique_ptr<EffectRuntime> create_runtime() const = 0;
-    virtual std::vector<AccuracySweep> accuracy_sweeps(bool /*quick*/) const { return {}; }
+    // The effect's accuracy sweeps as data (effects/accuracy_sweep.hpp), which `bench accuracy`
+    // runs against the tracer; every effect has at least one (quick: the CI's smaller set).
+    virtual std::vector<AccuracySweep> accuracy_sweeps(bool quick) const = 0;
+    // Knob assignments ("name.knob=value") that an interactive front end (the viewer) applies
+    // unless the user set that knob: settings that keep every frame interactive where a still
+    // would rather converge before its one frame.
+    virtual std::vector<std::string> interactive_defaults() const { return {}; }
+};
+
+// How far an effect that converges over frames has got (EffectRuntime::progress): the viewer's
+// panel shows `line` under the effect's row, and its log prints it when the phase changes.
+struct EffectProgress {
+    bool active = false;            // converging or converged (false: nothing to report)
+    bool converged = false;
+    int steps_done = 0;             // completed steps so far; falls back when the effect restarts
+    long long work_last_frame = 0;  // work the last frame did (rays, samples; 0: none)
+    std::string line;               // e.g. "GI probes 8x4x2, 128 rays, 5 bounce(s): 3/11 updates done (...)"
+    std::string pace;               // the knob that spreads the work over frames, e.g. "gi.budget 16384 rays/frame"
 };
 
 // What an effect's runtime sees when the renderer's settings change (Renderer::set_settings).
@@ -219,6 +236,8 @@ public:
     // leaves out code whose condition that block makes false. Kept on the CPU wherever the block
     // is uploaded (not read back from GL). The renderer concatenates them in registry order.
     virtual std::vector<std::string> shading_defines() const { return {}; }
+    // For an effect whose result converges over frames: how far it has got (after render()).
+    virtual EffectProgress progress() const { return {}; }
 };
 
 }  // namespace candela

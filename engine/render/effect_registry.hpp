@@ -1,11 +1,13 @@
 #pragma once
 // The effect registry: every effect module, in the order their decisions are made and their
-// passes are added within a stage (an effect may depend on the decisions before it).
+// passes are added within a stage (an effect may depend on the decisions before it). The base
+// declares it and iterates it; effects/registry.cpp, the one file that names every effect,
+// defines it. So no header of the base includes an effect's, and the effects sit above the base.
 #include <string>
 #include <string_view>
 #include <vector>
 
-#include "effects/effect.hpp"
+#include "render/effect.hpp"
 
 namespace candela {
 
