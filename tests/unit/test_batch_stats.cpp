@@ -12,11 +12,11 @@
 namespace candela {
 namespace {
 
-constexpr int kSize = 64;
+constexpr int kStatsSize = 64;
 
 // The true value of pixel (x, y): a smooth colour ramp between 0.2 and about 2.
 glm::vec3 truth(int x, int y) {
-    const float u = static_cast<float>(x) / kSize, v = static_cast<float>(y) / kSize;
+    const float u = static_cast<float>(x) / kStatsSize, v = static_cast<float>(y) / kStatsSize;
     return {0.2f + 1.8f * u, 0.3f + 1.2f * v, 0.5f + 0.5f * u * v};
 }
 
@@ -29,10 +29,10 @@ std::vector<ImageF> make_batches(int count, unsigned seed, double relative_noise
     std::normal_distribution<double> normal(0.0, 1.0);
     std::vector<ImageF> batches;
     for (int k = 0; k < count; ++k) {
-        ImageF im(kSize, kSize, 4);
+        ImageF im(kStatsSize, kStatsSize, 4);
         const double global = 1.0 + global_noise * normal(rng);
-        for (int y = 0; y < kSize; ++y)
-            for (int x = 0; x < kSize; ++x) {
+        for (int y = 0; y < kStatsSize; ++y)
+            for (int x = 0; x < kStatsSize; ++x) {
                 const glm::vec3 t = truth(x, y);
                 float* p = im.at(x, y);
                 for (int c = 0; c < 3; ++c)
@@ -45,9 +45,9 @@ std::vector<ImageF> make_batches(int count, unsigned seed, double relative_noise
 }
 
 ImageF truth_image(double scale = 1.0) {
-    ImageF im(kSize, kSize, 4);
-    for (int y = 0; y < kSize; ++y)
-        for (int x = 0; x < kSize; ++x) {
+    ImageF im(kStatsSize, kStatsSize, 4);
+    for (int y = 0; y < kStatsSize; ++y)
+        for (int x = 0; x < kStatsSize; ++x) {
             const glm::vec3 t = truth(x, y);
             float* p = im.at(x, y);
             for (int c = 0; c < 3; ++c) p[c] = static_cast<float>(t[c] * scale);
@@ -60,7 +60,7 @@ TEST(BatchStats, EqualMeansPassAndZOfMeanIsSmall) {
     const BatchCompareResult r = compare_batches(make_batches(16, 1, 0.1), make_batches(16, 2, 0.1));
     EXPECT_EQ(r.batches_a, 16);
     EXPECT_EQ(r.batches_b, 16);
-    EXPECT_EQ(r.pixels, static_cast<std::size_t>(kSize * kSize));
+    EXPECT_EQ(r.pixels, static_cast<std::size_t>(kStatsSize * kStatsSize));
     EXPECT_EQ(r.nonfinite_pixels, 0u);
     EXPECT_EQ(r.compared_pixels, r.pixels);
     // Normal tails at 5 sigma are 6e-7; with 16 batches a side the estimated se makes z a
@@ -111,7 +111,7 @@ TEST(BatchStats, ZOfMeanUsesTheBatchToBatchVarianceOfTheImageMean) {
     const double expected_se = 0.02 * r.mean_a / 4.0;
     EXPECT_GT(r.se_mean_a, 0.5 * expected_se);
     EXPECT_LT(r.se_mean_a, 2.0 * expected_se);
-    EXPECT_GT(r.se_mean_a, 5.0 * 0.1 * r.mean_a / std::sqrt(16.0 * kSize * kSize));
+    EXPECT_GT(r.se_mean_a, 5.0 * 0.1 * r.mean_a / std::sqrt(16.0 * kStatsSize * kStatsSize));
 }
 
 TEST(BatchStats, AgainstAnExactReference) {
