@@ -1,4 +1,6 @@
 // The area-light effect's uniform block, shared by area_lights.cpp and the GLSL (gpu/gpu_block.h).
+#ifndef CANDELA_AREA_LIGHTS_DATA_H
+#define CANDELA_AREA_LIGHTS_DATA_H
 #include "gpu/gpu_block.h"
 #define AREA_LIGHTS_BINDING 5
 #define AREA_POLYGONS_BINDING 7   // SSBO: one PolygonLight per emissive triangle
@@ -14,3 +16,5 @@ GPU_BLOCK(AreaLightsData, AREA_LIGHTS_BINDING) {
 } GPU_BLOCK_INSTANCE(area_lights);
 GPU_BLOCK_CHECK(AreaLightsData, 16)
 GPU_NAMESPACE_END
+
+#endif

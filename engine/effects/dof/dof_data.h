@@ -1,5 +1,7 @@
 // Depth of field's uniform block, shared by engine/effects/dof/dof.cpp and the GLSL
 // (gpu/gpu_block.h).
+#ifndef CANDELA_DOF_DATA_H
+#define CANDELA_DOF_DATA_H
 #include "gpu/gpu_block.h"
 #define DOF_BINDING 9
 #define DOF_IN_UNIT 0    // a pass's first input (coc: the HDR image; tiles: its input; gather: colour and CoC)
@@ -21,3 +23,5 @@ GPU_BLOCK(DofData, DOF_BINDING) {
 } GPU_BLOCK_INSTANCE(dof);
 GPU_BLOCK_CHECK(DofData, 32)
 GPU_NAMESPACE_END
+
+#endif

@@ -1,5 +1,7 @@
 // The GI probes' uniform block, shared by gi.cpp and the GLSL (gpu/gpu_block.h): the probe
 // grid, the atlases' layout and the current update iteration.
+#ifndef CANDELA_GI_DATA_H
+#define CANDELA_GI_DATA_H
 #include "gpu/gpu_block.h"
 #define GI_BINDING 6
 #define GI_IRRADIANCE_UNIT 21  // RGBA32F atlas: rgb irradiance E (W/m^2 per unit radiance), a probe active
@@ -29,3 +31,5 @@ GPU_BLOCK(GiData, GI_BINDING) {
 } GPU_BLOCK_INSTANCE(gi);
 GPU_BLOCK_CHECK(GiData, 144)
 GPU_NAMESPACE_END
+
+#endif

@@ -1,5 +1,7 @@
 // Motion blur's uniform block, shared by engine/effects/motion_blur/motion_blur.cpp and the GLSL
 // (gpu/gpu_block.h).
+#ifndef CANDELA_MOTION_BLUR_DATA_H
+#define CANDELA_MOTION_BLUR_DATA_H
 #include "gpu/gpu_block.h"
 #define MOTION_BLUR_BINDING 10
 #define MOTION_BLUR_IN_UNIT 0        // tilemax.frag's input
@@ -18,3 +20,5 @@ GPU_BLOCK(MotionBlurData, MOTION_BLUR_BINDING) {
 } GPU_BLOCK_INSTANCE(motion_blur);
 GPU_BLOCK_CHECK(MotionBlurData, 16)
 GPU_NAMESPACE_END
+
+#endif

@@ -60,10 +60,13 @@ std::vector<ProbePlacement> place_probes(const Scene& scene, const std::vector<G
 }
 
 ProbeData to_gpu(const ProbePlacement& p) {
-    ProbeData d;
-    d.position_radius = glm::vec4(p.position, p.radius);
-    d.box_min = glm::vec4(p.box_min, p.has_box ? 1.0f : 0.0f);
-    d.box_max = glm::vec4(p.box_max, p.reflective_only);
+    ProbeData d{};
+    d.position = p.position;
+    d.radius = p.radius;
+    d.box_min = p.box_min;
+    d.has_box = p.has_box ? 1.0f : 0.0f;
+    d.box_max = p.box_max;
+    d.reflective_only = p.reflective_only;
     return d;
 }
 

@@ -8,6 +8,7 @@
 
 #include <glm/glm.hpp>
 
+#include "effects/reflections/reflections_data.h"
 #include "render/gpu_scene.hpp"
 
 namespace candela {
@@ -36,12 +37,8 @@ bool is_reflective(const Material& m, float max_roughness);
 std::vector<ProbePlacement> place_probes(const Scene& scene, const std::vector<GpuScene::Draw>& draws,
                                          const ReflectionsOptions& options);
 
-// GPU layout of shaders/lighting/shading.glsl's ProbeData.
-struct ProbeData {
-    glm::vec4 position_radius;
-    glm::vec4 box_min;  // w = 1: has a box
-    glm::vec4 box_max;
-};
+// A probe as the lighting reads it (effects/reflections/reflections_data.h).
+using ProbeData = gpu::ProbeData;
 ProbeData to_gpu(const ProbePlacement& p);
 
 }  // namespace candela

@@ -1,5 +1,7 @@
 // The reflections effect's uniform block, shared by reflections.cpp and the GLSL
 // (gpu/gpu_block.h).
+#ifndef CANDELA_REFLECTIONS_DATA_H
+#define CANDELA_REFLECTIONS_DATA_H
 #include "gpu/gpu_block.h"
 #define REFLECTIONS_BINDING 4
 #define REFLECTIONS_PROBES_UNIT 14    // the probes' filtered cube array
@@ -13,4 +15,18 @@ GPU_BLOCK(ReflectionsData, REFLECTIONS_BINDING) {
     int pad;
 } GPU_BLOCK_INSTANCE(reflections);
 GPU_BLOCK_CHECK(ReflectionsData, 16)
+
+// One reflection probe, the element of the REFLECTIONS_PROBES_BINDING buffer.
+GPU_STRUCT(ProbeData) {
+    vec3 position;          // the capture point
+    float radius;           // influence radius when there is no box
+    vec3 box_min;           // box-projected lookups inside [box_min, box_max] when has_box = 1
+    float has_box;
+    vec3 box_max;
+    float reflective_only;  // >= 0: lights only reflective surfaces (metallic with roughness below
+                            // it, or transmissive); < 0: every surface in range
+};
+GPU_STRUCT_CHECK(ProbeData, 48)
 GPU_NAMESPACE_END
+
+#endif

@@ -3,12 +3,6 @@
 #include "effects/reflections/reflections_data.h"
 
 layout(binding = REFLECTIONS_PROBES_UNIT) uniform samplerCubeArray t_probes;   // bound when reflections.probes > 0
-struct ProbeData {
-    vec4 position_radius;  // capture point; influence radius when there is no box
-    vec4 box_min;          // w = 1: box-projected lookups inside [box_min, box_max]
-    vec4 box_max;          // w >= 0: lights only reflective surfaces (metallic with roughness
-                           // below w, or transmissive); w < 0: every surface in range
-};
 layout(std430, binding = REFLECTIONS_PROBES_BINDING) readonly buffer Probes { ProbeData probes[]; };
 
 // The probe that lights p on a surface with these properties: of those whose box (or radius)
@@ -18,11 +12,11 @@ int probe_at(vec3 p, BrdfInput bi, float transmission) {
     float best_d = 3.0e38;
     for (int k = 0; k < reflections.probes; ++k) {
         ProbeData pr = probes[k];
-        if (pr.box_max.w >= 0.0 && transmission <= 0.0 && !(bi.metallic > 0.5 && bi.roughness < pr.box_max.w)) continue;
-        float d = distance(p, pr.position_radius.xyz);
-        bool inside = pr.box_min.w > 0.5
-            ? all(greaterThanEqual(p, pr.box_min.xyz - 1e-4)) && all(lessThanEqual(p, pr.box_max.xyz + 1e-4))
-            : d <= pr.position_radius.w;
+        if (pr.reflective_only >= 0.0 && transmission <= 0.0 && !(bi.metallic > 0.5 && bi.roughness < pr.reflective_only)) continue;
+        float d = distance(p, pr.position);
+        bool inside = pr.has_box > 0.5
+            ? all(greaterThanEqual(p, pr.box_min - 1e-4)) && all(lessThanEqual(p, pr.box_max + 1e-4))
+            : d <= pr.radius;
         if (inside && d < best_d) {
             best = k;
             best_d = d;
@@ -34,11 +28,11 @@ int probe_at(vec3 p, BrdfInput bi, float transmission) {
 // Lagarde & Zanuttini 2012, "Local image-based lighting with parallax-corrected cubemaps": the
 // ray p + t r leaves the probe's box at the point the probe saw in direction (hit - position).
 vec3 probe_direction(ProbeData pr, vec3 p, vec3 r) {
-    if (pr.box_min.w < 0.5) return r;
+    if (pr.has_box < 0.5) return r;
     vec3 rs = mix(r, mix(vec3(1e-8), vec3(-1e-8), lessThan(r, vec3(0.0))), lessThan(abs(r), vec3(1e-8)));
-    vec3 far_t = max((pr.box_max.xyz - p) / rs, (pr.box_min.xyz - p) / rs);
+    vec3 far_t = max((pr.box_max - p) / rs, (pr.box_min - p) / rs);
     float t = max(min(min(far_t.x, far_t.y), far_t.z), 0.0);
-    vec3 d = p + r * t - pr.position_radius.xyz;
+    vec3 d = p + r * t - pr.position;
     return dot(d, d) > 1e-12 ? d : r;
 }
 

@@ -17,12 +17,6 @@ layout(binding = RSM_POSITION_UNIT) uniform sampler2DArray t_rsm_position;
 layout(binding = RSM_NORMAL_UNIT) uniform sampler2DArray t_rsm_normal;
 layout(binding = RSM_FLUX_UNIT) uniform sampler2DArray t_rsm_flux;
 
-struct RsmView {
-    mat4 view_proj;
-    vec4 params;  // x light index, y first layer of its RSM light, z that light's layer count,
-                  // w cube faces: the face's tangent half-width (> 1: a guard band beyond the 90
-                  // degrees); 0: one view (directional, spot)
-};
 layout(std430, binding = RSM_VIEWS_BINDING) readonly buffer RsmViews { RsmView rsm_views[]; };  // per layer
 layout(location = 0) uniform int u_lights;       // RSM lights: rsm_views[first layer of each]
 layout(location = 1) uniform ivec4 u_rsm;        // x resolution, y samples, z downscale
@@ -73,8 +67,8 @@ void main() {
         // faces (a point light; an area light: the faces of its pieces that it emits into): the
         // bounce light comes from every face, so the samples are spread uniformly over all the
         // light's layers, weighted layers res^2 / n.
-        int count = int(v0.params.z);
-        bool cube = v0.params.w > 0.0;
+        int count = int(v0.layer_count);
+        bool cube = v0.face_half_width > 0.0;
         vec2 centre = vec2(0.5);
         if (!cube) {
             vec4 c = rsm_views[first].view_proj * vec4(p, 1.0);
@@ -106,7 +100,7 @@ void main() {
                            float(k / 6) * vec2(0.4142135624, 0.7320508076));
                 // The guard band belongs to the neighbouring face: counting it here too would
                 // add its light twice. (Same weight: the estimate sums the faces' 90-degree parts.)
-                if (any(greaterThan(abs(uv * 2.0 - 1.0), vec2(1.0 / v0.params.w)))) continue;
+                if (any(greaterThan(abs(uv * 2.0 - 1.0), vec2(1.0 / v0.face_half_width)))) continue;
             } else {
                 // Stratified polar pattern: xi1 from the sample index, xi2 a golden-angle spiral.
                 float xi1 = (float(i) + 0.5) / float(samples);

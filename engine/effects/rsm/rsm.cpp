@@ -158,15 +158,15 @@ private:
                     const ShadowViewData sv =
                         directional ? directional_scene_view(info.direction, p.scene_bounds, options_.resolution) : shadow_views.views[layer];
                     // Cube faces: their tangent half-width (a guard band beyond 90 degrees), for the gather.
-                    const float half_width = count == 6 ? sv.params.y * static_cast<float>(shadow_resolution) * 0.5f : 0.0f;
-                    r.views.push_back({sv.view_proj, glm::vec4(static_cast<float>(li), static_cast<float>(first), 0.0f, half_width)});
-                    r.kind_texel.push_back(glm::vec4(sv.params.x, directional ? sv.params.y : sv.params.y * scale, rl.flux_scale, 0.0f));
+                    const float half_width = count == 6 ? sv.texel_size * static_cast<float>(shadow_resolution) * 0.5f : 0.0f;
+                    r.views.push_back({sv.view_proj, static_cast<float>(li), static_cast<float>(first), 0.0f, half_width});
+                    r.kind_texel.push_back(glm::vec4(sv.kind, directional ? sv.texel_size : sv.texel_size * scale, rl.flux_scale, 0.0f));
                     r.own_draw.push_back(info.own_draw);
                 }
             }
             const int layers = static_cast<int>(r.views.size()) - first;
             if (layers == 0) continue;
-            for (int k = first; k < first + layers; ++k) r.views[static_cast<size_t>(k)].params.z = static_cast<float>(layers);
+            for (int k = first; k < first + layers; ++k) r.views[static_cast<size_t>(k)].layer_count = static_cast<float>(layers);
             r.light_first.push_back(first);
         }
         const int res = options_.resolution;
@@ -228,7 +228,7 @@ private:
                     glClearBufferfv(GL_DEPTH, 0, &clear_depth);
                     const glm::mat4& vp = r.views[layer].view_proj;
                     glProgramUniformMatrix4fv(program, 4, 1, GL_FALSE, glm::value_ptr(vp));
-                    glProgramUniform1i(program, 5, static_cast<int>(r.views[layer].params.x));
+                    glProgramUniform1i(program, 5, static_cast<int>(r.views[layer].light));
                     glProgramUniform4fv(program, 6, 1, glm::value_ptr(r.kind_texel[layer]));
                     // Perspective: clip w = distance along the view axis, so row 3 of the matrix is it.
                     const glm::vec3 axis(vp[0][3], vp[1][3], vp[2][3]);
@@ -294,11 +294,7 @@ private:
     struct Resources {
         gl::Texture position, normal, flux, depth;  // 2D arrays, one layer per view
         std::vector<gl::Framebuffer> layer_fbos;
-        struct View {
-            glm::mat4 view_proj;
-            glm::vec4 params;  // x light, y first layer of the RSM light, z its layer count, w cube
-                               // faces: their tangent half-width (0: one view)
-        };
+        using View = gpu::RsmView;
         std::vector<View> views;
         std::vector<glm::vec4> kind_texel;  // per layer: x kind (0 ortho), y texel size at rsm.resolution,
                                             // z flux scale (an area light's unchosen pieces)

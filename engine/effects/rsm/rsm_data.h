@@ -1,4 +1,6 @@
 // RSM's uniform block, shared by rsm.cpp and the GLSL (gpu/gpu_block.h).
+#ifndef CANDELA_RSM_DATA_H
+#define CANDELA_RSM_DATA_H
 #include "gpu/gpu_block.h"
 #define RSM_BINDING 3
 #define RSM_INDIRECT_UNIT 10    // the gathered indirect light, while shading (camera views)
@@ -18,4 +20,17 @@ GPU_BLOCK(RsmData, RSM_BINDING) {
     int pad1;
 } GPU_BLOCK_INSTANCE(rsm);
 GPU_BLOCK_CHECK(RsmData, 16)
+
+// One RSM layer's view, the element of the RSM_VIEWS_BINDING buffer (gather.frag).
+GPU_STRUCT(RsmView) {
+    mat4 view_proj;
+    float light;             // the light's index
+    float first_layer;       // the first layer of its RSM light
+    float layer_count;       // that light's layer count
+    float face_half_width;   // cube faces: the face's tangent half-width (> 1: a guard band beyond
+                             // the 90 degrees); 0: one view (directional, spot)
+};
+GPU_STRUCT_CHECK(RsmView, 80)
 GPU_NAMESPACE_END
+
+#endif

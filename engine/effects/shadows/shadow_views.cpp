@@ -65,7 +65,12 @@ ShadowViewData directional_scene_view(const glm::vec3& direction, const Bounds& 
     const float n = -ls.max.z - margin, f = -ls.min.z + margin;
     const glm::mat4 proj = ortho_reversed(centre.x - size * 0.5f, centre.x + size * 0.5f, centre.y - size * 0.5f,
                                           centre.y + size * 0.5f, n, f);
-    return {proj * light_view, glm::vec4(0.0f, size / static_cast<float>(resolution), f - n, 0.0f), glm::vec4(0.0f)};
+    ShadowViewData v{};
+    v.view_proj = proj * light_view;
+    v.kind = 0.0f;
+    v.texel_size = size / static_cast<float>(resolution);
+    v.depth_range = f - n;
+    return v;
 }
 
 std::vector<float> cascade_splits(float near, float far, int cascades, float lambda) {
@@ -97,10 +102,18 @@ ShadowViews build_shadow_views(const GpuScene& gpu, const Bounds& bounds, const 
     for (size_t li = 0; li < infos.size(); ++li) {
         const LightInfo& info = infos[li];
         if (info.view_count == 0) continue;
-        auto set_view = [&](int k, const glm::mat4& vp, glm::vec4 params, glm::vec4 params2) {
+        // kind 0 orthographic, 1 perspective; `range`: the orthographic depth range or the near plane.
+        auto set_view = [&](int k, const glm::mat4& vp, float kind, float texel_size, float range, float cascade_end) {
             const size_t layer = static_cast<size_t>(info.first_view + k);
-            params.w = static_cast<float>(layer);
-            out.views[layer] = {vp, params, params2};
+            ShadowViewData& v = out.views[layer];
+            v = ShadowViewData{};
+            v.view_proj = vp;
+            v.kind = kind;
+            v.texel_size = texel_size;
+            v.depth_range = range;
+            v.layer = static_cast<float>(layer);
+            v.cascade_end = cascade_end;
+            v.light_size = info.size;
             out.light[layer] = static_cast<int>(li);
         };
         if (info.kind == LightInfo::Kind::directional) {
@@ -156,7 +169,7 @@ ShadowViews build_shadow_views(const GpuScene& gpu, const Bounds& bounds, const 
                 const float depth_margin = (scene_ls.max.z - scene_ls.min.z) * 0.01f + 1e-30f;
                 const float n = -scene_ls.max.z - depth_margin, f = -scene_ls.min.z + depth_margin;
                 const glm::mat4 proj = ortho_reversed(mn.x, mx.x, mn.y, mx.y, n, f);
-                set_view(k, proj * light_view, glm::vec4(0.0f, texel, f - n, 0.0f), glm::vec4(z1, info.size, 0.0f, 0.0f));
+                set_view(k, proj * light_view, 0.0f, texel, f - n, z1);
                 out.texel_world[static_cast<size_t>(info.first_view + k)] = texel;
             }
         } else if (info.kind == LightInfo::Kind::spot) {
@@ -165,8 +178,7 @@ ShadowViews build_shadow_views(const GpuScene& gpu, const Bounds& bounds, const 
             const float tan_half = std::tan(half);
             const float near = perspective_near(info.position, bounds);
             const glm::mat4 view = glm::lookAt(info.position, info.position + dir, any_perpendicular_up(dir));
-            set_view(0, perspective_reversed_infinite(tan_half, near) * view, glm::vec4(1.0f, 2.0f * tan_half / res, near, 0.0f),
-                     glm::vec4(0.0f, info.size, 0.0f, 0.0f));
+            set_view(0, perspective_reversed_infinite(tan_half, near) * view, 1.0f, 2.0f * tan_half / res, near, 0.0f);
         } else {
             // Cube faces +X, -X, +Y, -Y, +Z, -Z; the 90-degree face fills the inner res - 2*guard
             // texels.
@@ -177,8 +189,7 @@ ShadowViews build_shadow_views(const GpuScene& gpu, const Bounds& bounds, const 
             const float near = perspective_near(info.position, bounds);
             for (int k = 0; k < 6; ++k) {
                 const glm::mat4 view = glm::lookAt(info.position, info.position + axes[k], ups[k]);
-                set_view(k, perspective_reversed_infinite(tan_half, near) * view,
-                         glm::vec4(1.0f, 2.0f * tan_half / res, near, 0.0f), glm::vec4(0.0f, info.size, 0.0f, 0.0f));
+                set_view(k, perspective_reversed_infinite(tan_half, near) * view, 1.0f, 2.0f * tan_half / res, near, 0.0f);
                 // A one-sided emitter sends nothing into a face whose whole frustum lies behind it
                 // (the face axis within 35.26 degrees of the back normal).
                 if (info.kind == LightInfo::Kind::area && !info.double_sided && glm::dot(axes[k], -info.direction) > 0.8165f)

@@ -11,6 +11,7 @@
 
 #include <glm/glm.hpp>
 
+#include "effects/shadows/shadows_data.h"
 #include "render/gpu_scene.hpp"
 #include "scene/scene.hpp"
 
@@ -18,12 +19,8 @@ namespace candela {
 
 struct ShadowsOptions;
 
-struct ShadowViewData {  // std430, binding 3
-    glm::mat4 view_proj;
-    glm::vec4 params;   // x kind (0 ortho, 1 perspective), y texel size, z ortho range / near, w layer
-    glm::vec4 params2;  // x cascade end (view depth), y light size (world units)
-};
-static_assert(sizeof(ShadowViewData) == 96);
+// A shadow view as the GLSL reads it (effects/shadows/shadows_data.h).
+using ShadowViewData = gpu::ShadowView;
 
 struct ShadowViews {
     std::vector<ShadowViewData> views;  // index = layer

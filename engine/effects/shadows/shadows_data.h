@@ -1,4 +1,6 @@
 // The shadows effect's uniform block, shared by shadows.cpp and the GLSL (gpu/gpu_block.h).
+#ifndef CANDELA_SHADOWS_DATA_H
+#define CANDELA_SHADOWS_DATA_H
 #include "gpu/gpu_block.h"
 #define SHADOWS_BINDING 1
 #define SHADOW_VIEWS_BINDING 3  // SSBO: ShadowView per shadow view (layer)
@@ -21,4 +23,20 @@ GPU_BLOCK(ShadowsData, SHADOWS_BINDING) {
     float pad2;
 } GPU_BLOCK_INSTANCE(shadows);
 GPU_BLOCK_CHECK(ShadowsData, 48)
+
+// One shadow view (a layer of the depth array), the element of the SHADOW_VIEWS_BINDING buffer.
+GPU_STRUCT(ShadowView) {
+    mat4 view_proj;
+    float kind;          // 0 orthographic, 1 perspective
+    float texel_size;    // orthographic: world units; perspective: tangent units (times the distance)
+    float depth_range;   // orthographic: the depth range; perspective: the near plane
+    float layer;         // the array layer
+    float cascade_end;   // orthographic cascades: the view depth where this cascade ends
+    float light_size;    // world units; directional: angular diameter in radians
+    float pad0;
+    float pad1;
+};
+GPU_STRUCT_CHECK(ShadowView, 96)
 GPU_NAMESPACE_END
+
+#endif

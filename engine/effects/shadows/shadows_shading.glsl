@@ -8,15 +8,6 @@
 
 #include "effects/shadows/shadows_data.h"
 
-struct ShadowView {
-    mat4 view_proj;
-    vec4 params;   // x kind (0 ortho, 1 perspective), y texel size (ortho: world units; perspective:
-                   // tangent units, multiply by the distance), z ortho depth range / perspective near,
-                   // w array layer
-    vec4 params2;  // x cascade end (view depth, ortho), y light size (world units; directional:
-                   // angular diameter in radians), zw unused
-};
-
 layout(std430, binding = SHADOW_VIEWS_BINDING) readonly buffer ShadowViews { ShadowView shadow_views[]; };
 layout(binding = SHADOW_UNIT) uniform sampler2DArrayShadow t_shadow;  // GEQUAL compare, linear: 2x2 PCF
 layout(binding = SHADOW_DEPTH_UNIT) uniform sampler2DArray t_shadow_depth;  // raw depths for the blocker search
@@ -37,7 +28,7 @@ int shadow_view_index(LightData light, vec3 p) {
     if (count > 1) {  // cascades, by view depth
         float depth = -(frame.view * vec4(p, 1.0)).z;
         for (int c = 0; c < count - 1; ++c)
-            if (depth <= shadow_views[first + c].params2.x) return first + c;
+            if (depth <= shadow_views[first + c].cascade_end) return first + c;
         return first + count - 1;
     }
     return first;
@@ -55,7 +46,7 @@ vec2 vogel_disk(int i, int n, float phi) {
 
 // Distance from the light plane (ortho) or point (perspective) of a stored depth.
 float shadow_linear_depth(ShadowView sv, float d) {
-    return sv.params.x < 0.5 ? (1.0 - d) * sv.params.z : sv.params.z / max(d, 1e-30);
+    return sv.kind < 0.5 ? (1.0 - d) * sv.depth_range : sv.depth_range / max(d, 1e-30);
 }
 
 // Fraction of the light reaching p (1 lit, 0 shadowed). n: the shading normal, l: towards the light.
@@ -69,9 +60,9 @@ float shadow_factor(LightData light, vec3 p, vec3 n, vec3 l, vec2 pixel) {
 #endif
     if (mode == SHADOW_OFF || light.shadow_view_count < 0.5) return 1.0;
     ShadowView sv = shadow_views[shadow_view_index(light, p)];
-    bool ortho = sv.params.x < 0.5;
+    bool ortho = sv.kind < 0.5;
     vec4 c0 = sv.view_proj * vec4(p, 1.0);
-    float texel_world = ortho ? sv.params.y : sv.params.y * max(c0.w, 0.0);
+    float texel_world = ortho ? sv.texel_size : sv.texel_size * max(c0.w, 0.0);
     // Normal offset: more where the light grazes the surface.
     float NdotL = saturate(dot(n, l));
     vec3 q = p + n * (shadows.normal_bias * texel_world * (1.0 - NdotL * NdotL));
@@ -85,11 +76,11 @@ float shadow_factor(LightData light, vec3 p, vec3 n, vec3 l, vec2 pixel) {
     // light, lies deeper by r * tan(theta) texels: the bias grows with the kernel's radius so that
     // wide kernels do not shadow the receiver with itself.
     float tan_theta = min(sqrt(max(1.0 - NdotL * NdotL, 0.0)) / max(NdotL, 0.1), 10.0);
-    float depth_per_world = ortho ? 1.0 / sv.params.z : sv.params.z / (c.w * c.w);
+    float depth_per_world = ortho ? 1.0 / sv.depth_range : sv.depth_range / (c.w * c.w);
     float ref0 = ndc.z + shadows.depth_bias * texel_world * depth_per_world;
     float slope_per_texel = shadows.receiver_slope_bias * tan_theta * texel_world * depth_per_world;
     if (ref0 >= 1.0) return 1.0;  // nearer to the light than anything in the map
-    float layer = sv.params.w;
+    float layer = sv.layer;
     float res = shadows.resolution;
     vec2 texel_uv = vec2(1.0 / res);
 
@@ -105,7 +96,7 @@ float shadow_factor(LightData light, vec3 p, vec3 n, vec3 l, vec2 pixel) {
         return sum / float(size * size);
     }
     // PCSS (Fernando 2005): blocker search, penumbra estimate, variable-size PCF.
-    float light_size = sv.params2.y;
+    float light_size = sv.light_size;
     float max_radius = shadows.max_radius;
     float z_receiver = shadow_linear_depth(sv, ndc.z);
     float phi = 2.0 * PI * shadow_noise(pixel);
@@ -113,8 +104,8 @@ float shadow_factor(LightData light, vec3 p, vec3 n, vec3 l, vec2 pixel) {
     if (ortho) {
         search_texels = 0.5 * light_size * z_receiver / texel_world;
     } else {
-        float near = sv.params.z;
-        search_texels = 0.5 * light_size * (z_receiver - near) / (z_receiver * near) / sv.params.y;
+        float near = sv.depth_range;
+        search_texels = 0.5 * light_size * (z_receiver - near) / (z_receiver * near) / sv.texel_size;
     }
     search_texels = clamp(search_texels, 1.0, max_radius);
     int blocker_taps = shadows.blocker_taps;

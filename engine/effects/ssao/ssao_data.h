@@ -1,4 +1,6 @@
 // SSAO's uniform block, shared by engine/effects/ssao/ssao.cpp and the GLSL (gpu/gpu_block.h).
+#ifndef CANDELA_SSAO_DATA_H
+#define CANDELA_SSAO_DATA_H
 #include "gpu/gpu_block.h"
 #define SSAO_BINDING 2
 #define SSAO_UNIT 9           // the blurred AO, while shading (camera views)
@@ -21,3 +23,5 @@ GPU_BLOCK(SsaoData, SSAO_BINDING) {
 } GPU_BLOCK_INSTANCE(ssao);
 GPU_BLOCK_CHECK(SsaoData, 32)
 GPU_NAMESPACE_END
+
+#endif
