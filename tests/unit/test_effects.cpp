@@ -10,6 +10,7 @@
 
 #include "core/error.hpp"
 #include "effects/aa/aa.hpp"
+#include "effects/area_lights/area_lights_data.h"
 #include "effects/reflections/reflections_data.h"
 #include "effects/rsm/rsm_data.h"
 #include "effects/shadows/shadows_data.h"
@@ -148,7 +149,8 @@ TEST_P(EffectBlocks, CxxStructsMatchTheGlslBlocks) {
 
 // The base's and the tracer's blocks (gpu/scene_blocks.h, gpu/rt_frame.h): the frame blocks, and
 // the storage buffers of materials and lights, whose size with one element is the C++ struct's;
-// likewise the effects' storage buffers (shadow views, RSM views, reflection probes).
+// likewise the effects' storage buffers (shadow views, RSM views, area-light polygons, reflection
+// probes).
 TEST_P(EffectBlocks, BaseBlocksMatchTheGlsl) {
     const ShaderLibrary shaders(ShaderLibrary::default_root());
     const ProgramDesc rt_path{"rt_path", {{ShaderStage::compute, "rt/modes/path.comp"}}, {}};
@@ -167,6 +169,7 @@ TEST_P(EffectBlocks, BaseBlocksMatchTheGlsl) {
         {GL_SHADER_STORAGE_BLOCK, "Materials", MATERIALS_BINDING, sizeof(gpu::MaterialData), rt_path},
         {GL_SHADER_STORAGE_BLOCK, "Lights", LIGHTS_BINDING, sizeof(gpu::LightData), rt_path},
         {GL_SHADER_STORAGE_BLOCK, "ShadowViews", SHADOW_VIEWS_BINDING, sizeof(gpu::ShadowView), program_desc("forward")},
+        {GL_SHADER_STORAGE_BLOCK, "PolygonLights", AREA_POLYGONS_BINDING, sizeof(gpu::PolygonLight), program_desc("forward")},
         {GL_SHADER_STORAGE_BLOCK, "Probes", REFLECTIONS_PROBES_BINDING, sizeof(gpu::ProbeData), program_desc("forward")},
         {GL_SHADER_STORAGE_BLOCK, "RsmViews", RSM_VIEWS_BINDING, sizeof(gpu::RsmView), program_desc("rsm_gather")},
     };

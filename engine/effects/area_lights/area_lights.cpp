@@ -181,11 +181,14 @@ std::vector<PolygonLightGpu> polygon_lights(const Scene& scene, const GpuScene& 
             if (!(area2 > 0.0f) || !std::isfinite(area2)) continue;
             const glm::vec3 radiance = m.emission() * emissive_texture_average(scene, m, prim, t);
             if (!(radiance.r + radiance.g + radiance.b > 0.0f)) continue;
-            PolygonLightGpu g;
-            g.p0 = glm::vec4(p[0], m.double_sided ? 1.0f : 0.0f);
-            g.p1 = glm::vec4(p[1], static_cast<float>(range.first));
-            g.p2 = glm::vec4(p[2], static_cast<float>(range.second));
-            g.radiance = glm::vec4(radiance, 0.0f);
+            PolygonLightGpu g{};
+            g.p0 = p[0];
+            g.double_sided = m.double_sided ? 1.0f : 0.0f;
+            g.p1 = p[1];
+            g.first_piece = static_cast<float>(range.first);
+            g.p2 = p[2];
+            g.piece_count = static_cast<float>(range.second);
+            g.radiance = radiance;
             out.push_back(g);
         }
     }

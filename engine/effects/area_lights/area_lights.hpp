@@ -16,6 +16,7 @@
 
 #include <vector>
 
+#include "effects/area_lights/area_lights_data.h"
 #include "render/effect.hpp"
 
 namespace candela {
@@ -33,13 +34,8 @@ const Effect& area_lights_effect();
 struct Scene;
 class GpuScene;
 
-// One emissive triangle as the lighting passes read it (area_lights_shading.glsl: PolygonLight).
-struct PolygonLightGpu {
-    glm::vec4 p0;        // world position; w: 1 if double-sided
-    glm::vec4 p1;        // w: index of its emitter's first piece in the light buffer
-    glm::vec4 p2;        // w: its emitter's piece count
-    glm::vec4 radiance;  // rgb emitted radiance (texture averaged over the triangle)
-};
+// One emissive triangle as the lighting passes read it (area_lights_data.h).
+using PolygonLightGpu = gpu::PolygonLight;
 // The polygon lights of the scene's emissive primitives, grouped by emitter in the light
 // buffer's piece order (GpuScene::update_lights with `samples` pieces per primitive).
 std::vector<PolygonLightGpu> polygon_lights(const Scene& scene, const GpuScene& gpu, int samples);

@@ -15,6 +15,19 @@ GPU_BLOCK(AreaLightsData, AREA_LIGHTS_BINDING) {
     int pad;
 } GPU_BLOCK_INSTANCE(area_lights);
 GPU_BLOCK_CHECK(AreaLightsData, 16)
+
+// One emissive triangle as the lighting reads it, the element of the AREA_POLYGONS_BINDING buffer.
+GPU_STRUCT(PolygonLight) {
+    vec3 p0;             // world positions of the corners
+    float double_sided;  // 1 if the emitter is double-sided
+    vec3 p1;
+    float first_piece;   // the index of its emitter's first piece in the light buffer
+    vec3 p2;
+    float piece_count;   // its emitter's piece count
+    vec3 radiance;       // emitted radiance (an emissive texture averaged over the triangle)
+    float pad0;
+};
+GPU_STRUCT_CHECK(PolygonLight, 64)
 GPU_NAMESPACE_END
 
 #endif

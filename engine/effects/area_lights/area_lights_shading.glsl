@@ -10,12 +10,6 @@
 // unoccluded point receives exactly the LTC value.
 #include "effects/area_lights/area_lights_data.h"
 
-struct PolygonLight {
-    vec4 p0;        // xyz world position; w: 1 if the emitter is double-sided
-    vec4 p1;        // xyz; w: the first of its emitter's pieces in lights[]
-    vec4 p2;        // xyz; w: its emitter's piece count
-    vec4 radiance;  // rgb emitted radiance (emissive texture averaged over the triangle)
-};
 layout(std430, binding = AREA_POLYGONS_BINDING) readonly buffer PolygonLights { PolygonLight polygon_lights[]; };
 layout(binding = LTC_MATRIX_UNIT) uniform sampler2D t_ltc_matrix;
 layout(binding = LTC_AMPLITUDE_UNIT) uniform sampler2D t_ltc_amplitude;
@@ -132,19 +126,19 @@ vec3 shade_area_lights(BrdfInput bi, vec3 p, vec3 n, vec3 v, vec2 pixel, float t
     // (all facing away or clipped away) adds 0 whatever its visibility: that is not looked up.
     int count = area_lights.polygon_count;
     for (int i = 0; i <= count; ++i) {
-        int first = i < count ? int(polygon_lights[i].p1.w) : -2;
+        int first = i < count ? int(polygon_lights[i].first_piece) : -2;
         if (first != group) {
             if (group >= 0 && any(notEqual(group_sum, vec3(0.0))))
-                sum += group_sum * area_visibility(group, int(polygon_lights[i - 1].p2.w), p, n, pixel);
+                sum += group_sum * area_visibility(group, int(polygon_lights[i - 1].piece_count), p, n, pixel);
             if (i == count) break;
             group = first;
             group_sum = vec3(0.0);
         }
         PolygonLight pl = polygon_lights[i];
-        vec3 a = pl.p0.xyz - p, b = pl.p1.xyz - p, c = pl.p2.xyz - p;
+        vec3 a = pl.p0 - p, b = pl.p1 - p, c = pl.p2 - p;
         // One-sided: only the side the winding's normal points to emits.
         float facing = dot(cross(b - a, c - a), -a);
-        if (pl.p0.w < 0.5 && facing <= 0.0) continue;
+        if (pl.double_sided < 0.5 && facing <= 0.0) continue;
         vec3 form = ltc_polygon_vector(to_local * a, to_local * b, to_local * c);
         float diffuse = abs(form.z);
         vec3 spec_form = ltc_polygon_vector(m_inv * a, m_inv * b, m_inv * c);
@@ -163,7 +157,7 @@ vec3 shade_area_lights(BrdfInput bi, vec3 p, vec3 n, vec3 v, vec2 pixel, float t
         float VdotH = saturate(dot(v_local, normalize(v_local + l_mean)));
         vec3 dielectric = (1.0 - F_Schlick(f0_d, vec3(f90_d), VdotH)) * bi.base_color * diffuse * (1.0 - transmission) + spec_d * specular;
         vec3 metal = spec_m * specular;
-        group_sum += pl.radiance.rgb * mix(dielectric, metal, bi.metallic);
+        group_sum += pl.radiance * mix(dielectric, metal, bi.metallic);
     }
     return sum;
 }
