@@ -40,8 +40,8 @@ std::vector<Aabb> primitive_boxes(const RtGeometry& g) {
     }
     for (const SphereGpu& s : g.spheres) {
         Aabb b;
-        b.extend(glm::vec3(s.center_radius) - glm::vec3(s.center_radius.w));
-        b.extend(glm::vec3(s.center_radius) + glm::vec3(s.center_radius.w));
+        b.extend(s.center - glm::vec3(s.radius));
+        b.extend(s.center + glm::vec3(s.radius));
         boxes.push_back(b);
     }
     return boxes;
@@ -150,8 +150,12 @@ RtGeometry build_primitives(const Scene& scene, int default_material, RtGeometry
         int material = default_material;
         const Mesh& mesh = scene.meshes[static_cast<size_t>(node.mesh)];
         if (!mesh.primitives.empty() && mesh.primitives[0].material >= 0) material = mesh.primitives[0].material;
-        g.spheres.push_back({glm::vec4(glm::vec3(node.world[3]), *node.sphere_radius * scale),
-                             glm::ivec4(material, static_cast<int>(i), 0, 0)});
+        SphereGpu sp{};
+        sp.center = glm::vec3(node.world[3]);
+        sp.radius = *node.sphere_radius * scale;
+        sp.material = material;
+        sp.node = static_cast<int>(i);
+        g.spheres.push_back(sp);
     }
     // Emitters by power.
     std::vector<float> power;
@@ -166,12 +170,12 @@ RtGeometry build_primitives(const Scene& scene, int default_material, RtGeometry
         power.push_back(luminance(e) * area * (m.double_sided ? 2.0f : 1.0f));
     }
     // Emissive spheres (untextured emission) too, sampled by the cone they subtend: their
-    // `triangle` is triangles.size() + sphere index, their pdf is also kept in material_node.z.
+    // `triangle` is triangles.size() + sphere index, their pdf is also kept in emitter_pdf.
     for (size_t i = 0; i < g.spheres.size(); ++i) {
         const SphereGpu& sp = g.spheres[i];
-        const int mat = sp.material_node.x;
+        const int mat = sp.material;
         const Material& m = scene.material(mat < static_cast<int>(scene.materials.size()) ? mat : -1);
-        const float r = sp.center_radius.w;
+        const float r = sp.radius;
         const float area = 4.0f * 3.14159265f * r * r;
         if (luminance(m.emission()) <= 0.0f || m.emissive_texture.present() || !(area > 0.0f) || !std::isfinite(area)) continue;
         g.emitters.push_back({static_cast<std::uint32_t>(g.triangles.size() + i), 0.0f, 0.0f, area});
@@ -187,7 +191,7 @@ RtGeometry build_primitives(const Scene& scene, int default_material, RtGeometry
         g.emitters[i].cdf = static_cast<float>(running / total);
         const std::uint32_t t = g.emitters[i].triangle;
         if (t < g.triangles.size()) g.triangles[t].n0.w = g.emitters[i].pdf;
-        else g.spheres[t - g.triangles.size()].material_node.z = as_int_bits(g.emitters[i].pdf);
+        else g.spheres[t - g.triangles.size()].emitter_pdf = g.emitters[i].pdf;
     }
     if (!g.emitters.empty()) g.emitters.back().cdf = 1.0f;
     double total_area = 0.0;
@@ -262,8 +266,8 @@ void pack_traversal(const RtGeometry& g, TraversalLayout& out) {
             out.prims.emplace_back(glm::vec3(t.p2), 0.0f);
         } else {
             const SphereGpu& s = g.spheres[id - triangle_count];
-            out.prims.emplace_back(glm::vec3(s.center_radius), id_bits);
-            out.prims.emplace_back(s.center_radius.w, 0.0f, 0.0f, 0.0f);
+            out.prims.emplace_back(s.center, id_bits);
+            out.prims.emplace_back(s.radius, 0.0f, 0.0f, 0.0f);
             out.prims.emplace_back(0.0f);
         }
     }
@@ -357,7 +361,8 @@ std::string traversal_layout_violation(const RtGeometry& g, const TraversalLayou
                 if (!same_bits(rec[0], t.p0) || !same_bits(rec[1], t.p1) || !same_bits(rec[2], t.p2))
                     return "record " + std::to_string(r) + ": positions differ from triangle " + std::to_string(id);
             } else {
-                const glm::vec4 cr = g.spheres[id - triangle_count].center_radius;
+                const SphereGpu& sp = g.spheres[id - triangle_count];
+                const glm::vec4 cr(sp.center, sp.radius);
                 if (!same_bits(rec[0], cr) || std::bit_cast<std::uint32_t>(rec[1].x) != std::bit_cast<std::uint32_t>(cr.w))
                     return "record " + std::to_string(r) + ": centre or radius differ from sphere " + std::to_string(id - triangle_count);
             }

@@ -10,6 +10,7 @@
 
 #include <glm/glm.hpp>
 
+#include "gpu/rt_scene.h"
 #include "rt/bvh.hpp"
 #include "scene/scene.hpp"
 
@@ -23,14 +24,8 @@ struct TriangleGpu {
     glm::vec4 uv_c;        // uv1 of p1, uv1 of p2
     glm::vec4 t0, t1, t2;  // world tangents, w = handedness (normal maps)
 };
-struct SphereGpu {
-    glm::vec4 center_radius;
-    glm::ivec4 material_node;  // x material, y node, z emitter-selection pdf (float bits) if emissive
-};
-struct EmitterGpu {
-    std::uint32_t triangle;  // a triangle index, or triangles.size() + a sphere index
-    float cdf, pdf, area;
-};
+using SphereGpu = gpu::RtSphere;  // gpu/rt_scene.h
+using EmitterGpu = gpu::Emitter;
 static_assert(sizeof(TriangleGpu) == 192 && sizeof(SphereGpu) == 32 && sizeof(EmitterGpu) == 16);
 
 // CPU-side geometry (also what the C++ tests and benchmarks use).

@@ -41,8 +41,8 @@ float sphere_cone_one_minus_cos(float r, float d2) {
 // inside the sphere there is no cone: BRDF rays alone see its emission (emitter_pdf is 0 there).
 vec3 direct_sphere(SurfaceHit s, BrdfInput m, vec3 v, inout Rng rng, bool use_mis, Emitter e) {
     RtSphere sp = spheres[int(e.triangle) - rt.triangle_count];
-    vec3 c = sp.center_radius.xyz;
-    float r = sp.center_radius.w;
+    vec3 c = sp.center;
+    float r = sp.radius;
     vec3 dc = c - s.p;
     float d2 = dot(dc, dc);
     float u1 = rng_next(rng), u2 = rng_next(rng);
@@ -61,7 +61,7 @@ vec3 direct_sphere(SurfaceHit s, BrdfInput m, vec3 v, inout Rng rng, bool use_mi
     float t = along - sqrt(max(r * r - (d2 - along * along), 0.0));
     vec3 q = s.p + l * t;
     vec3 nl = normalize(q - c);
-    int mat = sp.material_node.x;
+    int mat = sp.material;
     vec3 Le = materials[mat].emission;
     float pdf = e.pdf / (2.0 * PI * omc);
     vec3 origin = offset_ray(s.p, s.ng, rt.ray_offset);
@@ -125,9 +125,9 @@ float emitter_pdf(Ray ray, Hit hit, SurfaceHit s) {
 #ifndef RT_NO_SPHERES
     if (hit.prim >= rt.triangle_count) {
         RtSphere sp = spheres[hit.prim - rt.triangle_count];
-        float select = intBitsToFloat(sp.material_node.z);
-        vec3 dc = sp.center_radius.xyz - ray.origin;
-        float d2 = dot(dc, dc), r = sp.center_radius.w;
+        float select = sp.emitter_pdf;
+        vec3 dc = sp.center - ray.origin;
+        float d2 = dot(dc, dc), r = sp.radius;
         if (select <= 0.0 || d2 <= r * r) return 0.0;
         return select / (2.0 * PI * sphere_cone_one_minus_cos(r, d2));
     }

@@ -17,18 +17,8 @@ struct RtTriangle {
     vec4 t2;
 };
 
-struct RtSphere {
-    vec4 center_radius;
-    ivec4 material_node;  // x material, y node, z emitter-selection pdf (float bits) if emissive
-};
-
-// An emissive triangle or sphere and the cumulative distribution used to pick one by power.
-struct Emitter {
-    uint triangle;  // a triangle index, or counts.x + a sphere index
-    float cdf;    // inclusive
-    float pdf;    // probability of choosing this emitter
-    float area;
-};
+// RtSphere and Emitter, the spheres' and emitters' records.
+#include "gpu/rt_scene.h"
 
 // The BVH in its traversal layout (rt::pack_traversal, engine/rt/rt_geometry.hpp): 4 texels per
 // interior node holding both children's boxes and refs, 3 texels per primitive in leaf order.
@@ -325,10 +315,10 @@ SurfaceHit surface_at(Ray ray, Hit hit) {
 #ifndef RT_NO_SPHERES
     } else {
         RtSphere sp = spheres[hit.prim - rt.triangle_count];
-        vec3 n = normalize(s.p - sp.center_radius.xyz);
+        vec3 n = normalize(s.p - sp.center);
         // Project the point back onto the sphere: removes the error of origin + t * dir.
-        s.p = sp.center_radius.xyz + n * sp.center_radius.w;
-        s.material = sp.material_node.x;
+        s.p = sp.center + n * sp.radius;
+        s.material = sp.material;
         s.front = dot(n, ray.dir) < 0.0;
         s.ng = s.front ? n : -n;
         s.ns = s.ng;

@@ -19,6 +19,7 @@
 #include "render/features.hpp"
 #include "gpu/bindings.h"
 #include "gpu/rt_frame.h"
+#include "gpu/rt_scene.h"
 #include "gpu/scene_blocks.h"
 #include "render/gpu_scene.hpp"
 #include "render/settings.hpp"
@@ -147,13 +148,14 @@ TEST_P(EffectBlocks, CxxStructsMatchTheGlslBlocks) {
     EXPECT_GT(checked, 0);
 }
 
-// The base's and the tracer's blocks (gpu/scene_blocks.h, gpu/rt_frame.h): the frame blocks, and
-// the storage buffers of materials and lights, whose size with one element is the C++ struct's;
-// likewise the effects' storage buffers (shadow views, RSM views, area-light polygons, reflection
-// probes).
+// The base's and the tracer's blocks (gpu/scene_blocks.h, gpu/rt_frame.h, gpu/rt_scene.h): the
+// frame blocks and the storage buffers of materials, lights, spheres and emitters, whose size
+// with one element is the C++ struct's; likewise the effects' storage buffers (shadow views, RSM
+// views, area-light polygons, reflection probes).
 TEST_P(EffectBlocks, BaseBlocksMatchTheGlsl) {
     const ShaderLibrary shaders(ShaderLibrary::default_root());
     const ProgramDesc rt_path{"rt_path", {{ShaderStage::compute, "rt/modes/path.comp"}}, {}};
+    const ProgramDesc rt_path_emitters{"rt_path", {{ShaderStage::compute, "rt/modes/path.comp"}}, {"HAS_EMITTERS"}};
     struct Block {
         GLenum interface;
         const char* name;
@@ -168,6 +170,8 @@ TEST_P(EffectBlocks, BaseBlocksMatchTheGlsl) {
         {GL_UNIFORM_BLOCK, "RtFrame", RT_FRAME_BINDING, sizeof(gpu::RtFrame), rt_path},
         {GL_SHADER_STORAGE_BLOCK, "Materials", MATERIALS_BINDING, sizeof(gpu::MaterialData), rt_path},
         {GL_SHADER_STORAGE_BLOCK, "Lights", LIGHTS_BINDING, sizeof(gpu::LightData), rt_path},
+        {GL_SHADER_STORAGE_BLOCK, "Spheres", RT_SPHERES_BINDING, sizeof(gpu::RtSphere), rt_path_emitters},
+        {GL_SHADER_STORAGE_BLOCK, "Emitters", RT_EMITTERS_BINDING, sizeof(gpu::Emitter), rt_path_emitters},
         {GL_SHADER_STORAGE_BLOCK, "ShadowViews", SHADOW_VIEWS_BINDING, sizeof(gpu::ShadowView), program_desc("forward")},
         {GL_SHADER_STORAGE_BLOCK, "PolygonLights", AREA_POLYGONS_BINDING, sizeof(gpu::PolygonLight), program_desc("forward")},
         {GL_SHADER_STORAGE_BLOCK, "Probes", REFLECTIONS_PROBES_BINDING, sizeof(gpu::ProbeData), program_desc("forward")},

@@ -27,7 +27,8 @@ TriangleGpu triangle(glm::vec3 a, glm::vec3 b, glm::vec3 c) {
 
 SphereGpu sphere(glm::vec3 c, float r) {
     SphereGpu s{};
-    s.center_radius = glm::vec4(c, r);
+    s.center = c;
+    s.radius = r;
     return s;
 }
 
@@ -133,7 +134,7 @@ Hit brute_force(const RtGeometry& g, const Ray& ray, float tmax) {
         if (t > 0.0f && t < hit.t) hit = {t, static_cast<int>(i)};
     }
     for (std::size_t i = 0; i < g.spheres.size(); ++i) {
-        const float t = intersect_sphere(ray, g.spheres[i].center_radius, g.spheres[i].center_radius.w, 0.0f, hit.t);
+        const float t = intersect_sphere(ray, g.spheres[i].center, g.spheres[i].radius, 0.0f, hit.t);
         if (t > 0.0f && t < hit.t) hit = {t, static_cast<int>(g.triangles.size() + i)};
     }
     return hit;
