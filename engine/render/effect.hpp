@@ -17,6 +17,7 @@
 
 #include "render/knob.hpp"
 #include "render/frame_graph.hpp"
+#include "render/gpu_scene.hpp"
 #include "shader/shader_library.hpp"
 
 namespace candela {
@@ -100,6 +101,7 @@ struct ViewEstimateInput {
 // What the light buffer holds (GpuScene::update_lights); effects fill in their part.
 struct LightSetup {
     int area_samples = 0;   // raster pieces per emissive primitive (0: emitters are not lights)
+    EmitterSplitter split_emitters = nullptr;  // what makes those pieces (render/gpu_scene.hpp)
     bool shadows = false;   // lights get shadow views
     int cascades = 1;       // views of a directional light
     int max_shadowed = 0;   // lights with shadow views at most

@@ -198,7 +198,7 @@ GpuScene::GpuScene(const Scene& scene, GlWorker* mips, const ShaderLibrary* shad
         }
     }
 
-    update_lights(4, false, 1, 0);
+    update_lights(0, nullptr, false, 1, 0);  // punctual lights only, until a renderer sets up its own
 
     white_ = gl::Texture::create_2d(GL_RGBA8, 1, 1, 1);
     const std::uint8_t white[4] = {255, 255, 255, 255};
@@ -241,7 +241,8 @@ GpuScene::GpuScene(const Scene& scene, GlWorker* mips, const ShaderLibrary* shad
     }
 }
 
-void GpuScene::update_lights(int area_samples, bool shadows, int cascades, int max_shadowed) {
+void GpuScene::update_lights(int area_samples, EmitterSplitter split, bool shadows, int cascades, int max_shadowed) {
+    if (!split) area_samples = 0;
     const std::tuple<int, bool, int, int> key{area_samples, shadows, cascades, max_shadowed};
     if (key == light_key_) return;
     light_key_ = key;
@@ -259,7 +260,8 @@ void GpuScene::update_lights(int area_samples, bool shadows, int cascades, int m
         light_infos_.push_back(info);
     }
     punctual_count_ = static_cast<int>(lights.size());
-    for (const AreaPiece& piece : area_light_pieces(scene_, *this, area_samples)) {
+    const std::vector<AreaPiece> pieces = area_samples > 0 ? split(scene_, *this, area_samples) : std::vector<AreaPiece>{};
+    for (const AreaPiece& piece : pieces) {
         LightData d{};
         d.position = piece.centroid;
         d.type = 3.0f;  // LIGHT_AREA_PATCH

@@ -46,8 +46,9 @@ struct LightInfo {
 // The rasterizer's area-light approximation: each emissive draw split into `samples` pieces of
 // about equal area (recursive area-median splits of its triangles, refined into sub-triangles),
 // each a one- or two-sided Lambertian emitter at the piece's centroid.
-// area_light_pieces is defined with the area_lights effect (effects/area_lights/area_pieces.cpp);
-// update_lights appends its pieces to the light buffer in this layout.
+// The splitting is the area_lights effect's (effects/area_lights/area_pieces.cpp), which hands it
+// to update_lights through LightSetup::split_emitters; update_lights appends the pieces to the
+// light buffer in this layout.
 struct AreaPiece {
     glm::vec3 centroid{0.0f};
     glm::vec3 normal{0.0f, -1.0f, 0.0f};
@@ -58,7 +59,8 @@ struct AreaPiece {
 };
 
 class GpuScene;
-std::vector<AreaPiece> area_light_pieces(const Scene& scene, const GpuScene& gpu, int samples);
+// Splits the scene's emissive draws into `samples` pieces each (an effect provides it).
+using EmitterSplitter = std::vector<AreaPiece> (*)(const Scene& scene, const GpuScene& gpu, int samples);
 
 class GpuScene {
 public:
@@ -110,7 +112,8 @@ public:
     // with `shadows`, each light gets its shadow views (directional: `cascades`, spot: 1, point and
     // area piece: 6 cube faces) for at most `max_shadowed` lights: directional ones first, then the
     // brightest. No-op if nothing changed.
-    void update_lights(int area_samples, bool shadows, int cascades, int max_shadowed);
+    // `split`: what turns emitters into pieces (nullptr or area_samples 0: none).
+    void update_lights(int area_samples, EmitterSplitter split, bool shadows, int cascades, int max_shadowed);
     int light_count() const { return light_count_; }
     int punctual_light_count() const { return punctual_count_; }
     const std::vector<LightInfo>& light_infos() const { return light_infos_; }

@@ -73,7 +73,7 @@ bool Renderer::estimate_if_needed() {
 void Renderer::plan() {
     features_ = analyze(scene_, settings_, &estimates_, camera_ ? &*camera_ : nullptr, moving_draws_);
     const LightSetup& ls = features_.lights;
-    gpu_.update_lights(ls.area_samples, ls.shadows, ls.cascades, ls.max_shadowed);
+    gpu_.update_lights(ls.area_samples, ls.split_emitters, ls.shadows, ls.cascades, ls.max_shadowed);
     features_.area_light_pieces = gpu_.light_count() - gpu_.punctual_light_count();
     // The static environment map as a prefiltered cube (start-up, and when its size changes).
     if (gpu_.has_environment_map() && env_cube_size_ != settings_.environment.resolution) {

@@ -146,6 +146,7 @@ public:
     // The pieces are in the light buffer whether or not the scene has emitters (none then).
     void light_setup(const RenderSettings& s, const EffectDecision&, LightSetup& out) const override {
         out.area_samples = s.get<AreaLightsOptions>().samples;
+        out.split_emitters = &area_light_pieces;
     }
     std::vector<GpuBlockInfo> gpu_blocks() const override {
         return {{"AreaLightsData", AREA_LIGHTS_BINDING, sizeof(gpu::AreaLightsData), "forward"}};

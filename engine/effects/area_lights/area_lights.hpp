@@ -18,6 +18,7 @@
 
 #include "effects/area_lights/area_lights_data.h"
 #include "render/effect.hpp"
+#include "render/gpu_scene.hpp"
 
 namespace candela {
 
@@ -30,6 +31,10 @@ struct AreaLightsOptions {
 };
 
 const Effect& area_lights_effect();
+
+// The scene's emissive draws split into `samples` pieces each, grouped by emitter (area_pieces.cpp):
+// the LightSetup::split_emitters this effect gives the light buffer.
+std::vector<AreaPiece> area_light_pieces(const Scene& scene, const GpuScene& gpu, int samples);
 
 struct Scene;
 class GpuScene;

@@ -7,6 +7,7 @@
 #include <utility>
 #include <vector>
 
+#include "effects/area_lights/area_lights.hpp"
 #include "render/gpu_scene.hpp"
 #include "scene/scene.hpp"
 

@@ -36,7 +36,8 @@ int gi_planned_bounces(const GiOptions& o, const IndirectEstimate* estimate);
 // The estimate the planner had (Features::estimates, Effect::view_estimate), or nullptr.
 const IndirectEstimate* indirect_estimate(const Features& f);
 
-// What the GI runtime has done (the viewer's panel, tests): renderer.effect_runtime<GiStatusView>().
+// What the GI runtime has done (tests; the viewer reads it as EffectRuntime::progress()):
+// renderer.effect_runtime<GiStatusView>().
 struct GiStatus {
     bool planned = false;
     glm::ivec3 counts{0};       // probes per axis
