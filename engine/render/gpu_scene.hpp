@@ -40,7 +40,7 @@ struct LightInfo {
     float size = 0.0f;                        // world units (area piece: sqrt of its area)
     int own_draw = -1;                        // an area piece's emitter: not drawn into its maps
     bool double_sided = false;                // an area piece that emits from both sides
-    int first_view = -1, view_count = 0;      // shadow views (layers), set by assign_shadow_views
+    int first_view = -1, view_count = 0;      // shadow views (layers), set by update_lights
 };
 
 // The rasterizer's area-light approximation: each emissive draw split into `samples` pieces of

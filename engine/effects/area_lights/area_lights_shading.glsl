@@ -3,7 +3,7 @@
 // Transformed Cosines": the integral of a GGX lobe times the cosine over a polygon equals the
 // integral of a clamped cosine over the polygon transformed by M^-1, which has a closed form
 // (Lambert's formula for the irradiance from a polygon). The tables come from Candela's own BRDF
-// (engine/effects/area_lights/ltc.hpp, fitted by samples/ltc_fit).
+// (engine/effects/area_lights/ltc.hpp, fitted by effects/area_lights/ltc_fit).
 // Shadows: Heitz, Hill & McGuire 2018, "Combining Analytic Direct Illumination and Stochastic
 // Shadows": the unshadowed LTC value times a ratio of shadowed to unshadowed estimates, here
 // those of the emitter's pieces (the shadowed point lights of the pieces method), so an

@@ -60,7 +60,7 @@ public:
 // frame and every frame after a change stay interactive. 16384 rays per frame is 256 probes of 64
 // rays (the default; 128 of 128): whole 64-probe batches of the GI pass, so the updates happen in
 // the same batches as in a still and the converged image equals `candela render`'s. Measured on
-// llvmpipe, 2 shared cores, cornell_point (docs/effects/gi.md).
+// llvmpipe, 2 shared cores, cornell_point (docs/cli.md, the viewer).
 constexpr int kGiInteractiveBudget = 16384;
 
 // The progress line (EffectProgress::line): how far the probes are and at what budget (rays per
