@@ -37,6 +37,8 @@
 #define OPAQUE_DEPTH_UNIT 11     // depth peeling: the opaque surfaces' depth
 #define PREVIOUS_LAYER_UNIT 12   // depth peeling: the previous layer's depth
 #define BRDF_LUT_UNIT 13         // split-sum BRDF table
+#define MATERIAL_IMAGES_UNIT 24  // the material extensions' textures: the scene images as array layers
+#define MATERIAL_IMAGES_SRGB_UNIT 25  // (GpuScene::image_array, as in the tracer; shaders/common/material_layers.glsl)
 
 // Texture units of the tracer (and of compute programs over shaders/rt/scene.glsl).
 #define RT_IMAGES_UNIT 6         // scene images as array layers (GpuScene::image_array)

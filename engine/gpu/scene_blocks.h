@@ -68,8 +68,31 @@ GPU_STRUCT(MaterialData) {
                                // to edge, 2 mirrored repeat)
     int nearest_magnification; // for the ray tracer: 1 bit per slot, NEAREST magnification
     int pad6;
+    vec4 clearcoat;            // x factor, y roughness, z coat normal scale; w 1: unlit (KHR_materials_unlit)
+    vec4 sheen;                // rgb colour (0: no sheen), a roughness
+    vec4 anisotropy;           // x strength, y cos and z sin of the rotation from the tangent, w 0
+    vec4 iridescence;          // x factor, y film ior, z thickness minimum, w maximum (nanometres)
+    ivec4 ext_image[3];        // scene image of extension texture slot s at [s / 4][s % 4] (-1: none)
+    ivec4 ext_texcoord[3];     // texcoord set of slot s, the same way (-1: no texture)
+    vec4 ext_uv_transform[24]; // per slot two rows of its 2x3 affine KHR_texture_transform
 };
-GPU_STRUCT_CHECK(MaterialData, 336)
+GPU_STRUCT_CHECK(MaterialData, 880)
+
+// The extensions' texture slots (Material::ExtSlot), all read from the scene's image array at
+// level 0 by the rasterizer and the tracer alike (shaders/common/material_ext.glsl).
+#define EXT_SPECULAR 0               // specularTexture: A
+#define EXT_SPECULAR_COLOR 1         // specularColorTexture: RGB, sRGB
+#define EXT_TRANSMISSION 2           // transmissionTexture: R
+#define EXT_THICKNESS 3              // thicknessTexture: G
+#define EXT_CLEARCOAT 4              // clearcoatTexture: R
+#define EXT_CLEARCOAT_ROUGHNESS 5    // clearcoatRoughnessTexture: G
+#define EXT_CLEARCOAT_NORMAL 6       // clearcoatNormalTexture: RGB
+#define EXT_SHEEN_COLOR 7            // sheenColorTexture: RGB, sRGB
+#define EXT_SHEEN_ROUGHNESS 8        // sheenRoughnessTexture: A
+#define EXT_ANISOTROPY 9             // anisotropyTexture: RG direction, B strength
+#define EXT_IRIDESCENCE 10           // iridescenceTexture: R
+#define EXT_IRIDESCENCE_THICKNESS 11 // iridescenceThicknessTexture: G
+#define EXT_SLOT_COUNT 12
 
 // A light (std430, LIGHTS_BINDING): KHR_lights_punctual lights, then the rasterizer's area-light
 // pieces (shaders/common/lights.glsl).

@@ -45,6 +45,13 @@ std::array<glm::vec3, 9> project_irradiance_sh(const ImageF& equirect) {
     return L;
 }
 
+bool material_has_layers(const Material& m) {
+    if (m.unlit || m.clearcoat > 0.0f || m.anisotropy > 0.0f || m.iridescence > 0.0f ||
+        glm::any(glm::greaterThan(m.sheen_color, glm::vec3(0.0f))))
+        return true;
+    return std::any_of(std::begin(m.ext_textures), std::end(m.ext_textures), [](const TextureRef& t) { return t.image >= 0; });
+}
+
 MaterialData to_gpu(const Material& m) {
     MaterialData d{};
     d.base_color = m.base_color;
@@ -89,6 +96,22 @@ MaterialData to_gpu(const Material& m) {
     d.attenuation_color = m.attenuation_color;
     d.thickness = m.thickness;
     d.attenuation_distance = std::isfinite(m.attenuation_distance) ? m.attenuation_distance : 0.0f;
+    d.clearcoat = glm::vec4(m.clearcoat, m.clearcoat_roughness, m.ext_textures[Material::ext_clearcoat_normal].scale,
+                            m.unlit ? 1.0f : 0.0f);
+    d.sheen = glm::vec4(m.sheen_color, m.sheen_roughness);
+    d.anisotropy = glm::vec4(m.anisotropy, std::cos(m.anisotropy_rotation), std::sin(m.anisotropy_rotation), 0.0f);
+    d.iridescence = glm::vec4(m.iridescence, m.iridescence_ior, m.iridescence_thickness_min, m.iridescence_thickness_max);
+    static_assert(Material::ext_slot_count == EXT_SLOT_COUNT, "one extension slot list");
+    for (int s = 0; s < EXT_SLOT_COUNT; ++s) {
+        const TextureRef& t = m.ext_textures[s];
+        // The image array holds every image; a missing one (-2) reads the array's white layer 0
+        // fallback nowhere: it is drawn as if untextured.
+        const bool on = t.image >= 0;
+        d.ext_image[s / 4][s % 4] = on ? t.image : -1;
+        d.ext_texcoord[s / 4][s % 4] = on ? t.texcoord : -1;
+        d.ext_uv_transform[s * 2] = glm::vec4(t.transform[0][0], t.transform[1][0], t.transform[2][0], 0.0f);
+        d.ext_uv_transform[s * 2 + 1] = glm::vec4(t.transform[0][1], t.transform[1][1], t.transform[2][1], 0.0f);
+    }
     return d;
 }
 
@@ -155,6 +178,7 @@ GpuScene::GpuScene(const Scene& scene, GlWorker* mips, const ShaderLibrary* shad
     for (const MaterialData& m : mats)
         material_textures_ = material_textures_ || m.texcoord.x >= 0 || m.texcoord.y >= 0 || m.texcoord.z >= 0 ||
                              m.texcoord.w >= 0 || m.emissive_texcoord >= 0;
+    material_layers_ = std::any_of(scene.materials.begin(), scene.materials.end(), material_has_layers);
 
     // Draws: every node reachable from the roots that has a mesh.
     std::vector<int> stack(scene.roots.begin(), scene.roots.end());

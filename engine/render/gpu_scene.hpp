@@ -28,6 +28,8 @@ using gpu::MaterialData;
 std::array<glm::vec3, 9> project_irradiance_sh(const ImageF& equirect);
 
 MaterialData to_gpu(const Material& material);
+// True if the material needs the MATERIAL_LAYERS shader code (GpuScene::has_material_layers).
+bool material_has_layers(const Material& material);
 LightData to_gpu(const Scene::PlacedLight& light);
 
 // What the shadow setup needs to know about each light of the light buffer.
@@ -107,6 +109,10 @@ public:
     const gl::Buffer& materials() const { return materials_; }
     // Whether any material samples a texture (the shading programs leave texture code out otherwise).
     bool has_material_textures() const { return material_textures_; }
+    // A material uses a layer of the glTF material extensions (clearcoat, sheen, anisotropy,
+    // iridescence, unlit) or an extension's texture: programs then compile with MATERIAL_LAYERS
+    // and the image array is bound for the rasterizer too (shaders/common/material_layers.glsl).
+    bool has_material_layers() const { return material_layers_; }
     const gl::Buffer& lights() const { return lights_; }
     // Rebuilds the light buffer: punctual lights, then `area_samples` pieces per emissive draw;
     // with `shadows`, each light gets its shadow views (directional: `cascades`, spot: 1, point and
@@ -164,6 +170,7 @@ private:
     const Scene& scene_;
     gl::Buffer vertices_, indices_, materials_, lights_, sorted_indices_;
     bool material_textures_ = false;
+    bool material_layers_ = false;
     gl::VertexArray vao_, sorted_vao_;
     std::vector<Draw> draws_;
     int light_count_ = 0, punctual_count_ = 0, shadow_views_ = 0;

@@ -59,7 +59,7 @@ Scene Loader::build() {
     scene.source = file_;
     build_images(scene);
     scene.materials.reserve(m_.materials.size());
-    for (size_t i = 0; i < m_.materials.size(); ++i) scene.materials.push_back(build_material(i));
+    for (size_t i = 0; i < m_.materials.size(); ++i) scene.materials.push_back(build_material(i, scene));
     // The fallback image is appended so that texture refs with image -2 resolve to it.
     int fallback = -1;
     auto resolve = [&](TextureRef& ref) {

@@ -138,7 +138,9 @@ private:
                                    const std::string& path) const;
 
     void build_images(Scene& scene);
-    Material build_material(size_t i);
+    Material build_material(size_t i, Scene& scene);
+    TextureRef texture_ref(const Value& ext, const char* key, const std::string& path, const char* scale_key) const;
+    void convert_specular_glossiness(Material& mat, const Value& e, const std::string& path, Scene& scene);
     TextureRef texture_ref(const tinygltf::TextureInfo& info, const std::string& path, double scale) const;
     TextureRef texture_ref(int index, int texcoord, const tinygltf::ExtensionMap& ext, const std::string& path,
                            double scale) const;

@@ -119,7 +119,74 @@ TextureRef Loader::texture_ref(const tinygltf::TextureInfo& info, const std::str
     return texture_ref(info.index, info.texCoord, info.extensions, path, scale);
 }
 
-Material Loader::build_material(size_t i) {
+// A textureInfo inside an extension's object (tinygltf leaves those as JSON values).
+TextureRef Loader::texture_ref(const Value& ext, const char* key, const std::string& path, const char* scale_key) const {
+    if (!ext.IsObject() || !ext.Has(key)) return {};
+    const Value& info = ext.Get(key);
+    const std::string p = path + "." + key;
+    if (!info.IsObject()) fail(p, "must be an object");
+    const Value& index = info.Get("index");
+    if (!index.IsNumber()) fail(p + ".index", "must be a texture index");
+    tinygltf::ExtensionMap extensions;
+    if (info.Has("extensions") && info.Get("extensions").IsObject()) {
+        const Value& e = info.Get("extensions");
+        for (const std::string& k : e.Keys()) extensions[k] = e.Get(k);
+    }
+    return texture_ref(static_cast<int>(index.GetNumberAsInt()), static_cast<int>(number(info, "texCoord", 0.0)), extensions, p,
+                       scale_key ? number(info, scale_key, 1.0) : 1.0);
+}
+
+// KHR_materials_pbrSpecularGlossiness, converted to metallic-roughness with KHR_materials_specular:
+// the extension's model is f = (1 - F) c_diff / pi + F D G / (4 n.l n.v) with F0 = specular,
+// F90 = 1, c_diff = diffuse (1 - max(specular)) and alpha = (1 - glossiness)^2. Metallic 0,
+// ior 1.5 (F0 0.04) with specular colour specular / 0.04 and roughness 1 - glossiness give
+// exactly that. The glossiness texture (alpha of specularGlossinessTexture) becomes a generated
+// metallic-roughness image, its specular (RGB) the specular colour texture. Not exact: where the
+// specular comes from a texture, the diffuse is dimmed by its factor only (said in a warning).
+void Loader::convert_specular_glossiness(Material& mat, const Value& e, const std::string& path, Scene& scene) {
+    const glm::vec4 diffuse = factors<4>(path, e, "diffuseFactor", glm::vec4(1.0f), 0.0f, 1.0f);
+    const glm::vec3 specular = factors<3>(path, e, "specularFactor", glm::vec3(1.0f), 0.0f, 1.0f);
+    const float glossiness = factor(path, e, "glossinessFactor", 1.0, 0.0f, 1.0f);
+    const float max_specular = std::max({specular.r, specular.g, specular.b});
+    mat.base_color = glm::vec4(glm::vec3(diffuse) * (1.0f - max_specular), diffuse.a);
+    mat.base_color_texture = texture_ref(e, "diffuseTexture", path, nullptr);
+    mat.metallic = 0.0f;
+    mat.ior = 1.5f;
+    mat.specular_factor = 1.0f;
+    mat.specular_color = specular / 0.04f;
+    mat.roughness = 1.0f - glossiness;
+    const TextureRef sg = texture_ref(e, "specularGlossinessTexture", path, nullptr);
+    if (!sg.present()) return;
+    mat.ext_textures[Material::ext_specular_color] = sg;  // RGB, sRGB: specular / 0.04 times the factor's
+    if (sg.image < 0 || static_cast<size_t>(sg.image) >= scene.images.size() || !scene.images[static_cast<size_t>(sg.image)].valid) return;
+    // roughness = 1 - glossiness * alpha: a new image in the metallic-roughness layout (G roughness,
+    // B metallic 0), sampled like the source.
+    const Image& src = scene.images[static_cast<size_t>(sg.image)];
+    Image rough;
+    rough.name = src.name + " (roughness from glossiness)";
+    rough.uri = src.uri;
+    rough.width = src.width;
+    rough.height = src.height;
+    rough.valid = true;
+    rough.rgba8.resize(src.rgba8.size());
+    for (size_t t = 0; t + 3 < src.rgba8.size(); t += 4) {
+        const float g = glossiness * static_cast<float>(src.rgba8[t + 3]) / 255.0f;
+        rough.rgba8[t] = 0;
+        rough.rgba8[t + 1] = static_cast<std::uint8_t>(std::lround(255.0f * (1.0f - g)));
+        rough.rgba8[t + 2] = 0;
+        rough.rgba8[t + 3] = 255;
+    }
+    scene.images.push_back(std::move(rough));
+    mat.metallic_roughness_texture = sg;
+    mat.metallic_roughness_texture.image = static_cast<int>(scene.images.size() - 1);
+    mat.roughness = 1.0f;
+    if (max_specular < 1.0f)
+        warn(path + ".specularGlossinessTexture",
+             "the diffuse colour is dimmed by the specular factor, not by the specular texture (approximate conversion "
+             "to metallic-roughness)");
+}
+
+Material Loader::build_material(size_t i, Scene& scene) {
     const tinygltf::Material& src = m_.materials[i];
     const std::string path = idx("materials", i);
     Material mat;
@@ -170,7 +237,50 @@ Material Loader::build_material(size_t i) {
         mat.attenuation_color = factors<3>(ext + "KHR_materials_volume", *e, "attenuationColor", glm::vec3(1.0f), 0.0f, 1.0f);
         const Value& ad = e->IsObject() && e->Has("attenuationDistance") ? e->Get("attenuationDistance") : Value();
         if (ad.IsNumber()) mat.attenuation_distance = factor(ext + "KHR_materials_volume.attenuationDistance", ad.GetNumberAsDouble(), 1e-30f, 1e30f);
+        mat.ext_textures[Material::ext_thickness] = texture_ref(*e, "thicknessTexture", ext + "KHR_materials_volume", nullptr);
     }
+    if (const Value* e = extension(src.extensions, "KHR_materials_specular")) {
+        const std::string p = ext + "KHR_materials_specular";
+        mat.ext_textures[Material::ext_specular] = texture_ref(*e, "specularTexture", p, nullptr);
+        mat.ext_textures[Material::ext_specular_color] = texture_ref(*e, "specularColorTexture", p, nullptr);
+    }
+    if (const Value* e = extension(src.extensions, "KHR_materials_transmission"))
+        mat.ext_textures[Material::ext_transmission] = texture_ref(*e, "transmissionTexture", ext + "KHR_materials_transmission", nullptr);
+    if (extension(src.extensions, "KHR_materials_unlit")) mat.unlit = true;
+    if (const Value* e = extension(src.extensions, "KHR_materials_clearcoat")) {
+        const std::string p = ext + "KHR_materials_clearcoat";
+        mat.clearcoat = factor(p, *e, "clearcoatFactor", 0.0, 0.0f, 1.0f);
+        mat.clearcoat_roughness = factor(p, *e, "clearcoatRoughnessFactor", 0.0, 0.0f, 1.0f);
+        mat.ext_textures[Material::ext_clearcoat] = texture_ref(*e, "clearcoatTexture", p, nullptr);
+        mat.ext_textures[Material::ext_clearcoat_roughness] = texture_ref(*e, "clearcoatRoughnessTexture", p, nullptr);
+        mat.ext_textures[Material::ext_clearcoat_normal] = texture_ref(*e, "clearcoatNormalTexture", p, "scale");
+    }
+    if (const Value* e = extension(src.extensions, "KHR_materials_sheen")) {
+        const std::string p = ext + "KHR_materials_sheen";
+        mat.sheen_color = factors<3>(p, *e, "sheenColorFactor", glm::vec3(0.0f), 0.0f, 1.0f);
+        mat.sheen_roughness = factor(p, *e, "sheenRoughnessFactor", 0.0, 0.0f, 1.0f);
+        mat.ext_textures[Material::ext_sheen_color] = texture_ref(*e, "sheenColorTexture", p, nullptr);
+        mat.ext_textures[Material::ext_sheen_roughness] = texture_ref(*e, "sheenRoughnessTexture", p, nullptr);
+    }
+    if (const Value* e = extension(src.extensions, "KHR_materials_anisotropy")) {
+        const std::string p = ext + "KHR_materials_anisotropy";
+        mat.anisotropy = factor(p, *e, "anisotropyStrength", 0.0, 0.0f, 1.0f);
+        mat.anisotropy_rotation = factor(p, *e, "anisotropyRotation", 0.0, -1e6f, 1e6f);
+        mat.ext_textures[Material::ext_anisotropy] = texture_ref(*e, "anisotropyTexture", p, nullptr);
+    }
+    if (const Value* e = extension(src.extensions, "KHR_materials_iridescence")) {
+        const std::string p = ext + "KHR_materials_iridescence";
+        mat.iridescence = factor(p, *e, "iridescenceFactor", 0.0, 0.0f, 1.0f);
+        mat.iridescence_ior = factor(p, *e, "iridescenceIor", 1.3, 1.0f, 10.0f);
+        mat.iridescence_thickness_min = factor(p, *e, "iridescenceThicknessMinimum", 100.0, 0.0f, 1e5f);
+        mat.iridescence_thickness_max = factor(p, *e, "iridescenceThicknessMaximum", 400.0, 0.0f, 1e5f);
+        mat.ext_textures[Material::ext_iridescence] = texture_ref(*e, "iridescenceTexture", p, nullptr);
+        mat.ext_textures[Material::ext_iridescence_thickness] = texture_ref(*e, "iridescenceThicknessTexture", p, nullptr);
+    }
+    // The older workflow replaces pbrMetallicRoughness (the extension's spec: a file may carry
+    // both, for viewers without it; then the extension is the authored look).
+    if (const Value* e = extension(src.extensions, "KHR_materials_pbrSpecularGlossiness"))
+        convert_specular_glossiness(mat, *e, ext + "KHR_materials_pbrSpecularGlossiness", scene);
     return mat;
 }
 

@@ -16,7 +16,9 @@ namespace {
 
 const char* const kImplemented[] = {"KHR_lights_punctual", "KHR_materials_emissive_strength", "KHR_materials_specular",
                                     "KHR_materials_ior", "KHR_materials_transmission", "KHR_materials_volume",
-                                    "KHR_texture_transform", "KHR_mesh_quantization"};
+                                    "KHR_texture_transform", "KHR_mesh_quantization", "KHR_materials_clearcoat",
+                                    "KHR_materials_sheen", "KHR_materials_anisotropy", "KHR_materials_iridescence",
+                                    "KHR_materials_unlit", "KHR_materials_pbrSpecularGlossiness"};
 
 std::string plural(const std::string& kind, size_t n) {
     static const std::map<std::string, std::string> p = {

@@ -81,6 +81,41 @@ struct Material {
     float thickness = 0.0f;      // KHR_materials_volume: > 0 solid refracting object, 0 thin-walled
     glm::vec3 attenuation_color{1.0f};
     float attenuation_distance = std::numeric_limits<float>::infinity();
+    // KHR_materials_unlit: the base colour (times vertex colour and texture) is the radiance.
+    bool unlit = false;
+    // KHR_materials_clearcoat: a smooth dielectric coat (ior 1.5) over the material.
+    float clearcoat = 0.0f;
+    float clearcoat_roughness = 0.0f;
+    // KHR_materials_sheen: a Charlie sheen lobe over the material (colour 0: none).
+    glm::vec3 sheen_color{0.0f};
+    float sheen_roughness = 0.0f;
+    // KHR_materials_anisotropy: strength in [0, 1], rotation of the direction from the tangent
+    // (radians, counter-clockwise in the tangent plane).
+    float anisotropy = 0.0f;
+    float anisotropy_rotation = 0.0f;
+    // KHR_materials_iridescence: a thin film (thickness in nanometres) over the material.
+    float iridescence = 0.0f;
+    float iridescence_ior = 1.3f;
+    float iridescence_thickness_min = 100.0f;
+    float iridescence_thickness_max = 400.0f;
+
+    // The extensions' textures, each read at the channel its extension names (MaterialExtSlot).
+    enum ExtSlot {
+        ext_specular,               // KHR_materials_specular specularTexture (A)
+        ext_specular_color,         // specularColorTexture (RGB, sRGB)
+        ext_transmission,           // KHR_materials_transmission transmissionTexture (R)
+        ext_thickness,              // KHR_materials_volume thicknessTexture (G)
+        ext_clearcoat,              // KHR_materials_clearcoat clearcoatTexture (R)
+        ext_clearcoat_roughness,    // clearcoatRoughnessTexture (G)
+        ext_clearcoat_normal,       // clearcoatNormalTexture (RGB tangent-space normal; scale)
+        ext_sheen_color,            // KHR_materials_sheen sheenColorTexture (RGB, sRGB)
+        ext_sheen_roughness,        // sheenRoughnessTexture (A)
+        ext_anisotropy,             // KHR_materials_anisotropy anisotropyTexture (RG direction, B strength)
+        ext_iridescence,            // KHR_materials_iridescence iridescenceTexture (R)
+        ext_iridescence_thickness,  // iridescenceThicknessTexture (G)
+        ext_slot_count
+    };
+    TextureRef ext_textures[ext_slot_count];
 
     glm::vec3 emission() const { return emissive * emissive_strength; }
     bool is_emissive() const { return glm::any(glm::greaterThan(emission(), glm::vec3(0.0f))); }

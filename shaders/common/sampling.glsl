@@ -46,8 +46,9 @@ float pdf_cosine_hemisphere(float cos_theta) { return max(cos_theta, 0.0) * INV_
 
 // Visible GGX normals around +Z (Heitz 2018, "Sampling the GGX Distribution of Visible Normals").
 // v_local: direction to the viewer in the local frame (z = normal). Returns the half vector.
-vec3 sample_ggx_vndf(vec3 v_local, float alpha, vec2 u) {
-    vec3 vh = normalize(vec3(alpha * v_local.x, alpha * v_local.y, v_local.z));
+// Anisotropic: a.x along the local x axis, a.y along y.
+vec3 sample_ggx_vndf_aniso(vec3 v_local, vec2 a, vec2 u) {
+    vec3 vh = normalize(vec3(a.x * v_local.x, a.y * v_local.y, v_local.z));
     float lensq = vh.x * vh.x + vh.y * vh.y;
     vec3 t1 = lensq > 0.0 ? vec3(-vh.y, vh.x, 0.0) * inversesqrt(lensq) : vec3(1.0, 0.0, 0.0);
     vec3 t2 = cross(vh, t1);
@@ -58,8 +59,9 @@ vec3 sample_ggx_vndf(vec3 v_local, float alpha, vec2 u) {
     float s = 0.5 * (1.0 + vh.z);
     p2 = (1.0 - s) * sqrt(max(0.0, 1.0 - p1 * p1)) + s * p2;
     vec3 nh = p1 * t1 + p2 * t2 + sqrt(max(0.0, 1.0 - p1 * p1 - p2 * p2)) * vh;
-    return normalize(vec3(alpha * nh.x, alpha * nh.y, max(1e-6, nh.z)));
+    return normalize(vec3(a.x * nh.x, a.y * nh.y, max(1e-6, nh.z)));
 }
+vec3 sample_ggx_vndf(vec3 v_local, float alpha, vec2 u) { return sample_ggx_vndf_aniso(v_local, vec2(alpha), u); }
 
 // Smith G1 for GGX.
 float smith_g1_ggx(float NdotV, float alpha) {

@@ -29,6 +29,16 @@ void main() {
         int full = (1 << gl_NumSamples) - 1;
         gl_SampleMask[0] = ((bits << r) | (bits >> (gl_NumSamples - r))) & full;
     }
+#ifdef MATERIAL_LAYERS
+    // Unlit: no surface for the lights (black, no specular), its colour as emission. The other
+    // layers do not fit the G-buffer; the deferred path shades their base only.
+    if (s.unlit) {
+        s.emission = s.brdf.base_color;
+        s.brdf.base_color = vec3(0.0);
+        s.brdf.specular_factor = 0.0;
+        s.brdf.metallic = 0.0;
+    }
+#endif
     out_base_occlusion = vec4(gbuffer_encode_srgb(s.brdf.base_color), s.occlusion);
     out_normal_rm = vec4(oct_encode(s.n), s.brdf.roughness, s.brdf.metallic);
     out_f0_f90 = vec4(dielectric_f0(s.brdf), dielectric_f90(s.brdf));

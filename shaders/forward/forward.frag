@@ -52,6 +52,13 @@ void main() {
         return;
     }
 #endif
+#ifdef MATERIAL_LAYERS
+    if (s.unlit) {
+        float a = s.alpha_mode == 2 || (s.alpha_mode == 1 && g_alpha_to_coverage) ? s.alpha : 1.0;
+        out_radiance = PEELING ? vec4(s.brdf.base_color * a, a) : vec4(s.brdf.base_color, a);
+        return;
+    }
+#endif
     vec3 color = s.emission;
     // Transmission needs the refraction lookup (reflections effect); without it the surface is
     // an opaque dielectric.

@@ -37,5 +37,8 @@ BrdfInput gbuffer_brdf(vec4 base_occlusion, vec4 normal_rm, vec4 f0_f90) {
     b.ior = 1.5;
     b.specular_factor = f0_f90.a;
     b.specular_color = f0_f90.a > 0.0 ? f0_f90.rgb / (0.04 * f0_f90.a) : vec3(0.0);
+#ifdef MATERIAL_LAYERS
+    brdf_layers_off(b);
+#endif
     return b;
 }

@@ -25,6 +25,9 @@ layout(location = 6) out vec2 v_slot_uv4;   // emissive
 layout(location = 7) flat out int v_material_bits;
 // 1, interpolated as the other inputs are: lighting/surface.glsl divides every centroid input by it.
 layout(location = 8) out float v_one;
+// The raw texture coordinates, for the material extensions' textures (common/material_layers.glsl,
+// read at level 0: no derivatives, so the helper lanes do not matter there).
+layout(location = 9) out vec4 v_uv01;
 
 vec2 material_slot_uv(MaterialData m, int slot, int set, vec2 uv0, vec2 uv1) {
     vec3 uv = vec3(set == 1 ? uv1 : uv0, 1.0);
@@ -44,6 +47,7 @@ void write_material_uvs(vec2 uv0, vec2 uv1) {
     v_slot_uv23 = vec4(uv[2], uv[3]);
     v_slot_uv4 = uv[4];
     v_material_bits = bits;
+    v_uv01 = vec4(uv0, uv1);
     // Always 1, but not a constant to the compiler: Mesa folds a constant output into the
     // fragment stage, which then interpolates nothing.
     v_one = gl_VertexID >= 0 ? 1.0 : 2.0;

@@ -58,14 +58,45 @@ vec3 shade_ambient(BrdfInput bi, vec3 p, vec3 n, vec3 v, float occlusion, float 
 #else
     int probe = probe_at(p, bi, transmission);
 #endif
-    vec3 specular = environment_specular(p, reflect(-v, n), bi.roughness, probe);
+    vec3 r = reflect(-v, n);
+#ifdef MATERIAL_LAYERS
+    // Anisotropy: the reflection about a normal bent towards the plane across the direction of
+    // anisotropy, the more the rougher along it (the usual bent-normal approximation; the
+    // tracer integrates the anisotropic lobe itself).
+    if (bi.anisotropy > 0.0) {
+        vec3 t, b;
+        aniso_frame(bi, n, t, b);
+        vec3 across = cross(t, v);
+        vec3 an = cross(across, t);
+        float bend = 1.0 - bi.anisotropy * (1.0 - bi.roughness);
+        bend *= bend;
+        bend *= bend;
+        vec3 bent = normalize(mix(an, n, bend));
+        if (dot(bent, v) > 0.0) r = reflect(-v, bent);
+    }
+#endif
+    vec3 specular = environment_specular(p, r, bi.roughness, probe);
     vec3 transmitted = vec3(0.0);
     if (transmission > 0.0) {
         vec3 t = thin ? -v : refract(-v, n, 1.0 / max(bi.ior, 1.0));
         if (dot(t, t) < 1e-12) t = -v;
         transmitted = environment_specular(p, normalize(t), bi.roughness, probe);
     }
+#ifdef MATERIAL_LAYERS
+    g_ambient_NdotV = NdotV;
+    vec3 irradiance = environment_irradiance(n);
+    vec3 below = brdf_ambient(bi, ab, irradiance, specular, transmission, transmitted);
+    vec3 coat = vec3(0.0);
+    vec2 coat_ab = vec2(0.0);
+    if (bi.clearcoat > 0.0) {
+        float NcV = saturate(dot(bi.coat_n, v));
+        coat_ab = env_brdf(bi.clearcoat_roughness, NcV);
+        coat = environment_specular(p, reflect(-v, bi.coat_n), bi.clearcoat_roughness, probe);
+    }
+    return occlusion * layers_ambient(bi, n, v, below, irradiance, coat, coat_ab);
+#else
     return occlusion * brdf_ambient(bi, ab, environment_irradiance(n), specular, transmission, transmitted);
+#endif
 }
 vec3 shade_ambient(BrdfInput bi, vec3 p, vec3 n, vec3 v, float occlusion) {
     return shade_ambient(bi, p, n, v, occlusion, 0.0, false);

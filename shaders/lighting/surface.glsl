@@ -37,6 +37,13 @@ layout(location = 7) flat in int v_material_bits;  // bits 0-4: slot textured, b
 // input divided by it (the accessors below; nothing reads the inputs directly) is its value at the
 // centroid, inside the triangle, on any driver (where interpolation is right, a division by 1).
 layout(location = 8) centroid in float v_one;
+#ifdef MATERIAL_LAYERS
+layout(location = 9) centroid in vec4 v_uv01;
+vec4 in_uv01() { return v_uv01 / v_one; }
+layout(binding = MATERIAL_IMAGES_UNIT) uniform sampler2DArray t_images;
+layout(binding = MATERIAL_IMAGES_SRGB_UNIT) uniform sampler2DArray t_images_srgb;
+#include "../common/material_layers.glsl"
+#endif
 
 vec3 in_world_pos() { return v_world_pos / v_one; }
 vec3 in_normal() { return v_normal / v_one; }
@@ -56,6 +63,7 @@ struct Surface {
     int alpha_mode;  // 0 opaque, 1 mask, 2 blend
     float transmission;  // KHR_materials_transmission factor
     bool thin;           // thin-walled (KHR_materials_volume thickness 0)
+    bool unlit;          // KHR_materials_unlit: the colour is base_color
 };
 
 #ifdef FORWARD_NO_TEXTURES
@@ -107,6 +115,21 @@ Surface fragment_surface() {
     vec3 n = normalize(in_normal());
     // Mirrored nodes are drawn with reversed winding, so gl_FrontFacing already accounts for them.
     if (!gl_FrontFacing) n = -n;
+#ifdef MATERIAL_LAYERS
+    // The frame of the interpolated normal, for the layers (coat normal map, anisotropy).
+    vec3 ni = n, ti, bi_;
+    {
+        vec4 tangent = in_tangent();
+        vec3 t = tangent.xyz - n * dot(n, tangent.xyz);
+        float tl = length(t);
+        if (tl > 1e-8) {
+            ti = t / tl;
+            bi_ = cross(n, ti) * (tangent.w < 0.0 ? -1.0 : 1.0) * (gl_FrontFacing ? 1.0 : -1.0) * (u_mirrored != 0 ? -1.0 : 1.0);
+        } else {
+            onb(n, ti, bi_);
+        }
+    }
+#endif
     if (slot_textured(2)) {
         vec4 tangent = in_tangent();
         vec3 t = tangent.xyz - n * dot(n, tangent.xyz);
@@ -134,6 +157,11 @@ Surface fragment_surface() {
     s.brdf.specular_color = m.specular_color;
     s.transmission = m.transmission;
     s.thin = m.thickness <= 0.0;
+    s.unlit = false;
+#ifdef MATERIAL_LAYERS
+    material_layers(m, in_uv01().xy, in_uv01().zw, ni, ti, bi_, s.brdf, s.transmission);
+    s.unlit = material_unlit(m);
+#endif
 
     s.p = in_world_pos();
     // Shading normals facing away from the viewer are bent back to the horizon.

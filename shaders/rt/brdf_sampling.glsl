@@ -7,31 +7,90 @@
 
 float specular_lobe_probability(BrdfInput m) {
     if (m.metallic <= 0.0 && m.specular_factor <= 0.0) return 0.0;
+#ifdef MATERIAL_LAYERS
+    // A sheen needs the cosine lobe, also on metal.
+    if (max(m.sheen_color.r, max(m.sheen_color.g, m.sheen_color.b)) > 0.0) return mix(0.25, 0.75, m.metallic);
+#endif
     return mix(0.25, 1.0, m.metallic);
 }
 
-float brdf_pdf(BrdfInput m, vec3 n, vec3 v, vec3 l) {
+float brdf_pdf_base(BrdfInput m, vec3 n, vec3 v, vec3 l) {
     float NdotL = dot(n, l), NdotV = dot(n, v);
     if (NdotL <= 0.0 || NdotV <= 0.0) return 0.0;
     float ps = specular_lobe_probability(m);
     vec3 h = normalize(v + l);
-    float spec = ps > 0.0 ? pdf_ggx_vndf_reflection(NdotV, saturate(dot(n, h)), brdf_alpha(m.roughness)) : 0.0;
+    float spec = 0.0;
+#ifdef MATERIAL_LAYERS
+    if (ps > 0.0 && m.anisotropy > 0.0) {
+        // Visible-normal pdf of the anisotropic lobe: G1(v) D(h) / (4 n.v).
+        vec3 t, b;
+        aniso_frame(m, n, t, b);
+        vec2 a = aniso_alphas(m, brdf_alpha(m.roughness));
+        vec3 vl = vec3(dot(t, v), dot(b, v), NdotV);
+        float g1 = 2.0 * NdotV / (NdotV + lambda_aniso(vl, a));
+        spec = g1 * D_GGX_aniso(vec3(dot(t, h), dot(b, h), dot(n, h)), a) / (4.0 * NdotV);
+    } else
+#endif
+    spec = ps > 0.0 ? pdf_ggx_vndf_reflection(NdotV, saturate(dot(n, h)), brdf_alpha(m.roughness)) : 0.0;
     return ps * spec + (1.0 - ps) * pdf_cosine_hemisphere(NdotL);
 }
 
-vec3 sample_brdf(BrdfInput m, vec3 n, vec3 v, inout Rng rng) {
+vec3 sample_brdf_base(BrdfInput m, vec3 n, vec3 v, inout Rng rng) {
     float ps = specular_lobe_probability(m);
     vec2 u = vec2(rng_next(rng), rng_next(rng));
     if (rng_next(rng) < ps) {
         vec3 t, b;
+#ifdef MATERIAL_LAYERS
+        vec2 a = vec2(brdf_alpha(m.roughness));
+        if (m.anisotropy > 0.0) {
+            aniso_frame(m, n, t, b);
+            a = aniso_alphas(m, a.x);
+        } else {
+            onb(n, t, b);
+        }
+        vec3 v_local = vec3(dot(v, t), dot(v, b), dot(v, n));
+        vec3 h_local = sample_ggx_vndf_aniso(v_local, a, u);
+#else
         onb(n, t, b);
         vec3 v_local = vec3(dot(v, t), dot(v, b), dot(v, n));
         vec3 h_local = sample_ggx_vndf(v_local, brdf_alpha(m.roughness), u);
+#endif
         vec3 h = h_local.x * t + h_local.y * b + h_local.z * n;
         return reflect(-v, h);
     }
     return to_world(sample_cosine_hemisphere(u), n);
 }
+
+#ifdef MATERIAL_LAYERS
+// The clearcoat's own lobe (GGX visible normals about the coat normal), chosen with probability
+// half the coat's weight.
+float coat_lobe_probability(BrdfInput m) { return 0.5 * m.clearcoat; }
+float brdf_pdf(BrdfInput m, vec3 n, vec3 v, vec3 l) {
+    float pc = coat_lobe_probability(m);
+    float base = brdf_pdf_base(m, n, v, l);
+    if (pc <= 0.0) return base;
+    float NcL = dot(m.coat_n, l), NcV = dot(m.coat_n, v);
+    float coat = NcL > 0.0 && NcV > 0.0
+        ? pdf_ggx_vndf_reflection(NcV, saturate(dot(m.coat_n, normalize(v + l))), brdf_alpha(m.clearcoat_roughness)) : 0.0;
+    return pc * coat + (1.0 - pc) * base;
+}
+vec3 sample_brdf(BrdfInput m, vec3 n, vec3 v, inout Rng rng) {
+    float pc = coat_lobe_probability(m);
+    if (pc > 0.0 && rng_next(rng) < pc) {
+        vec2 u = vec2(rng_next(rng), rng_next(rng));
+        vec3 t, b;
+        onb(m.coat_n, t, b);
+        vec3 v_local = vec3(dot(v, t), dot(v, b), dot(v, m.coat_n));
+        if (v_local.z <= 0.0) return -m.coat_n;  // the coat faces away: no sample (pdf 0 there)
+        vec3 h_local = sample_ggx_vndf(v_local, brdf_alpha(m.clearcoat_roughness), u);
+        return reflect(-v, h_local.x * t + h_local.y * b + h_local.z * m.coat_n);
+    }
+    return sample_brdf_base(m, n, v, rng);
+}
+#else
+float brdf_pdf(BrdfInput m, vec3 n, vec3 v, vec3 l) { return brdf_pdf_base(m, n, v, l); }
+vec3 sample_brdf(BrdfInput m, vec3 n, vec3 v, inout Rng rng) { return sample_brdf_base(m, n, v, rng); }
+#endif
 
 float power_heuristic(float a, float b) {
     float a2 = a * a, b2 = b * b;

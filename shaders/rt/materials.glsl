@@ -2,6 +2,9 @@
 // transmission, and the exact Fresnel term of a dielectric interface. Included after
 // trace_common.glsl (it reads the scene's materials and textures).
 #include "trace_common.glsl"
+#ifdef MATERIAL_LAYERS
+#include "../common/material_layers.glsl"
+#endif
 
 // The material at a hit, with its textures (base colour, metallic-roughness), as the forward pass
 // reads them. Normal and occlusion maps are not used here: occlusion is what the tracer computes.
@@ -24,6 +27,10 @@ BrdfInput brdf_input(SurfaceHit s) {
     b.ior = m.ior;
     b.specular_factor = m.specular_factor;
     b.specular_color = m.specular_color;
+#ifdef MATERIAL_LAYERS
+    float transmission = 0.0;
+    material_layers(m, s.uv0, s.uv1, s.ni, s.t, s.b, b, transmission);
+#endif
     return b;
 }
 vec3 surface_emission(SurfaceHit s) {
@@ -50,7 +57,20 @@ float blend_alpha(SurfaceHit s) {
 #endif
     return saturate(a);
 }
-float material_transmission(int mi) { return materials[mi].transmission; }
+float material_transmission(SurfaceHit s) {
+    MaterialData m = materials[s.material];
+#ifdef MATERIAL_LAYERS
+    if (m.transmission > 0.0 && ext_image(m, EXT_TRANSMISSION) >= 0)
+        return m.transmission * ext_texture(m, EXT_TRANSMISSION, s.uv0, s.uv1, false).r;
+#endif
+    return m.transmission;
+}
+#ifdef MATERIAL_LAYERS
+// KHR_materials_unlit: the surface's colour, seen by every ray that hits it; it neither reflects
+// nor is it sampled as a light.
+bool surface_unlit(SurfaceHit s) { return material_unlit(materials[s.material]); }
+vec3 unlit_color(SurfaceHit s) { return brdf_input(s).base_color; }
+#endif
 // KHR_materials_volume: thickness 0 is a thin wall (light passes without bending).
 bool material_thin(int mi) { return materials[mi].thickness <= 0.0; }
 

@@ -256,6 +256,11 @@ struct SurfaceHit {
     int material;
     vec2 uv0;
     vec2 uv1;
+#ifdef MATERIAL_LAYERS
+    vec3 ni;        // the interpolated normal (ns before the normal map) and its unit tangent
+    vec3 t;         // frame, for the material layers (coat normal map, anisotropy)
+    vec3 b;
+#endif
 };
 
 SurfaceHit surface_at(Ray ray, Hit hit) {
@@ -282,6 +287,20 @@ SurfaceHit surface_at(Ray ray, Hit hit) {
         s.p = tri.p0.xyz * w0 + tri.p1.xyz * hit.bary.x + tri.p2.xyz * hit.bary.y;
         s.uv0 = tri.uv_a.xy * w0 + tri.uv_a.zw * hit.bary.x + tri.uv_b.xy * hit.bary.y;
         s.uv1 = tri.uv_b.zw * w0 + tri.uv_c.xy * hit.bary.x + tri.uv_c.zw * hit.bary.y;
+#ifdef MATERIAL_LAYERS
+        {
+            s.ni = s.ns;
+            vec3 tg = tri.t0.xyz * w0 + tri.t1.xyz * hit.bary.x + tri.t2.xyz * hit.bary.y;
+            vec3 t = tg - s.ni * dot(s.ni, tg);
+            float tl = length(t);
+            if (tl > 1e-8) {
+                s.t = t / tl;
+                s.b = cross(s.ni, s.t) * (tri.t0.w < 0.0 ? -1.0 : 1.0) * (s.front ? 1.0 : -1.0);
+            } else {
+                onb(s.ni, s.t, s.b);
+            }
+        }
+#endif
 #ifndef RT_NO_TEXTURES
         // Normal map, as the forward pass applies it (tangent frame from the interpolated tangent).
         int mi = s.material;
@@ -324,6 +343,10 @@ SurfaceHit surface_at(Ray ray, Hit hit) {
         s.ns = s.ng;
         s.uv0 = direction_to_equirect(n);  // spheres carry no mesh UVs here
         s.uv1 = s.uv0;
+#ifdef MATERIAL_LAYERS
+        s.ni = s.ns;
+        onb(s.ni, s.t, s.b);
+#endif
     }
 #endif
     return s;

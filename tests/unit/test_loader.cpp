@@ -507,11 +507,30 @@ TEST(Loader, SkinAndAnimationsAreNotIgnored) {
 }
 
 TEST(Loader, IgnoredExtensionIsNamedWithTheObjectsUsingIt) {
+    test::GltfBuilder b;
+    b.json()["materials"] = {{{"extensions", {{"KHR_materials_diffuse_transmission", {{"diffuseTransmissionFactor", 0.5}}}}}},
+                             {{"extensions", {{"KHR_materials_diffuse_transmission", {{"diffuseTransmissionFactor", 0.2}}}}}}};
+    b.add_node({{"mesh", b.add_quad_mesh(0)}});
+    b.add_node({{"mesh", b.add_quad_mesh(1)}});
+    const Loaded l = load_capturing(b.write(test::test_dir("ignored_extension"), "ignored"));
+    EXPECT_EQ(l.scene.ignored, (std::vector<std::string>{"KHR_materials_diffuse_transmission on 2 materials"}));
+    EXPECT_EQ(l.warnings, 1) << l.err;
+    EXPECT_NE(l.err.find("ignored.gltf: materials[0].extensions.KHR_materials_diffuse_transmission: KHR_materials_diffuse_transmission on 2 materials"),
+              std::string::npos) << l.err;
+}
+
+// The material extensions' layers load with their textures, and nothing of them is ignored.
+TEST(Loader, ClearcoatLoadsWithItsTextures) {
     const Loaded cc = load_capturing(kModels / "ClearCoatTest" / "ClearCoatTest.gltf");
-    EXPECT_EQ(cc.scene.ignored, (std::vector<std::string>{"KHR_materials_clearcoat on 6 materials"}));
-    EXPECT_EQ(cc.warnings, 1) << cc.err;
-    EXPECT_NE(cc.err.find("ClearCoatTest.gltf: materials[1].extensions.KHR_materials_clearcoat: KHR_materials_clearcoat on 6 materials"),
-              std::string::npos) << cc.err;
+    EXPECT_TRUE(cc.scene.ignored.empty());
+    EXPECT_EQ(cc.warnings, 0) << cc.err;
+    int coated = 0, coat_normal_maps = 0;
+    for (const Material& m : cc.scene.materials) {
+        coated += m.clearcoat > 0.0f;
+        coat_normal_maps += m.ext_textures[Material::ext_clearcoat_normal].present();
+    }
+    EXPECT_EQ(coated, 6);
+    EXPECT_EQ(coat_normal_maps, 2);
 }
 
 TEST(Loader, MorphTargetsAreNotIgnored) {
@@ -540,7 +559,7 @@ TEST(Loader, ModelsWarnOnlyAboutIgnoredFeatures) {
 }
 
 TEST(Loader, UnimplementedRequiredExtensionIsRejected) {
-    EXPECT_NE(load_error(kBroken / "required_extension.gltf").find("required_extension.gltf: extensionsRequired: 'KHR_materials_clearcoat' is not supported"),
+    EXPECT_NE(load_error(kBroken / "required_extension.gltf").find("required_extension.gltf: extensionsRequired: 'KHR_materials_diffuse_transmission' is not supported"),
               std::string::npos);
 }
 

@@ -55,6 +55,12 @@ void bind_scene_buffers(const PassEnv& env) {
     }
     glBindTextureUnit(BRDF_LUT_UNIT, env.ibl.brdf_lut().id());
     glBindSampler(BRDF_LUT_UNIT, 0);
+    if (env.scene.has_material_layers()) {
+        glBindTextureUnit(MATERIAL_IMAGES_UNIT, env.scene.image_array().id());
+        glBindSampler(MATERIAL_IMAGES_UNIT, 0);
+        glBindTextureUnit(MATERIAL_IMAGES_SRGB_UNIT, env.scene.image_array_srgb().id());
+        glBindSampler(MATERIAL_IMAGES_SRGB_UNIT, 0);
+    }
 }
 
 void read_lighting_inputs(FrameGraph::Builder& b, const PassEnv& env) {
@@ -91,12 +97,13 @@ std::string forward_program_name(const PassEnv& env, bool may_peel) {
     std::string defines;
     if (!may_peel) defines = "FORWARD_NO_PEEL";
     if (!env.scene.has_material_textures()) defines += (defines.empty() ? "" : ",") + std::string("FORWARD_NO_TEXTURES");
+    if (env.scene.has_material_layers()) defines += (defines.empty() ? "" : ",") + std::string("MATERIAL_LAYERS");
     defines = lighting_defines(env, defines);
     return defines.empty() ? "forward" : "forward#" + defines;
 }
 
 std::string deferred_light_program_name(const PassEnv& env, const std::string& base) {
-    const std::string defines = lighting_defines(env, "");
+    const std::string defines = lighting_defines(env, env.scene.has_material_layers() ? "MATERIAL_LAYERS" : "");
     return defines.empty() ? base : base + "#" + defines;
 }
 

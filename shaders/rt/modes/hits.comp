@@ -15,5 +15,5 @@ vec3 radiance(Ray ray, inout Rng rng) {
     vec3 e = emitted(s);
     if (max(e.r, max(e.g, e.b)) > 0.0) return vec3(0.0, 1.0, 0.0);
     BrdfInput m = brdf_input(s);
-    return vec3(1.0, 0.0, (1.0 - m.metallic) * (1.0 - saturate(material_transmission(s.material))));
+    return vec3(1.0, 0.0, (1.0 - m.metallic) * (1.0 - saturate(material_transmission(s))));
 }

@@ -72,6 +72,12 @@ bool path_step(inout PathState p) {
         return false;
     }
 #endif
+#ifdef MATERIAL_LAYERS
+    if (surface_unlit(s)) {
+        if (seen) p.sum += p.throughput * unlit_color(s);
+        return true;
+    }
+#endif
     vec3 Le = emitted(s);
     if (seen && max(Le.r, max(Le.g, Le.b)) > 0.0) {
         float w = 1.0;
@@ -83,7 +89,7 @@ bool path_step(inout PathState p) {
     if (p.depth >= max_depth) return true;
     vec3 v = -normalize(p.ray.dir);
 #ifdef HAS_TRANSMISSION
-    float transmission = material_transmission(s.material);
+    float transmission = material_transmission(s);
     if (transmission > 0.0 && rng_next(p.rng) < transmission) {
         // Smooth dielectric: reflect or refract by the exact Fresnel term.
         BrdfInput m = brdf_input(s);

@@ -15,7 +15,7 @@ vec3 shadow_visibility(Ray ray, float tmax) {
         Hit h = trace_closest(ray, tmax);
         if (h.prim < 0) return T;
         SurfaceHit s = surface_at(ray, h);
-        float transmission = materials[s.material].transmission;
+        float transmission = material_transmission(s);
         if (transmission <= 0.0) return vec3(0.0);
         BrdfInput m = brdf_input(s);
         bool thin = materials[s.material].thickness <= 0.0;
@@ -68,11 +68,17 @@ vec3 radiance(Ray primary, inout Rng rng) {
             }
         }
 #endif
+#ifdef MATERIAL_LAYERS
+        if (surface_unlit(s)) {
+            sum += w * unlit_color(s);
+            continue;
+        }
+#endif
         BrdfInput m = brdf_input(s);
         sum += w * emitted(s);
         bool can_branch = depth < rt.max_depth && n + 2 <= kMaxStack;
 #ifdef HAS_TRANSMISSION
-        if (material_transmission(s.material) > 0.0) {
+        if (material_transmission(s) > 0.0) {
             bool thin = material_thin(s.material);
             float eta = thin ? 1.0 : (s.front ? 1.0 / m.ior : m.ior);
             float F = fresnel_dielectric(dot(v, s.ng), thin ? 1.0 / m.ior : eta);
