@@ -46,6 +46,7 @@
 #define RT_BVH_NODES_UNIT 16     // buffer textures of the BVH (rt::pack_traversal)
 #define RT_BVH_PRIMS_UNIT 17
 #define RT_TRIANGLES_UNIT 18
+#define RT_COLORS_UNIT 26        // the triangles' vertex colours, 3 texels each (HAS_VERTEX_COLORS)
 
 // Full-screen and compute passes of the base: their inputs, bound just for the pass.
 #define SOURCE_UNIT 0            // copy, mip_downsample, tonemap's HDR input, the environment's

@@ -53,7 +53,8 @@ namespace {
 // tracer's layout, each vertex transformed once per node that draws it instead of once per
 // triangle corner, without world_triangles()'s intermediate copy (posed scenes redo this per time
 // slice). Nodes marked extras.sphere are left out: they are traced as the exact sphere.
-void append_world_triangles(const Scene& scene, int default_material, std::vector<TriangleGpu>& out) {
+void append_world_triangles(const Scene& scene, int default_material, std::vector<TriangleGpu>& out,
+                            std::vector<glm::vec4>* colors) {
     out.reserve(scene.triangle_count());
     struct Transformed {
         glm::vec3 p, n;
@@ -104,6 +105,7 @@ void append_world_triangles(const Scene& scene, int default_material, std::vecto
                 tri.t1 = b.t;
                 tri.t2 = c.t;
                 out.push_back(tri);
+                if (colors) colors->insert(colors->end(), {va.color, vb.color, vc.color});
             }
         }
     }
@@ -139,7 +141,19 @@ RtGeometry build_primitives(const Scene& scene, int default_material, RtGeometry
     g.spheres.clear();
     g.emitters.clear();
     g.surfaces.clear();
-    append_world_triangles(scene, default_material, g.triangles);
+    // Vertex colours only when one is not white: most scenes have none, and the tracer then
+    // compiles without them.
+    g.colors = std::move(recycled.colors);
+    g.colors.clear();
+    g.has_vertex_colors = false;
+    for (const Mesh& mesh : scene.meshes)
+        for (const Primitive& prim : mesh.primitives)
+            for (const Vertex& v : prim.vertices)
+                if (v.color != glm::vec4(1.0f)) {
+                    g.has_vertex_colors = true;
+                    break;
+                }
+    append_world_triangles(scene, default_material, g.triangles, g.has_vertex_colors ? &g.colors : nullptr);
     for (size_t i = 0; i < scene.nodes.size(); ++i) {
         const Node& node = scene.nodes[i];
         if (!node.sphere_radius || node.mesh < 0) continue;

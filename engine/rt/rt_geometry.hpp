@@ -31,6 +31,9 @@ static_assert(sizeof(TriangleGpu) == 192 && sizeof(SphereGpu) == 32 && sizeof(Em
 // CPU-side geometry (also what the C++ tests and benchmarks use).
 struct RtGeometry {
     std::vector<TriangleGpu> triangles;
+    // COLOR_0 of each triangle's corners (3 per triangle, in corner order), only when some
+    // vertex colour differs from white (has_vertex_colors); empty otherwise.
+    std::vector<glm::vec4> colors;
     std::vector<SphereGpu> spheres;
     std::vector<EmitterGpu> emitters;
     // Every triangle by area (EmitterGpu layout: pdf = area / total): uniform points over all
@@ -40,6 +43,7 @@ struct RtGeometry {
     bool has_transmission = false;
     bool has_blend = false;  // alphaMode BLEND materials: composited along camera rays
     bool has_mask = false;   // alphaMode MASK materials: every ray tests the cutoff at candidate hits
+    bool has_vertex_colors = false;  // `colors` is filled (HAS_VERTEX_COLORS in the shaders)
     Bvh bvh;
 };
 

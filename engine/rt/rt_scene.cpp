@@ -62,6 +62,8 @@ void RtScene::upload_all(RtUpdateStats& stats, TraversalLayout& layout) {
     if (upload(bvh_prims_, layout.prims)) bvh_prims_view_ = texel_view(bvh_prims_, layout.prims.size(), "BVH primitives");
     if (upload(triangles_, geometry_.triangles))
         triangles_view_ = texel_view(triangles_, geometry_.triangles.size() * (sizeof(TriangleGpu) / 16), "triangles");
+    if (geometry_.has_vertex_colors && upload(colors_, geometry_.colors))
+        colors_view_ = texel_view(colors_, geometry_.colors.size(), "vertex colours");
     upload(spheres_, geometry_.spheres);
     upload(emitters_, geometry_.emitters);
     upload(surfaces_, geometry_.surfaces);
@@ -99,6 +101,7 @@ void RtScene::bind() const {
     glBindTextureUnit(RT_BVH_NODES_UNIT, bvh_nodes_view_.id());
     glBindTextureUnit(RT_BVH_PRIMS_UNIT, bvh_prims_view_.id());
     glBindTextureUnit(RT_TRIANGLES_UNIT, triangles_view_.id());
+    if (geometry_.has_vertex_colors) glBindTextureUnit(RT_COLORS_UNIT, colors_view_.id());
 }
 
 }  // namespace candela::rt

@@ -38,8 +38,8 @@ private:
     TraversalLayout layout_;  // kept after the first update: its storage is reused by the next
     int default_material_ = -1;
     RtGeometry geometry_;
-    gl::Buffer bvh_nodes_, bvh_prims_, triangles_, spheres_, emitters_, surfaces_;
-    gl::Texture bvh_nodes_view_, bvh_prims_view_, triangles_view_;
+    gl::Buffer bvh_nodes_, bvh_prims_, triangles_, colors_, spheres_, emitters_, surfaces_;
+    gl::Texture bvh_nodes_view_, bvh_prims_view_, triangles_view_, colors_view_;
 };
 
 }  // namespace candela::rt

@@ -12,7 +12,7 @@ BrdfInput brdf_input(SurfaceHit s) {
     int mi = s.material;
     MaterialData m = materials[mi];
     BrdfInput b;
-    b.base_color = m.base_color.rgb;
+    b.base_color = m.base_color.rgb * s.color.rgb;
     b.metallic = saturate(m.metallic);
     b.roughness = saturate(m.roughness);
 #ifndef RT_NO_TEXTURES
@@ -51,7 +51,7 @@ bool material_double_sided(int mi) { return materials[mi].double_sided > 0.5; }
 float blend_alpha(SurfaceHit s) {
     MaterialData m = materials[s.material];
     if (int(m.alpha_mode) != 2) return 1.0;
-    float a = m.base_color.a;
+    float a = m.base_color.a * s.color.a;
 #ifndef RT_NO_TEXTURES
     if (m.texcoord.x >= 0) a *= material_texture(m, 0, m.images.x, m.texcoord.x, s.uv0, s.uv1).a;
 #endif

@@ -27,6 +27,10 @@ layout(binding = RT_BVH_NODES_UNIT) uniform samplerBuffer t_bvh_nodes;
 layout(binding = RT_BVH_PRIMS_UNIT) uniform samplerBuffer t_bvh_prims;
 // The triangles (rt::TriangleGpu), 12 texels each, read through load_triangle().
 layout(binding = RT_TRIANGLES_UNIT) uniform samplerBuffer t_triangles;
+#ifdef HAS_VERTEX_COLORS
+// COLOR_0 at the triangles' corners (rt::RtGeometry::colors), 3 texels each.
+layout(binding = RT_COLORS_UNIT) uniform samplerBuffer t_colors;
+#endif
 
 RtTriangle load_triangle(int i) {
     int b = i * 12;
@@ -208,6 +212,11 @@ Hit trace(Ray ray, float tmax, bool any_hit) {
                                 vec2 uv1 = tri.uv_b.zw * w0 + tri.uv_c.xy * bary.x + tri.uv_c.zw * bary.y;
                                 alpha *= material_texture(m, 0, m.images.x, m.texcoord.x, uv0, uv1).a;
                             }
+#ifdef HAS_VERTEX_COLORS
+                            float w0c = 1.0 - bary.x - bary.y;
+                            alpha *= texelFetch(t_colors, prim * 3).a * w0c + texelFetch(t_colors, prim * 3 + 1).a * bary.x +
+                                     texelFetch(t_colors, prim * 3 + 2).a * bary.y;
+#endif
                             if (alpha < materials[mi].alpha_cutoff) t = -1.0;
                         }
                     }
@@ -256,6 +265,7 @@ struct SurfaceHit {
     int material;
     vec2 uv0;
     vec2 uv1;
+    vec4 color;     // COLOR_0 (1 without vertex colours), multiplies the base colour as in the raster
 #ifdef MATERIAL_LAYERS
     vec3 ni;        // the interpolated normal (ns before the normal map) and its unit tangent
     vec3 t;         // frame, for the material layers (coat normal map, anisotropy)
@@ -287,6 +297,12 @@ SurfaceHit surface_at(Ray ray, Hit hit) {
         s.p = tri.p0.xyz * w0 + tri.p1.xyz * hit.bary.x + tri.p2.xyz * hit.bary.y;
         s.uv0 = tri.uv_a.xy * w0 + tri.uv_a.zw * hit.bary.x + tri.uv_b.xy * hit.bary.y;
         s.uv1 = tri.uv_b.zw * w0 + tri.uv_c.xy * hit.bary.x + tri.uv_c.zw * hit.bary.y;
+#ifdef HAS_VERTEX_COLORS
+        s.color = texelFetch(t_colors, hit.prim * 3) * w0 + texelFetch(t_colors, hit.prim * 3 + 1) * hit.bary.x +
+                  texelFetch(t_colors, hit.prim * 3 + 2) * hit.bary.y;
+#else
+        s.color = vec4(1.0);
+#endif
 #ifdef MATERIAL_LAYERS
         {
             s.ni = s.ns;
@@ -343,6 +359,7 @@ SurfaceHit surface_at(Ray ray, Hit hit) {
         s.ns = s.ng;
         s.uv0 = direction_to_equirect(n);  // spheres carry no mesh UVs here
         s.uv1 = s.uv0;
+        s.color = vec4(1.0);
 #ifdef MATERIAL_LAYERS
         s.ni = s.ns;
         onb(s.ni, s.t, s.b);

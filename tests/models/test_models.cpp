@@ -68,6 +68,7 @@ constexpr double kMinTracerDisplay = 0.3;  // the model is lit: not a black imag
 struct Bound {
     const char* model;
     double mean_abs, p99_abs;
+    double min_display = kMinTracerDisplay;
 };
 // Display-value differences: the default, and the models whose raster differs more for known
 // reasons, each about 1.5x its measured value. Measured at 128x128, 16 spp: most
@@ -77,8 +78,16 @@ struct Bound {
 constexpr Bound kDefaultBound{"", 0.010, 0.15};
 constexpr Bound kBounds[] = {
     // The smooth black "coating only" column: the tracer's 16 spp are noisy there, the raster's
-    // split-sum reflection is smooth; clearcoat itself is ignored by both (not implemented).
+    // split-sum reflection is smooth (measured 0.0151 / 0.211 with the coat in both).
     {"ClearCoatTest", 0.022, 0.30},
+    // The raster reflects the environment off anisotropic metal along one bent normal, the tracer
+    // integrates the stretched lobe (measured 0.0121 / 0.164).
+    {"AnisotropyStrengthTest", 0.018, 0.25},
+    // Refraction: the raster looks the refracted direction up in a probe or the environment
+    // once, the tracer follows the light through both surfaces of each sphere (measured 0.0603 / 0.253).
+    {"TransmissionTest", 0.09, 0.38},
+    // Lit only by its own emitters of strength > 1 in the dark, as authored: a dark image.
+    {"EmissiveStrengthTest", kDefaultBound.mean_abs, kDefaultBound.p99_abs, 0.05},
     // Dark creases shadowed by the key light's PCSS penumbrae, sharper in the tracer.
     {"MorphStressTest", 0.014, 0.30},
     // Blended layers over the opaque ones: the tracer composites stochastically.
@@ -119,10 +128,10 @@ TEST_P(ModelTest, EveryModelRasterAgreesWithThePathTracer) {
         const BlockAgreement a = block_agreement(raster.radiance, traced.image, 4);
         std::printf("%-26s mean raster/path %.3f  |display diff| mean %.4f p99 %.4f  path display mean %.3f\n",
                     file.stem().string().c_str(), a.luminance_ratio, a.mean_abs, a.p99_abs, a.b_display_mean);
-        EXPECT_GT(a.b_display_mean, kMinTracerDisplay) << "the model is not lit";
+        const Bound bound = bound_for(file.stem().string());
+        EXPECT_GT(a.b_display_mean, bound.min_display) << "the model is not lit";
         EXPECT_GT(a.luminance_ratio, kMinMeanRatio);
         EXPECT_LT(a.luminance_ratio, kMaxMeanRatio);
-        const Bound bound = bound_for(file.stem().string());
         EXPECT_LT(a.mean_abs, bound.mean_abs);
         EXPECT_LT(a.p99_abs, bound.p99_abs);
         ++checked;
