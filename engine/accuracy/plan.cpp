@@ -33,6 +33,23 @@ std::vector<AccuracySweep> make_sweeps(bool quick) {
     }
     {
         AccuracySweep s;
+        s.effect = "material_layers";
+        s.scene = "generated:materials";
+        s.reference = AccuracySweep::Reference{rt::Mode::path, quick ? 32 : 256};
+        s.reference->jitter = 1;
+        s.compared = "the forward raster with and without the material extensions' layers (`render.material_layers`) vs "
+                     "`--raytrace path`, which always shades them";
+        s.reading = "The layers' lobes are the tracer's own; the raster lights them by the sun exactly and by the sky "
+                    "through the split sum (the coat by its own prefiltered reflection, the sheen by irradiance, "
+                    "anisotropy by one bent normal). Off shows what dropping them costs in error and saves in time.";
+        s.variants.push_back({"layers", "none", {"render.material_layers=1"}});
+        s.variants.push_back({"base BRDF only", "none", {"render.material_layers=0"}});
+        s.shipped = "layers";
+        s.needed = [](const Features& f) { return f.scene.material_layers.needed; };
+        sweeps.push_back(s);
+    }
+    {
+        AccuracySweep s;
         s.effect = "ray_tracer";
         s.scene = "cornell_box.gltf";
         s.compared = "`--raytrace path` at rising spp vs a high-spp render of itself: the price of the truth";
@@ -105,6 +122,7 @@ Scene load_scene(const Options& o, const std::string& name) {
     if (name.rfind("generated:lights:", 0) == 0) return make_many_lights_scene(std::stoi(name.substr(17)));
     if (name == "generated:dof") return make_dof_scene();
     if (name == "generated:edges") return make_edges_scene();
+    if (name == "generated:materials") return make_materials_scene();
     if (name == "generated:motion") return make_motion_scene();
     const fs::path p = fs::path(name).has_parent_path() ? fs::path(name) : o.scene_dir / name;
     return load_gltf(p);

@@ -45,13 +45,6 @@ std::array<glm::vec3, 9> project_irradiance_sh(const ImageF& equirect) {
     return L;
 }
 
-bool material_has_layers(const Material& m) {
-    if (m.unlit || m.clearcoat > 0.0f || m.anisotropy > 0.0f || m.iridescence > 0.0f ||
-        glm::any(glm::greaterThan(m.sheen_color, glm::vec3(0.0f))))
-        return true;
-    return std::any_of(std::begin(m.ext_textures), std::end(m.ext_textures), [](const TextureRef& t) { return t.image >= 0; });
-}
-
 MaterialData to_gpu(const Material& m) {
     MaterialData d{};
     d.base_color = m.base_color;
@@ -178,7 +171,7 @@ GpuScene::GpuScene(const Scene& scene, GlWorker* mips, const ShaderLibrary* shad
     for (const MaterialData& m : mats)
         material_textures_ = material_textures_ || m.texcoord.x >= 0 || m.texcoord.y >= 0 || m.texcoord.z >= 0 ||
                              m.texcoord.w >= 0 || m.emissive_texcoord >= 0;
-    material_layers_ = std::any_of(scene.materials.begin(), scene.materials.end(), material_has_layers);
+    material_layers_ = std::any_of(scene.materials.begin(), scene.materials.end(), [](const Material& m) { return m.has_layers(); });
 
     // Draws: every node reachable from the roots that has a mesh.
     std::vector<int> stack(scene.roots.begin(), scene.roots.end());

@@ -28,8 +28,6 @@ using gpu::MaterialData;
 std::array<glm::vec3, 9> project_irradiance_sh(const ImageF& equirect);
 
 MaterialData to_gpu(const Material& material);
-// True if the material needs the MATERIAL_LAYERS shader code (GpuScene::has_material_layers).
-bool material_has_layers(const Material& material);
 LightData to_gpu(const Scene::PlacedLight& light);
 
 // What the shadow setup needs to know about each light of the light buffer.

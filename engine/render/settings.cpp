@@ -25,6 +25,9 @@ std::vector<Knob> base_knobs() {
             .choice("path", &S::path, kRenderPaths, "render path (--path); auto: deferred from deferred.auto_lights lights")
             .boolean("gating", &S::gating,
                      "skip the effects the scene does not call for; off runs every switched-on effect (the image must not change)")
+            .boolean("material_layers", &S::material_layers,
+                     "shade the material extensions' layers (clearcoat, sheen, anisotropy, iridescence, unlit, their textures); "
+                     "off: the base BRDF only, cheaper (the tracer keeps them)")
             .rows);
     add(KnobRows<S::Forward>("forward", [](S& s) -> S::Forward& { return s.forward; })
             .boolean("depth_prepass", &S::Forward::depth_prepass, "draw depth first, then shade each pixel once")

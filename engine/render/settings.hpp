@@ -59,6 +59,10 @@ struct RenderSettings {
     // Gating (`render.gating`): an effect the scene does not call for is not run. Off runs every
     // switched-on effect anyway; the image must not change (the gating property test).
     bool gating = true;
+    // The layers of the glTF material extensions (`render.material_layers`): clearcoat, sheen,
+    // anisotropy, iridescence, unlit and the extensions' textures. Off shades every material with
+    // its base BRDF only (the cheaper programs); the tracer always shades them.
+    bool material_layers = true;
 
     struct Forward {
         bool depth_prepass = false;  // draw depth first, shade with depth test EQUAL

@@ -100,7 +100,7 @@ void RayTracer::select_program(Mode mode) {
     std::vector<std::string> defines;
     if (!rt_scene_.geometry().emitters.empty()) defines.push_back("HAS_EMITTERS");
     if (rt_scene_.geometry().has_transmission) defines.push_back("HAS_TRANSMISSION");
-    if (std::any_of(scene_.materials.begin(), scene_.materials.end(), material_has_layers)) defines.push_back("MATERIAL_LAYERS");
+    if (std::any_of(scene_.materials.begin(), scene_.materials.end(), [](const Material& m) { return m.has_layers(); })) defines.push_back("MATERIAL_LAYERS");
     if (rt_scene_.geometry().has_blend) defines.push_back("HAS_BLEND");
     if (rt_scene_.geometry().has_vertex_colors) defines.push_back("HAS_VERTEX_COLORS");
     if (rt_scene_.geometry().has_mask) defines.push_back("HAS_MASK");

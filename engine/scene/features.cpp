@@ -1,5 +1,6 @@
 #include "scene/features.hpp"
 
+#include <algorithm>
 #include <set>
 
 namespace candela {
@@ -12,6 +13,7 @@ SceneFeatures analyze_features(const Scene& scene, float reflection_roughness) {
     f.transmission.name = "transmission";
     f.emissive_area_lights.name = "emissive area lights";
     f.environment.name = "environment";
+    f.material_layers.name = "material layers";
 
     // Materials actually drawn (reachable nodes with meshes).
     std::set<int> used;
@@ -58,6 +60,11 @@ SceneFeatures analyze_features(const Scene& scene, float reflection_roughness) {
         transmissive ? std::to_string(transmissive) + " material(s) with KHR_materials_transmission" : "no transmissive materials");
     set(f.emissive_area_lights, emissive > 0,
         emissive ? std::to_string(emissive) + " emissive material(s) (area lights for the ray tracer)" : "no emissive materials");
+    const auto layered = std::count_if(scene.materials.begin(), scene.materials.end(), [](const Material& m) { return m.has_layers(); });
+    set(f.material_layers, layered > 0,
+        layered ? std::to_string(layered) + " material(s) with extension layers (clearcoat, sheen, anisotropy, iridescence, unlit) "
+                                            "or extension textures"
+                : "no material extension layers");
     set(f.environment, scene.environment.present(),
         scene.environment.image          ? scene.environment.label
         : !scene.environment.map.empty() ? "map " + scene.environment.map.filename().string()

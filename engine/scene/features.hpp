@@ -15,10 +15,10 @@ struct Feature {
 };
 
 struct SceneFeatures {
-    Feature shadows, transparency, reflections, transmission, emissive_area_lights, environment;
+    Feature shadows, transparency, reflections, transmission, emissive_area_lights, environment, material_layers;
     int emissive_primitives = 0;  // drawn primitives with an emissive material (raster area lights)
     std::vector<const Feature*> all() const {
-        return {&shadows, &transparency, &reflections, &transmission, &emissive_area_lights, &environment};
+        return {&shadows, &transparency, &reflections, &transmission, &emissive_area_lights, &environment, &material_layers};
     }
 };
 

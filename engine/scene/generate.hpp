@@ -11,6 +11,8 @@ namespace candela {
 void append_box(Primitive& p, glm::vec3 lo, glm::vec3 hi);
 // A quad with corner `o` and edges `eu`, `ev`, facing cross(eu, ev), added to `p`.
 void append_quad(Primitive& p, glm::vec3 o, glm::vec3 eu, glm::vec3 ev);
+// A UV sphere of radius r around the origin with exact normals; rings x 2 rings quads (no UVs).
+Primitive uv_sphere(float r, int rings);
 // A rough (0.9) dielectric Lambert-like material of `colour`, for the generated scenes.
 Material lambert_material(const char* name, glm::vec3 colour);
 // Scenes built in code (generators, tests): a mesh of one primitive (its bounds computed), a light
@@ -40,6 +42,11 @@ Scene make_dof_scene();
 // slanted checkerboard, sub-pixel wires, a MASK fence, a tilted box) on a white wall under a
 // point light at the camera.
 Scene make_edges_scene();
+
+// generated:materials (generate_materials.cpp): the material extensions' layers side by side, a
+// sphere each (plain, clearcoat, sheen, anisotropic metal, iridescent, clearcoat over sheen) on
+// a floor under a sun and a sky: the scene of `bench accuracy`'s material_layers section.
+Scene make_materials_scene();
 
 // generated:motion (generate_motion.cpp): the motion-blur scene, animation 0 (LINEAR samplers,
 // [0, 1] s) slides a banded box across the view and spins another over a checkered floor and

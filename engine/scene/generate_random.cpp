@@ -170,6 +170,28 @@ Kind draw_kind(Rng& rng) {
     return Kind::glass;
 }
 
+// A camera at `eye` looking at `target` (+Y up unless the view is vertical).
+Camera look_camera(const std::string& name, glm::vec3 eye, glm::vec3 target, float yfov, float znear) {
+    Camera c;
+    c.name = name;
+    c.yfov = yfov;
+    c.znear = znear;
+    glm::vec3 up(0, 1, 0);
+    if (std::abs(glm::dot(glm::normalize(target - eye), up)) > 0.98f) up = glm::vec3(0, 0, -1);
+    c.world = glm::inverse(glm::lookAt(eye, target, up));
+    return c;
+}
+
+// A light node's transform: at `pos`, its -Z axis along `dir`.
+glm::mat4 aim(glm::vec3 pos, glm::vec3 dir) {
+    dir = glm::normalize(dir);
+    glm::vec3 up(0, 1, 0);
+    if (std::abs(glm::dot(dir, up)) > 0.98f) up = glm::vec3(1, 0, 0);
+    return glm::inverse(glm::lookAt(pos, pos + dir, up));
+}
+
+}  // namespace
+
 // A UV sphere of radius r around the origin with exact normals; rings x 2 rings quads.
 Primitive uv_sphere(float r, int rings) {
     Primitive p;
@@ -193,28 +215,6 @@ Primitive uv_sphere(float r, int rings) {
         }
     return p;
 }
-
-// A camera at `eye` looking at `target` (+Y up unless the view is vertical).
-Camera look_camera(const std::string& name, glm::vec3 eye, glm::vec3 target, float yfov, float znear) {
-    Camera c;
-    c.name = name;
-    c.yfov = yfov;
-    c.znear = znear;
-    glm::vec3 up(0, 1, 0);
-    if (std::abs(glm::dot(glm::normalize(target - eye), up)) > 0.98f) up = glm::vec3(0, 0, -1);
-    c.world = glm::inverse(glm::lookAt(eye, target, up));
-    return c;
-}
-
-// A light node's transform: at `pos`, its -Z axis along `dir`.
-glm::mat4 aim(glm::vec3 pos, glm::vec3 dir) {
-    dir = glm::normalize(dir);
-    glm::vec3 up(0, 1, 0);
-    if (std::abs(glm::dot(dir, up)) > 0.98f) up = glm::vec3(1, 0, 0);
-    return glm::inverse(glm::lookAt(pos, pos + dir, up));
-}
-
-}  // namespace
 
 Scene make_random_scene(std::uint32_t seed) {
     Rng rng(seed);

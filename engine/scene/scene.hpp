@@ -116,6 +116,14 @@ struct Material {
         ext_slot_count
     };
     TextureRef ext_textures[ext_slot_count];
+    // Uses a layer or an extension's texture (shaders compile MATERIAL_LAYERS for such scenes).
+    bool has_layers() const {
+        if (unlit || clearcoat > 0.0f || anisotropy > 0.0f || iridescence > 0.0f || glm::any(glm::greaterThan(sheen_color, glm::vec3(0.0f))))
+            return true;
+        for (const TextureRef& t : ext_textures)
+            if (t.image >= 0) return true;
+        return false;
+    }
 
     glm::vec3 emission() const { return emissive * emissive_strength; }
     bool is_emissive() const { return glm::any(glm::greaterThan(emission(), glm::vec3(0.0f))); }

@@ -231,6 +231,7 @@ std::string format_number(const char* format, double v) {
 Scene load_scene(const std::string& path, bool strict) {
     if (path == "generated:dof") return make_dof_scene();
     if (path == "generated:edges") return make_edges_scene();
+    if (path == "generated:materials") return make_materials_scene();
     if (path == "generated:motion") return make_motion_scene();
     if (path.rfind("generated:skinned:", 0) == 0) {
         const std::string n = path.substr(18);

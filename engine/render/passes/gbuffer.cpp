@@ -52,7 +52,7 @@ void add_gbuffer_pass(FrameGraph& graph, const PassEnv& env, FrameTargets& targe
             const float clear_depth = 0.0f;
             glClearBufferfv(GL_DEPTH, 0, &clear_depth);
             bind_scene_buffers(env);
-            const GLuint program = env.programs.get(env.scene.has_material_layers() ? "gbuffer#MATERIAL_LAYERS" : "gbuffer").id();
+            const GLuint program = env.programs.get(material_layers_on(env) ? "gbuffer#MATERIAL_LAYERS" : "gbuffer").id();
             ctx.state.use_program(program);
             ctx.state.bind_vertex_array(env.scene.vertex_array().id());
             if (a2c) glProgramUniform1i(program, 9, 1);

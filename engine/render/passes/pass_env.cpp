@@ -55,7 +55,7 @@ void bind_scene_buffers(const PassEnv& env) {
     }
     glBindTextureUnit(BRDF_LUT_UNIT, env.ibl.brdf_lut().id());
     glBindSampler(BRDF_LUT_UNIT, 0);
-    if (env.scene.has_material_layers()) {
+    if (material_layers_on(env)) {
         glBindTextureUnit(MATERIAL_IMAGES_UNIT, env.scene.image_array().id());
         glBindSampler(MATERIAL_IMAGES_UNIT, 0);
         glBindTextureUnit(MATERIAL_IMAGES_SRGB_UNIT, env.scene.image_array_srgb().id());
@@ -93,17 +93,19 @@ static std::string lighting_defines(const PassEnv& env, std::string defines) {
     return defines;
 }
 
+bool material_layers_on(const PassEnv& env) { return env.scene.has_material_layers() && env.settings.material_layers; }
+
 std::string forward_program_name(const PassEnv& env, bool may_peel) {
     std::string defines;
     if (!may_peel) defines = "FORWARD_NO_PEEL";
     if (!env.scene.has_material_textures()) defines += (defines.empty() ? "" : ",") + std::string("FORWARD_NO_TEXTURES");
-    if (env.scene.has_material_layers()) defines += (defines.empty() ? "" : ",") + std::string("MATERIAL_LAYERS");
+    if (material_layers_on(env)) defines += (defines.empty() ? "" : ",") + std::string("MATERIAL_LAYERS");
     defines = lighting_defines(env, defines);
     return defines.empty() ? "forward" : "forward#" + defines;
 }
 
 std::string deferred_light_program_name(const PassEnv& env, const std::string& base) {
-    const std::string defines = lighting_defines(env, env.scene.has_material_layers() ? "MATERIAL_LAYERS" : "");
+    const std::string defines = lighting_defines(env, material_layers_on(env) ? "MATERIAL_LAYERS" : "");
     return defines.empty() ? base : base + "#" + defines;
 }
 

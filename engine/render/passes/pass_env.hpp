@@ -88,6 +88,9 @@ void begin_forward_shading(const PassEnv& env, FrameGraph::Context& ctx, const F
 // "forward" catalog program with the base's FORWARD_NO_* defines and every effect's
 // EffectRuntime::shading_defines (forward/forward.frag); `may_peel` false: u_peel stays 0.
 std::string forward_program_name(const PassEnv& env, bool may_peel);
+// The scene's materials have layers and render.material_layers is on: programs compile with
+// MATERIAL_LAYERS and the image array is bound (shaders/common/material_layers.glsl).
+bool material_layers_on(const PassEnv& env);
 // The deferred lighting program `base` (deferred_light, deferred_light_ms, ..._edges) with the
 // same lighting defines (deferred/light.comp honours them).
 std::string deferred_light_program_name(const PassEnv& env, const std::string& base);
