@@ -22,6 +22,7 @@
 #include "core/error.hpp"
 #include "core/log.hpp"
 #include "scene/animation.hpp"
+#include "scene/gltf_decode.hpp"
 #include "scene/gltf_loader_internal.hpp"
 #include "scene/gltf_validate.hpp"
 #include "scene/mesh_utils.hpp"
@@ -230,6 +231,16 @@ nlohmann::json precheck_gltf_json(const fs::path& path, std::string_view text) {
     return j;
 }
 
+// A buffer marked as EXT_meshopt_compression's fallback (its bufferViews are all compressed).
+bool meshopt_fallback(const nlohmann::json& buffer) {
+    auto e = buffer.find("extensions");
+    if (e == buffer.end() || !e->is_object()) return false;
+    auto m = e->find("EXT_meshopt_compression");
+    if (m == e->end() || !m->is_object()) return false;
+    auto f = m->find("fallback");
+    return f != m->end() && f->is_boolean() && f->get<bool>();
+}
+
 std::string base64(std::string_view bytes) {
     static const char* abc = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
     std::string out;
@@ -262,10 +273,15 @@ std::string for_tinygltf(const std::string& file, const nlohmann::json& doc, boo
             const uint64_t len = buf.value("byteLength", uint64_t(0));
             auto uri = buf.find("uri");
             if (!gltf::buffer_available(buf, glb, i)) {
+                // An EXT_meshopt_compression fallback buffer: what lies in it comes from decoding
+                // (decode_meshopt), so a few bytes stand in for any size.
+                const bool fallback = meshopt_fallback(buf);
                 constexpr uint64_t kMaxStandIn = uint64_t(1) << 26;
-                if (len > kMaxStandIn)
+                if (len > kMaxStandIn && !fallback)
                     throw bad_input(file + ": " + idx("buffers", i) + ": has no data Candela can read and is too large to stand in for");
-                buf["uri"] = "data:application/octet-stream;base64," + base64(std::string(len, '\0'));
+                const uint64_t stand_in = fallback ? 4 : len;
+                buf["uri"] = "data:application/octet-stream;base64," + base64(std::string(stand_in, '\0'));
+                buf["byteLength"] = stand_in;
                 (*unavailable)[i] = changed = true;
             } else if (uri != buf.end() && uri->is_string() && uri->get<std::string>().rfind("data:", 0) == 0) {
                 const std::string u = uri->get<std::string>();
@@ -366,6 +382,34 @@ std::string for_tinygltf(const std::string& file, const nlohmann::json& doc, boo
     return glb_out;
 }
 
+// KHR_texture_basisu: no Debian package decodes KTX2 / Basis Universal, so a texture is drawn
+// from its `source` (the PNG/JPEG fallback the extension allows) when it has one. Without one,
+// the file is refused when it requires the extension; otherwise the texture gets the fallback
+// checker like any texture without an image.
+void check_basisu(const std::string& file, const nlohmann::json& doc) {
+    bool required = false;
+    if (auto req = doc.find("extensionsRequired"); req != doc.end() && req->is_array())
+        for (const auto& e : *req) required = required || (e.is_string() && e.get<std::string>() == "KHR_texture_basisu");
+    auto textures = doc.find("textures");
+    if (textures == doc.end() || !textures->is_array()) return;
+    size_t with_fallback = 0;
+    for (size_t i = 0; i < textures->size(); ++i) {
+        const nlohmann::json& t = (*textures)[i];
+        if (!t.is_object() || !t.contains("extensions") || !t["extensions"].is_object() || !t["extensions"].contains("KHR_texture_basisu")) continue;
+        if (t.contains("source")) {
+            ++with_fallback;
+            continue;
+        }
+        const std::string what = idx("textures", i) + ".extensions.KHR_texture_basisu: KTX2/Basis Universal textures are not supported "
+                                 "and the texture has no PNG/JPEG 'source' to fall back to; re-exporting the file with PNG or JPEG textures works";
+        if (required) throw bad_input(file + ": " + what);
+        log::warn(file + ": " + what + " (the texture is drawn as a checker)");
+    }
+    if (with_fallback)
+        log::info(file + ": KHR_texture_basisu: " + std::to_string(with_fallback) + (with_fallback == 1 ? " texture uses its" : " textures use their") +
+                  " PNG/JPEG fallback image (KTX2/Basis Universal is not decoded)");
+}
+
 // The first error of a validation pass is bad input; warnings go to the log, at most
 // kMaxValidationWarnings of them (a file with a million bad normals says so once per accessor).
 void report(const std::string& file, const std::vector<gltf::Issue>& issues) {
@@ -413,6 +457,7 @@ Scene load_gltf_from_memory(const fs::path& path, std::string_view bytes) {
         for (const auto& ext : *req)
             if (ext.is_string() && !gltf::extension_implemented(ext.get<std::string>()))
                 throw bad_input(file + ": extensionsRequired: '" + ext.get<std::string>() + "' is not supported");
+    check_basisu(file, doc);
     report(file, gltf::validate_document(doc, binary, bin_size));
 
     std::vector<bool> unavailable;
@@ -440,11 +485,20 @@ Scene load_gltf_from_memory(const fs::path& path, std::string_view bytes) {
     for (const auto& [where, accessor] : indices_without_view)
         if (where.first < model.meshes.size() && where.second < model.meshes[where.first].primitives.size())
             model.meshes[where.first].primitives[where.second].indices = accessor;
+    // Compressed geometry becomes plain data: `plain` is the document as if it had never been
+    // compressed, which the data checks and the Loader read.
+    nlohmann::json plain = doc;
+    try {
+        decode_meshopt(file, plain, model);
+        decode_draco(file, plain, model);
+    } catch (const nlohmann::json::exception& e) {
+        throw bad_input(file + ": a compressed bufferView or primitive has a member of the wrong type (" + std::string(e.what()) + ")");
+    }
     std::vector<std::string_view> buffers;
     for (size_t i = 0; i < model.buffers.size(); ++i)
         buffers.emplace_back(i < unavailable.size() && unavailable[i] ? std::string_view()
                                  : std::string_view(reinterpret_cast<const char*>(model.buffers[i].data.data()), model.buffers[i].data.size()));
-    report(file, gltf::validate_data(doc, buffers));
+    report(file, gltf::validate_data(plain, buffers));
     Scene scene = Loader(path, model, image_log, unavailable).build();
     // What Candela does not implement is named once per kind, in the Scene and on stderr.
     for (const gltf::IgnoredFeature& f : gltf::ignored_features(doc)) {
