@@ -11,6 +11,7 @@
 #include <fstream>
 #include <functional>
 #include <map>
+#include <set>
 #include <sstream>
 #include <thread>
 
@@ -300,6 +301,26 @@ std::string for_tinygltf(const std::string& file, const nlohmann::json& doc, boo
                 changed = true;
             }
         }
+    }
+    // KTX2 images that only KHR_texture_basisu refers to are never drawn (the textures use their
+    // PNG/JPEG `source`): a 1x1 PNG stands in, so that they are neither decoded nor reported.
+    if (auto t = out.find("textures"), im = out.find("images"); t != out.end() && t->is_array() && im != out.end() && im->is_array()) {
+        std::set<int64_t> basisu_only, drawn;
+        for (const auto& tex : *t) {
+            if (!tex.is_object()) continue;
+            if (auto s = tex.find("source"); s != tex.end() && s->is_number_integer()) drawn.insert(s->get<int64_t>());
+            if (auto e = tex.find("extensions"); e != tex.end() && e->is_object())
+                for (auto it = e->begin(); it != e->end(); ++it)
+                    if (it->is_object())
+                        if (auto s = it->find("source"); s != it->end() && s->is_number_integer())
+                            (it.key() == "KHR_texture_basisu" ? basisu_only : drawn).insert(s->get<int64_t>());
+        }
+        for (int64_t i : basisu_only)
+            if (!drawn.count(i) && i >= 0 && static_cast<size_t>(i) < im->size()) {
+                (*im)[static_cast<size_t>(i)] = {{"uri", "data:image/png;base64,iVBORw0KGgoAAAANSUhEUgAAAAEAAAABCAYAAAAfFcSJAAAADUlEQVR42mNkYPhfDwAChwGA60e6kgAAAABJRU5ErkJggg=="},
+                                                 {"name", "KTX2 image (not decoded)"}};
+                changed = true;
+            }
     }
     if (auto a = out.find("accessors"); a != out.end() && a->is_array())
         for (auto& acc : *a) {

@@ -159,11 +159,14 @@ TEST(DracoCompression, BoxDecodesToTheUncompressedBox) {
         const glm::vec3 face = glm::normalize(glm::cross(v1 - v0, v2 - v0));
         for (int k = 0; k < 3; ++k) EXPECT_GT(glm::dot(face, p.vertices[p.indices[t + static_cast<size_t>(k)]].normal), 0.99f);
     }
-    // Within the accessor's min/max (+-0.5004885 in mesh space).
+    // The accessor's min/max (+-0.5004885 in mesh space) are Draco's quantisation grid: the decoded
+    // box lies within them, less than a grid step (1/1023 of the extent) inside.
     const Bounds bounds = p.bounds;
     for (int c = 0; c < 3; ++c) {
-        EXPECT_NEAR(bounds.min[c], -0.5004885f, 1e-4f);
-        EXPECT_NEAR(bounds.max[c], 0.5004885f, 1e-4f);
+        EXPECT_GE(bounds.min[c], -0.5004885f);
+        EXPECT_LE(bounds.max[c], 0.5004885f);
+        EXPECT_NEAR(bounds.min[c], -0.5004885f, 1e-3f);
+        EXPECT_NEAR(bounds.max[c], 0.5004885f, 1e-3f);
     }
 }
 
@@ -391,7 +394,8 @@ TEST(GpuInstancing, BadAttributesNameTheJsonPath) {
         return load_message(as, write_glb(g));
     };
     std::string m = edited([](Glb& g) { g.doc["accessors"][5]["count"] = 124; });
-    EXPECT_NE(m.find(ext + "SCALE: accessor 5 has 124 elements, TRANSLATION has 125"), std::string::npos) << m;
+    // (JSON members in name order: ROTATION is the first one read.)
+    EXPECT_NE(m.find(ext + "SCALE: accessor 5 has 124 elements, ROTATION has 125 (one per instance)"), std::string::npos) << m;
     m = edited([](Glb& g) { g.doc["nodes"][0]["extensions"]["EXT_mesh_gpu_instancing"]["attributes"]["ROTATION"] = 3; });
     EXPECT_NE(m.find(ext + "ROTATION: accessor 3 is FLOAT VEC3; ROTATION must be VEC4"), std::string::npos) << m;
     m = edited([](Glb& g) { g.doc["nodes"][0]["extensions"]["EXT_mesh_gpu_instancing"]["attributes"]["SCALE"] = 99; });
@@ -422,7 +426,7 @@ TEST(TextureBasisu, FallbackSourceIsUsedAndWithoutOneARequiredFileIsRefused) {
     const int image = s.materials[0].base_color_texture.image;
     ASSERT_GE(image, 0);
     EXPECT_EQ(s.images[static_cast<size_t>(image)].width, 211) << "the PNG fallback is drawn, not the checker";
-    (void)before;
+    EXPECT_EQ(log::warning_count(), before) << "the KTX2 image nothing draws is not reported as unreadable";
     const std::string m = load_message(as, basisu_box(false, true).dump());
     EXPECT_NE(m.find("textures[0].extensions.KHR_texture_basisu: KTX2/Basis Universal textures are not supported"), std::string::npos) << m;
     EXPECT_NE(m.find("re-exporting the file with PNG or JPEG textures works"), std::string::npos) << m;
