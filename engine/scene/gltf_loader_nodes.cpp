@@ -1,6 +1,7 @@
 // glTF loading of the node hierarchy, cameras, KHR_lights_punctual lights and the environment.
 #include "scene/gltf_loader_internal.hpp"
 
+#include <glm/gtc/matrix_inverse.hpp>
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
@@ -131,6 +132,25 @@ void Loader::build_nodes(Scene& scene) {
     }
     // With one parent per node and parentless roots, no cycle is reachable from a root.
     scene.update_world_transforms();
+    // Instances whose world transform has no usable normal matrix (a SCALE of 0, or scales so
+    // large or small that the inverse overflows) would give non-finite normals: not drawn.
+    std::map<int, size_t> degenerate;  // instanced node -> instances dropped
+    for (size_t i = n; i < scene.nodes.size(); ++i) {
+        Node& inst = scene.nodes[i];
+        const glm::mat3 m(inst.world);
+        const float det = glm::determinant(m);
+        const glm::mat3 normal = glm::inverseTranspose(m);
+        bool finite = det != 0.0f && std::isfinite(det);
+        // Entries up to 1e30 keep normal_matrix * normal finite for unit normals.
+        for (int c = 0; c < 3 && finite; ++c)
+            finite = !glm::any(glm::isnan(normal[c])) && glm::all(glm::lessThan(glm::abs(normal[c]), glm::vec3(1e30f)));
+        if (finite) continue;
+        inst.mesh = -1;
+        ++degenerate[inst.parent];
+    }
+    for (const auto& [node, count] : degenerate)
+        warn(idx("nodes", static_cast<size_t>(node)) + ".extensions.EXT_mesh_gpu_instancing",
+             std::to_string(count) + " instances have a zero or extreme scale (no usable normals); not drawn");
 }
 
 // EXT_mesh_gpu_instancing: a node's mesh is drawn once per instance, at the node's transform
