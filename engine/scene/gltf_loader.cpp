@@ -11,6 +11,7 @@
 #include <fstream>
 #include <functional>
 #include <map>
+#include <new>
 #include <set>
 #include <sstream>
 #include <thread>
@@ -514,6 +515,9 @@ Scene load_gltf_from_memory(const fs::path& path, std::string_view bytes) {
         decode_draco(file, plain, model);
     } catch (const nlohmann::json::exception& e) {
         throw bad_input(file + ": a compressed bufferView or primitive has a member of the wrong type (" + std::string(e.what()) + ")");
+    } catch (const std::bad_alloc&) {
+        // A stream whose header promises more data than memory holds (Draco sizes its arrays from it).
+        throw bad_input(file + ": compressed geometry decodes to more data than fits in memory");
     }
     std::vector<std::string_view> buffers;
     for (size_t i = 0; i < model.buffers.size(); ++i)

@@ -70,6 +70,10 @@ void decode_meshopt(const std::string& file, json& plain, tinygltf::Model& model
         // Bounded by the validation (count * byteStride == the bufferView's byteLength, which fits its buffer).
         if (count > view_length / stride) fail("count", "count " + std::to_string(count) + " x byteStride " + std::to_string(stride) +
                                                             " is more than the bufferView's byteLength " + std::to_string(view_length));
+        constexpr uint64_t kMaxDecoded = uint64_t(1) << 31;
+        if (count * stride > kMaxDecoded)
+            fail("count", std::to_string(count * stride) + " decoded bytes are more than Candela decodes in one bufferView (" +
+                              std::to_string(kMaxDecoded) + ")");
         std::vector<unsigned char> out(static_cast<size_t>(count * stride));
         const unsigned char* in = data.data() + offset;
         int rc = 0;
