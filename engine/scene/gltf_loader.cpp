@@ -418,7 +418,22 @@ void check_basisu(const std::string& file, const nlohmann::json& doc) {
     for (size_t i = 0; i < textures->size(); ++i) {
         const nlohmann::json& t = (*textures)[i];
         if (!t.is_object() || !t.contains("extensions") || !t["extensions"].is_object() || !t["extensions"].contains("KHR_texture_basisu")) continue;
-        if (t.contains("source")) {
+        // A `source` is a fallback unless it is the KTX2 image itself (some exporters put it there
+        // when the extension is required).
+        bool fallback = false;
+        if (auto src = t.find("source"); src != t.end() && src->is_number_integer()) {
+            fallback = true;
+            auto images = doc.find("images");
+            const int64_t si = src->get<int64_t>();
+            if (images != doc.end() && images->is_array() && si >= 0 && static_cast<size_t>(si) < images->size() &&
+                (*images)[static_cast<size_t>(si)].is_object()) {
+                const nlohmann::json& img = (*images)[static_cast<size_t>(si)];
+                const std::string mime = img.contains("mimeType") && img["mimeType"].is_string() ? img["mimeType"].get<std::string>() : "";
+                const std::string uri = img.contains("uri") && img["uri"].is_string() ? img["uri"].get<std::string>() : "";
+                fallback = mime != "image/ktx2" && !(uri.size() >= 5 && uri.compare(uri.size() - 5, 5, ".ktx2") == 0);
+            }
+        }
+        if (fallback) {
             ++with_fallback;
             continue;
         }

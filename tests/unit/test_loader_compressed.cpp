@@ -16,6 +16,7 @@
 
 #include "core/error.hpp"
 #include "core/log.hpp"
+#include "rt/rt_geometry.hpp"
 #include "scene/gltf_loader.hpp"
 
 #ifndef CANDELA_SOURCE_DIR
@@ -383,6 +384,17 @@ TEST(GpuInstancing, EveryInstanceIsPlacedAsTheFileSays) {
     // The scene spans the instances: translations 0..10, boxes up to 2 units.
     const Bounds b = s.world_bounds();
     EXPECT_GT(b.max.x - b.min.x, 10.0f);
+    // The tracer's geometry holds every instance's triangles, in world space where the raster
+    // draws them (the instances are flattened into its one BVH).
+    const rt::RtGeometry geometry = rt::build_rt_geometry(s, 0);
+    ASSERT_EQ(geometry.triangles.size(), 125u * 12);
+    const auto world = world_triangles(s);
+    for (size_t i = 0; i < world.size(); i += 37) {
+        bool found = false;
+        for (size_t j = 0; j < geometry.triangles.size() && !found; ++j)
+            found = same_triangle(world[i], {glm::vec3(geometry.triangles[j].p0), glm::vec3(geometry.triangles[j].p1), glm::vec3(geometry.triangles[j].p2)}, 1e-4f);
+        EXPECT_TRUE(found) << "world triangle " << i << " is not in the tracer's geometry";
+    }
 }
 
 TEST(GpuInstancing, BadAttributesNameTheJsonPath) {
@@ -430,6 +442,10 @@ TEST(TextureBasisu, FallbackSourceIsUsedAndWithoutOneARequiredFileIsRefused) {
     const std::string m = load_message(as, basisu_box(false, true).dump());
     EXPECT_NE(m.find("textures[0].extensions.KHR_texture_basisu: KTX2/Basis Universal textures are not supported"), std::string::npos) << m;
     EXPECT_NE(m.find("re-exporting the file with PNG or JPEG textures works"), std::string::npos) << m;
+    // A `source` that is the KTX2 image itself is no fallback.
+    json ktx2_source = basisu_box(true, true);
+    ktx2_source["textures"][0]["source"] = ktx2_source["textures"][0]["extensions"]["KHR_texture_basisu"]["source"];
+    EXPECT_NE(load_message(as, ktx2_source.dump()).find("textures[0].extensions.KHR_texture_basisu: KTX2/Basis Universal"), std::string::npos);
 }
 
 TEST(Xmp, MetadataLoadsWithoutWarnings) {
