@@ -11,6 +11,8 @@
 #include <fstream>
 #include <functional>
 #include <map>
+#include <new>
+#include <set>
 #include <sstream>
 #include <thread>
 
@@ -22,6 +24,7 @@
 #include "core/error.hpp"
 #include "core/log.hpp"
 #include "scene/animation.hpp"
+#include "scene/gltf_decode.hpp"
 #include "scene/gltf_loader_internal.hpp"
 #include "scene/gltf_validate.hpp"
 #include "scene/mesh_utils.hpp"
@@ -230,6 +233,16 @@ nlohmann::json precheck_gltf_json(const fs::path& path, std::string_view text) {
     return j;
 }
 
+// A buffer marked as EXT_meshopt_compression's fallback (its bufferViews are all compressed).
+bool meshopt_fallback(const nlohmann::json& buffer) {
+    auto e = buffer.find("extensions");
+    if (e == buffer.end() || !e->is_object()) return false;
+    auto m = e->find("EXT_meshopt_compression");
+    if (m == e->end() || !m->is_object()) return false;
+    auto f = m->find("fallback");
+    return f != m->end() && f->is_boolean() && f->get<bool>();
+}
+
 std::string base64(std::string_view bytes) {
     static const char* abc = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
     std::string out;
@@ -262,10 +275,15 @@ std::string for_tinygltf(const std::string& file, const nlohmann::json& doc, boo
             const uint64_t len = buf.value("byteLength", uint64_t(0));
             auto uri = buf.find("uri");
             if (!gltf::buffer_available(buf, glb, i)) {
+                // An EXT_meshopt_compression fallback buffer: what lies in it comes from decoding
+                // (decode_meshopt), so a few bytes stand in for any size.
+                const bool fallback = meshopt_fallback(buf);
                 constexpr uint64_t kMaxStandIn = uint64_t(1) << 26;
-                if (len > kMaxStandIn)
+                if (len > kMaxStandIn && !fallback)
                     throw bad_input(file + ": " + idx("buffers", i) + ": has no data Candela can read and is too large to stand in for");
-                buf["uri"] = "data:application/octet-stream;base64," + base64(std::string(len, '\0'));
+                const uint64_t stand_in = fallback ? 4 : len;
+                buf["uri"] = "data:application/octet-stream;base64," + base64(std::string(stand_in, '\0'));
+                buf["byteLength"] = stand_in;
                 (*unavailable)[i] = changed = true;
             } else if (uri != buf.end() && uri->is_string() && uri->get<std::string>().rfind("data:", 0) == 0) {
                 const std::string u = uri->get<std::string>();
@@ -284,6 +302,26 @@ std::string for_tinygltf(const std::string& file, const nlohmann::json& doc, boo
                 changed = true;
             }
         }
+    }
+    // KTX2 images that only KHR_texture_basisu refers to are never drawn (the textures use their
+    // PNG/JPEG `source`): a 1x1 PNG stands in, so that they are neither decoded nor reported.
+    if (auto t = out.find("textures"), im = out.find("images"); t != out.end() && t->is_array() && im != out.end() && im->is_array()) {
+        std::set<int64_t> basisu_only, drawn;
+        for (const auto& tex : *t) {
+            if (!tex.is_object()) continue;
+            if (auto s = tex.find("source"); s != tex.end() && s->is_number_integer()) drawn.insert(s->get<int64_t>());
+            if (auto e = tex.find("extensions"); e != tex.end() && e->is_object())
+                for (auto it = e->begin(); it != e->end(); ++it)
+                    if (it->is_object())
+                        if (auto s = it->find("source"); s != it->end() && s->is_number_integer())
+                            (it.key() == "KHR_texture_basisu" ? basisu_only : drawn).insert(s->get<int64_t>());
+        }
+        for (int64_t i : basisu_only)
+            if (!drawn.count(i) && i >= 0 && static_cast<size_t>(i) < im->size()) {
+                (*im)[static_cast<size_t>(i)] = {{"uri", "data:image/png;base64,iVBORw0KGgoAAAANSUhEUgAAAAEAAAABCAYAAAAfFcSJAAAADUlEQVR42mNkYPhfDwAChwGA60e6kgAAAABJRU5ErkJggg=="},
+                                                 {"name", "KTX2 image (not decoded)"}};
+                changed = true;
+            }
     }
     if (auto a = out.find("accessors"); a != out.end() && a->is_array())
         for (auto& acc : *a) {
@@ -366,6 +404,49 @@ std::string for_tinygltf(const std::string& file, const nlohmann::json& doc, boo
     return glb_out;
 }
 
+// KHR_texture_basisu: no Debian package decodes KTX2 / Basis Universal, so a texture is drawn
+// from its `source` (the PNG/JPEG fallback the extension allows) when it has one. Without one,
+// the file is refused when it requires the extension; otherwise the texture gets the fallback
+// checker like any texture without an image.
+void check_basisu(const std::string& file, const nlohmann::json& doc) {
+    bool required = false;
+    if (auto req = doc.find("extensionsRequired"); req != doc.end() && req->is_array())
+        for (const auto& e : *req) required = required || (e.is_string() && e.get<std::string>() == "KHR_texture_basisu");
+    auto textures = doc.find("textures");
+    if (textures == doc.end() || !textures->is_array()) return;
+    size_t with_fallback = 0;
+    for (size_t i = 0; i < textures->size(); ++i) {
+        const nlohmann::json& t = (*textures)[i];
+        if (!t.is_object() || !t.contains("extensions") || !t["extensions"].is_object() || !t["extensions"].contains("KHR_texture_basisu")) continue;
+        // A `source` is a fallback unless it is the KTX2 image itself (some exporters put it there
+        // when the extension is required).
+        bool fallback = false;
+        if (auto src = t.find("source"); src != t.end() && src->is_number_integer()) {
+            fallback = true;
+            auto images = doc.find("images");
+            const int64_t si = src->get<int64_t>();
+            if (images != doc.end() && images->is_array() && si >= 0 && static_cast<size_t>(si) < images->size() &&
+                (*images)[static_cast<size_t>(si)].is_object()) {
+                const nlohmann::json& img = (*images)[static_cast<size_t>(si)];
+                const std::string mime = img.contains("mimeType") && img["mimeType"].is_string() ? img["mimeType"].get<std::string>() : "";
+                const std::string uri = img.contains("uri") && img["uri"].is_string() ? img["uri"].get<std::string>() : "";
+                fallback = mime != "image/ktx2" && !(uri.size() >= 5 && uri.compare(uri.size() - 5, 5, ".ktx2") == 0);
+            }
+        }
+        if (fallback) {
+            ++with_fallback;
+            continue;
+        }
+        const std::string what = idx("textures", i) + ".extensions.KHR_texture_basisu: KTX2/Basis Universal textures are not supported "
+                                 "and the texture has no PNG/JPEG 'source' to fall back to; re-exporting the file with PNG or JPEG textures works";
+        if (required) throw bad_input(file + ": " + what);
+        log::warn(file + ": " + what + " (the texture is drawn as a checker)");
+    }
+    if (with_fallback)
+        log::info(file + ": KHR_texture_basisu: " + std::to_string(with_fallback) + (with_fallback == 1 ? " texture uses its" : " textures use their") +
+                  " PNG/JPEG fallback image (KTX2/Basis Universal is not decoded)");
+}
+
 // The first error of a validation pass is bad input; warnings go to the log, at most
 // kMaxValidationWarnings of them (a file with a million bad normals says so once per accessor).
 void report(const std::string& file, const std::vector<gltf::Issue>& issues) {
@@ -413,6 +494,7 @@ Scene load_gltf_from_memory(const fs::path& path, std::string_view bytes) {
         for (const auto& ext : *req)
             if (ext.is_string() && !gltf::extension_implemented(ext.get<std::string>()))
                 throw bad_input(file + ": extensionsRequired: '" + ext.get<std::string>() + "' is not supported");
+    check_basisu(file, doc);
     report(file, gltf::validate_document(doc, binary, bin_size));
 
     std::vector<bool> unavailable;
@@ -440,11 +522,23 @@ Scene load_gltf_from_memory(const fs::path& path, std::string_view bytes) {
     for (const auto& [where, accessor] : indices_without_view)
         if (where.first < model.meshes.size() && where.second < model.meshes[where.first].primitives.size())
             model.meshes[where.first].primitives[where.second].indices = accessor;
+    // Compressed geometry becomes plain data: `plain` is the document as if it had never been
+    // compressed, which the data checks and the Loader read.
+    nlohmann::json plain = doc;
+    try {
+        decode_meshopt(file, plain, model);
+        decode_draco(file, plain, model);
+    } catch (const nlohmann::json::exception& e) {
+        throw bad_input(file + ": a compressed bufferView or primitive has a member of the wrong type (" + std::string(e.what()) + ")");
+    } catch (const std::bad_alloc&) {
+        // A stream whose header promises more data than memory holds (Draco sizes its arrays from it).
+        throw bad_input(file + ": compressed geometry decodes to more data than fits in memory");
+    }
     std::vector<std::string_view> buffers;
     for (size_t i = 0; i < model.buffers.size(); ++i)
         buffers.emplace_back(i < unavailable.size() && unavailable[i] ? std::string_view()
                                  : std::string_view(reinterpret_cast<const char*>(model.buffers[i].data.data()), model.buffers[i].data.size()));
-    report(file, gltf::validate_data(doc, buffers));
+    report(file, gltf::validate_data(plain, buffers));
     Scene scene = Loader(path, model, image_log, unavailable).build();
     // What Candela does not implement is named once per kind, in the Scene and on stderr.
     for (const gltf::IgnoredFeature& f : gltf::ignored_features(doc)) {

@@ -148,6 +148,7 @@ private:
     void read_skin_attributes(const tinygltf::Primitive& p, const std::string& path, Primitive& prim) const;
     void read_morph_targets(const tinygltf::Primitive& p, const std::string& path, Primitive& prim) const;
     void build_nodes(Scene& scene);
+    void build_instances(Scene& scene);  // EXT_mesh_gpu_instancing (gltf_loader_nodes.cpp)
     void build_skins(Scene& scene);
     void build_animations(Scene& scene);
     void build_deformation(Scene& scene);

@@ -1,6 +1,7 @@
 // glTF loading of the node hierarchy, cameras, KHR_lights_punctual lights and the environment.
 #include "scene/gltf_loader_internal.hpp"
 
+#include <glm/gtc/matrix_inverse.hpp>
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
@@ -114,6 +115,7 @@ void Loader::build_nodes(Scene& scene) {
             node.children.push_back(c);
         }
     }
+    build_instances(scene);
     // Roots: the default scene's nodes, else every parentless node.
     if (!m_.scenes.empty()) {
         const size_t si = m_.defaultScene >= 0 && static_cast<size_t>(m_.defaultScene) < m_.scenes.size()
@@ -130,6 +132,94 @@ void Loader::build_nodes(Scene& scene) {
     }
     // With one parent per node and parentless roots, no cycle is reachable from a root.
     scene.update_world_transforms();
+    // Instances whose world transform has no usable normal matrix (a SCALE of 0, or scales so
+    // large or small that the inverse overflows) would give non-finite normals: not drawn.
+    std::map<int, size_t> degenerate;  // instanced node -> instances dropped
+    for (size_t i = n; i < scene.nodes.size(); ++i) {
+        Node& inst = scene.nodes[i];
+        const glm::mat3 m(inst.world);
+        const float det = glm::determinant(m);
+        const glm::mat3 normal = glm::inverseTranspose(m);
+        bool finite = det != 0.0f && std::isfinite(det);
+        // Entries up to 1e30 keep normal_matrix * normal finite for unit normals.
+        for (int c = 0; c < 3 && finite; ++c)
+            finite = !glm::any(glm::isnan(normal[c])) && glm::all(glm::lessThan(glm::abs(normal[c]), glm::vec3(1e30f)));
+        if (finite) continue;
+        inst.mesh = -1;
+        ++degenerate[inst.parent];
+    }
+    for (const auto& [node, count] : degenerate)
+        warn(idx("nodes", static_cast<size_t>(node)) + ".extensions.EXT_mesh_gpu_instancing",
+             std::to_string(count) + " instances have a zero or extreme scale (no usable normals); not drawn");
+}
+
+// EXT_mesh_gpu_instancing: a node's mesh is drawn once per instance, at the node's transform
+// times the instance's TRANSLATION, ROTATION and SCALE (the extension's specification), and not at
+// the node's own transform. Each instance becomes a child node of the instanced node that refers
+// to the same Mesh: the vertex data is shared, and everything that draws or traces nodes (the
+// raster passes, the tracer, bounds, `info`) sees the instances without knowing the extension.
+// Instance nodes come after the file's nodes, so glTF node indices (animation targets) keep
+// their meaning; animating the instanced node moves all its instances.
+void Loader::build_instances(Scene& scene) {
+    constexpr size_t kMaxInstances = size_t(1) << 20;
+    const size_t n = m_.nodes.size();
+    size_t total = 0;
+    for (size_t i = 0; i < n; ++i) {
+        const Value* e = extension(m_.nodes[i].extensions, "EXT_mesh_gpu_instancing");
+        if (!e || scene.nodes[i].mesh < 0) continue;  // a node without a mesh: warned by the validation
+        const std::string ip = idx("nodes", i) + ".extensions.EXT_mesh_gpu_instancing";
+        if (scene.nodes[i].skin >= 0) {
+            warn(ip, "ignored on a skinned node (its skin places the mesh, so every instance would coincide); the mesh is drawn once");
+            continue;
+        }
+        if (!e->Has("attributes") || !e->Get("attributes").IsObject()) fail(ip + ".attributes", "must be an object");
+        const Value& attrs = e->Get("attributes");
+        size_t count = 0;
+        std::string first;
+        auto read = [&](const char* key, int components) -> std::vector<glm::vec4> {
+            if (!attrs.Has(key)) return {};
+            const Value& v = attrs.Get(key);
+            const std::string where = ip + ".attributes." + key;
+            if (!v.IsInt() || v.GetNumberAsInt() < 0) fail(where, "must be an accessor index");
+            std::vector<glm::vec4> out = read_accessor(v.GetNumberAsInt(), where, components);
+            if (first.empty()) first = key, count = out.size();
+            else if (out.size() != count)
+                fail(where, "has " + std::to_string(out.size()) + " elements, " + first + " has " + std::to_string(count) + " (one per instance)");
+            return out;
+        };
+        const std::vector<glm::vec4> t = read("TRANSLATION", 3), r = read("ROTATION", 4), s = read("SCALE", 3);
+        if (count == 0) {
+            warn(ip, "has no TRANSLATION, ROTATION or SCALE; the mesh is drawn once");
+            continue;
+        }
+        total += count;
+        if (total > kMaxInstances)
+            fail(ip, "the file has more than " + std::to_string(kMaxInstances) + " instances; Candela makes a scene node of each and stops there");
+        const int mesh = scene.nodes[i].mesh;
+        scene.nodes[i].mesh = -1;
+        scene.nodes.reserve(scene.nodes.size() + count);
+        for (size_t k = 0; k < count; ++k) {
+            Node inst;
+            inst.name = scene.nodes[i].name + " instance " + std::to_string(k);
+            inst.parent = static_cast<int>(i);
+            inst.mesh = mesh;
+            inst.rest_weights = inst.weights = scene.nodes[i].rest_weights;
+            if (!t.empty()) inst.translation = glm::vec3(t[k]);
+            if (!s.empty()) inst.scale = glm::vec3(s[k]);
+            if (!r.empty()) {
+                const glm::quat q(r[k].w, r[k].x, r[k].y, r[k].z);
+                const float len = glm::length(q);
+                if (!(len > 0.0f) || !std::isfinite(len)) fail(ip + ".attributes.ROTATION", "instance " + std::to_string(k) + " has a zero or non-finite rotation");
+                inst.rotation = q / len;
+            }
+            inst.local = glm::translate(glm::mat4(1.0f), inst.translation) * glm::mat4_cast(inst.rotation) * glm::scale(glm::mat4(1.0f), inst.scale);
+            for (int c = 0; c < 16; ++c)
+                if (!std::isfinite(glm::value_ptr(inst.local)[c])) fail(ip, "instance " + std::to_string(k) + " has a non-finite transform");
+            scene.nodes[i].children.push_back(static_cast<int>(scene.nodes.size()));
+            scene.nodes.push_back(std::move(inst));
+            own_weights_.push_back(own_weights_[i]);
+        }
+    }
 }
 
 void Loader::build_environment(Scene& scene) {

@@ -18,7 +18,8 @@ const char* const kImplemented[] = {"KHR_lights_punctual", "KHR_materials_emissi
                                     "KHR_materials_ior", "KHR_materials_transmission", "KHR_materials_volume",
                                     "KHR_texture_transform", "KHR_mesh_quantization", "KHR_materials_clearcoat",
                                     "KHR_materials_sheen", "KHR_materials_anisotropy", "KHR_materials_iridescence",
-                                    "KHR_materials_unlit", "KHR_materials_pbrSpecularGlossiness"};
+                                    "KHR_materials_unlit", "KHR_materials_pbrSpecularGlossiness", "KHR_draco_mesh_compression",
+                                    "EXT_meshopt_compression", "EXT_mesh_gpu_instancing", "KHR_texture_basisu", "KHR_xmp", "KHR_xmp_json_ld"};
 
 std::string plural(const std::string& kind, size_t n) {
     static const std::map<std::string, std::string> p = {

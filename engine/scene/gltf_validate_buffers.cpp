@@ -32,7 +32,11 @@ void Validator::check_buffers() {
             }
         } else if (!get(*b, "uri")) {
             if (!glb_ || i != 0) {
-                warn(p, "has no uri and is not a .glb's BIN chunk; its data is not available");
+                // EXT_meshopt_compression's fallback buffer: its views' data come from decoding.
+                const json* e = get(*b, "extensions");
+                const json* m = e ? get(*e, "EXT_meshopt_compression") : nullptr;
+                const json* f = m ? get(*m, "fallback") : nullptr;
+                if (!(f && f->is_boolean() && f->get<bool>())) warn(p, "has no uri and is not a .glb's BIN chunk; its data is not available");
                 unavailable_buffers_.insert(i);
             } else if (bin_ < 0) {
                 problem(p, "refers to the .glb's BIN chunk, but the file has none");
@@ -47,6 +51,46 @@ void Validator::check_buffers() {
 
 void Validator::check_buffer_views() {
     views_.assign(count("bufferViews"), ViewInfo{});
+    // EXT_meshopt_compression on a bufferView (the extension's specification): where the compressed
+    // bytes lie and how they decode into the view's byteLength. The loader decodes them
+    // (gltf_meshopt.cpp); the view's own buffer is then not read, so the view is available even when
+    // that buffer (a fallback buffer) has no data.
+    auto check_meshopt_view = [&](const json& m, const std::string& p, ViewInfo& info) {
+        const size_t before = issues_.size();
+        const int64_t src = ref(m, "buffer", p, "buffers", true);
+        const auto offset = integer(m, "byteOffset", p, false, 0);
+        const auto length = integer(m, "byteLength", p, true, 1);
+        const auto stride = integer(m, "byteStride", p, true, 1, 256);
+        const auto n = integer(m, "count", p, true, 1);
+        const std::string* mode = string(m, "mode", p, true);
+        const std::string* filter = string(m, "filter", p, false);
+        if (mode && *mode != "ATTRIBUTES" && *mode != "TRIANGLES" && *mode != "INDICES")
+            problem(at(p, "mode"), "'" + *mode + "' is not ATTRIBUTES, TRIANGLES or INDICES");
+        if (filter && *filter != "NONE" && *filter != "OCTAHEDRAL" && *filter != "QUATERNION" && *filter != "EXPONENTIAL")
+            problem(at(p, "filter"), "'" + *filter + "' is not NONE, OCTAHEDRAL, QUATERNION or EXPONENTIAL");
+        if (mode && stride) {
+            if (*mode == "ATTRIBUTES" && *stride % 4 != 0) problem(at(p, "byteStride"), std::to_string(*stride) + " is not a multiple of 4 (mode ATTRIBUTES)");
+            if (*mode != "ATTRIBUTES" && *stride != 2 && *stride != 4) problem(at(p, "byteStride"), std::to_string(*stride) + " is not 2 or 4 (mode " + *mode + ")");
+            if (*mode == "TRIANGLES" && n && *n % 3 != 0) problem(at(p, "count"), std::to_string(*n) + " is not a multiple of 3 (mode TRIANGLES)");
+            if (filter && *filter != "NONE" && *mode != "ATTRIBUTES") problem(at(p, "filter"), "'" + *filter + "' needs mode ATTRIBUTES");
+            if (filter && *filter == "OCTAHEDRAL" && *stride != 4 && *stride != 8)
+                problem(at(p, "byteStride"), std::to_string(*stride) + " is not 4 or 8 (filter OCTAHEDRAL)");
+            if (filter && *filter == "QUATERNION" && *stride != 8) problem(at(p, "byteStride"), std::to_string(*stride) + " is not 8 (filter QUATERNION)");
+        }
+        if (n && stride && info.length > 0 && *n * *stride != info.length)
+            problem(at(p, "count"), "count " + std::to_string(*n) + " x byteStride " + std::to_string(*stride) + " = " + std::to_string(*n * *stride) +
+                                        " bytes, but the bufferView's byteLength is " + std::to_string(info.length));
+        if (src >= 0 && length) {
+            const int64_t blen = buffer_len_[static_cast<size_t>(src)];
+            const int64_t off = offset.value_or(0);
+            if (blen >= 0 && (off > blen || *length > blen - off))
+                problem(at(p, "byteLength"), "byteOffset " + std::to_string(off) + " + byteLength " + std::to_string(*length) + " exceeds buffers[" +
+                                                 std::to_string(src) + "].byteLength " + std::to_string(blen));
+            if (unavailable_buffers_.count(static_cast<size_t>(src)))
+                problem(at(p, "buffer"), "the compressed data lies in buffers[" + std::to_string(src) + "], whose data is not available");
+        }
+        if (issues_.size() == before) info.unavailable = false;
+    };
     for (auto [i, v] : items("bufferViews")) {
         const std::string p = at("bufferViews", i);
         ViewInfo& info = views_[i];
@@ -75,8 +119,11 @@ void Validator::check_buffer_views() {
         if (info.stride && info.target == kElementArrayBuffer)
             problem(at(p, "byteStride"), "an index buffer view (target 34963) cannot have a byteStride");
         info.ok = !(get(*v, "byteStride") && !stride) && info.stride <= info.length;
+        if (const json* e = get(*v, "extensions"); e && e->is_object())
+            if (const json* m = get(*e, "EXT_meshopt_compression"); m && m->is_object()) check_meshopt_view(*m, at(at(p, "extensions"), "EXT_meshopt_compression"), info);
     }
 }
+
 
 // Bounds of `count` elements of `elem` bytes at `offset` in view `view` with `stride` (0 = packed).
 void Validator::check_fits(int64_t view, int64_t offset, int64_t elem, int64_t stride, int64_t n, int64_t csize,

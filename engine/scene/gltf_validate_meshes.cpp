@@ -185,7 +185,29 @@ size_t Validator::check_primitive(const json& prim, const std::string& pp) {
             }
         }
     }
-    integer(prim, "mode", pp, false, 0, 6);
+    const auto mode = integer(prim, "mode", pp, false, 0, 6);
+    // KHR_draco_mesh_compression (its specification): the stream's bufferView, and a Draco
+    // attribute id per semantic of the primitive's `attributes`. The loader decodes it
+    // (gltf_draco.cpp) into the accessors `attributes` and `indices` name; it reads triangles.
+    if (const json* e = get(prim, "extensions"); e && e->is_object())
+        if (const json* d = get(*e, "KHR_draco_mesh_compression"); d && d->is_object()) {
+            const std::string dp = at(at(pp, "extensions"), "KHR_draco_mesh_compression");
+            const int64_t view = ref(*d, "bufferView", dp, "bufferViews", true);
+            if (view >= 0 && views_[static_cast<size_t>(view)].unavailable)
+                problem(at(dp, "bufferView"), "bufferView " + std::to_string(view) + " lies in a buffer whose data is not available");
+            const json* da = get(*d, "attributes");
+            if (!da || !da->is_object() || da->empty()) {
+                problem(dp, "needs a non-empty 'attributes' object (attribute semantic -> Draco attribute id)");
+            } else {
+                for (auto it = da->begin(); it != da->end(); ++it) {
+                    const std::string ip = at(at(dp, "attributes"), it.key());
+                    if (!it->is_number_integer() || it->get<int64_t>() < 0) problem(ip, "must be a Draco attribute id (a non-negative integer), not " + it->dump());
+                    else if (!base.count(it.key())) problem(ip, "the primitive has no " + it.key() + " attribute to decode into");
+                }
+            }
+            if (!get(prim, "indices")) problem(pp, "a Draco-compressed primitive needs 'indices' (Candela decodes triangle meshes)");
+            if (mode && *mode != 4) problem(at(pp, "mode"), std::to_string(*mode) + ": Candela decodes Draco-compressed TRIANGLES (4) only");
+        }
     const int64_t material = ref(prim, "material", pp, "materials", false);
     if (material >= 0) {
         const MaterialNeeds needs = material_needs(material);

@@ -77,6 +77,45 @@ void Validator::check_nodes() {
                                                   std::to_string(morph_targets_[static_cast<size_t>(mesh)]) + " morph targets");
             }
         }
+        // EXT_mesh_gpu_instancing (its specification): per-instance TRANSLATION, ROTATION and SCALE
+        // accessors of one count; custom attributes (_ID...) are allowed and ignored.
+        if (const json* e = get(*node, "extensions"); e && e->is_object())
+            if (const json* gi = get(*e, "EXT_mesh_gpu_instancing"); gi && gi->is_object()) {
+                const std::string ip = at(at(p, "extensions"), "EXT_mesh_gpu_instancing");
+                if (!get(*node, "mesh")) warn(ip, "the node has no mesh to instance; ignored");
+                const json* attrs = get(*gi, "attributes");
+                if (!attrs || !attrs->is_object() || attrs->empty()) {
+                    problem(ip, "needs a non-empty 'attributes' object (TRANSLATION, ROTATION, SCALE)");
+                } else {
+                    int64_t instances = -1;
+                    std::string first;
+                    for (auto it = attrs->begin(); it != attrs->end(); ++it) {
+                        const std::string& name = it.key();
+                        const std::string ap = at(at(ip, "attributes"), name);
+                        const bool trs = name == "TRANSLATION" || name == "ROTATION" || name == "SCALE";
+                        if (!trs && !starts_with(name, "_")) warn(ap, "'" + name + "' is not TRANSLATION, ROTATION, SCALE or a custom _NAME; ignored");
+                        const int64_t a = ref_value(*it, ap, "accessor", count("accessors"));
+                        if (a < 0 || (trs && unusable(a, ap))) continue;
+                        const AccessorInfo& info = accessors_[static_cast<size_t>(a)];
+                        if (!info.ok) continue;
+                        const int64_t ct = info.component_type;
+                        const bool f = ct == kFloat, snorm = (ct == kByte || ct == kShort) && info.normalized;
+                        if ((name == "TRANSLATION" || name == "SCALE") && !(info.type == "VEC3" && (f || ct == kByte || ct == kShort)))
+                            problem(ap, "accessor " + std::to_string(a) + " is " + component_name(ct) + " " + info.type + "; " + name +
+                                            " must be VEC3 FLOAT (or BYTE/SHORT, normalized or not)");
+                        if (name == "ROTATION" && !(info.type == "VEC4" && (f || snorm)))
+                            problem(ap, "accessor " + std::to_string(a) + " is " + component_name(ct) + (info.normalized ? " normalized " : " ") +
+                                            info.type + "; ROTATION must be VEC4 FLOAT or normalized BYTE/SHORT");
+                        if (instances < 0) {
+                            instances = info.count;
+                            first = name;
+                        } else if (info.count != instances) {
+                            problem(ap, "accessor " + std::to_string(a) + " has " + std::to_string(info.count) + " elements, " + first + " has " +
+                                            std::to_string(instances) + " (one per instance)");
+                        }
+                    }
+                }
+            }
         const json* matrix = numbers(*node, "matrix", p, 16);
         if (matrix) {
             const json& mm = *matrix;

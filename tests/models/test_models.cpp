@@ -92,6 +92,12 @@ constexpr Bound kBounds[] = {
     {"MorphStressTest", 0.014, 0.30},
     // Blended layers over the opaque ones: the tracer composites stochastically.
     {"AlphaBlendModeTest", 0.013, 0.21},
+    // 125 small instanced boxes that shadow and light each other: the tracer's 16 spp are noisy
+    // on every face and it has the bounces between the boxes the raster lacks (measured 0.0190 / 0.217).
+    {"SimpleInstancing", 0.029, 0.33},
+    // A fine checker texture at grazing angles: the raster's mip filtering and the tracer's
+    // per-sample lookups differ along the checker edges (measured 0.0077 / 0.161).
+    {"MorphPrimitivesTest", 0.012, 0.24},
 };
 Bound bound_for(const std::string& model) {
     for (const Bound& b : kBounds)
@@ -136,7 +142,7 @@ TEST_P(ModelTest, EveryModelRasterAgreesWithThePathTracer) {
         EXPECT_LT(a.p99_abs, bound.p99_abs);
         ++checked;
     }
-    EXPECT_GE(checked, 14);
+    EXPECT_GE(checked, 18);
 }
 
 // An effect skipped because the scene does not call for it must not change the image when forced.

@@ -4,6 +4,7 @@
 Each file is a one-triangle scene with exactly one thing wrong (named by the file). Rerun with
 /usr/bin/python3 tests/data/broken/make_broken.py after changing it; the outputs are committed.
 """
+import base64
 import json
 import os
 import struct
@@ -105,6 +106,21 @@ def main():
     g = base_gltf("missing_texture.bin", len(data))
     g["nodes"] = [{"mesh": 0, "children": [1]}, {"children": [0]}]
     write("node_cycle.gltf", g)
+
+    # KHR_texture_basisu required by a texture without a PNG/JPEG `source` to fall back to.
+    write("basisu_required_no_fallback.gltf", {
+        "asset": {"version": "2.0"}, "extensionsUsed": ["KHR_texture_basisu"], "extensionsRequired": ["KHR_texture_basisu"],
+        "images": [{"uri": "logo.ktx2", "mimeType": "image/ktx2"}],
+        "textures": [{"extensions": {"KHR_texture_basisu": {"source": 0}}}]})
+    # Box-Draco (tests/data/models, its Box.bin as a data URI) whose POSITION names a Draco
+    # attribute id the compressed mesh does not have.
+    models = os.path.join(HERE, "..", "models", "Box-Draco")
+    with open(os.path.join(models, "Box.gltf")) as f:
+        g = json.load(f)
+    with open(os.path.join(models, "Box.bin"), "rb") as f:
+        g["buffers"][0]["uri"] = "data:application/octet-stream;base64," + base64.b64encode(f.read()).decode()
+    g["meshes"][0]["primitives"][0]["extensions"]["KHR_draco_mesh_compression"]["attributes"]["POSITION"] = 7
+    write("draco_unknown_attribute.gltf", g)
 
 
 if __name__ == "__main__":
