@@ -16,7 +16,7 @@ namespace {
 
 const char* const kImplemented[] = {"KHR_lights_punctual", "KHR_materials_emissive_strength", "KHR_materials_specular",
                                     "KHR_materials_ior", "KHR_materials_transmission", "KHR_materials_volume",
-                                    "KHR_texture_transform", "KHR_mesh_quantization"};
+                                    "KHR_texture_transform", "KHR_mesh_quantization", "KHR_materials_variants"};
 
 std::string plural(const std::string& kind, size_t n) {
     static const std::map<std::string, std::string> p = {
@@ -52,10 +52,10 @@ std::vector<Issue> Validator::run() {
     check_node_loops();
     check_skins();       // errors: what posing reads (joints, inverse bind matrices); warnings: the hierarchy
     check_animations();  // errors: what sampling reads (times, output formats and counts); warnings: the rest
+    check_variants();  // errors: the variants' mappings select materials
     {
         Soft soft(*this);  // posing works without these
         check_skinned_nodes_in_scenes();
-        check_variants();
     }
     return std::move(issues_);
 }
