@@ -188,7 +188,6 @@ GpuScene::GpuScene(const Scene& scene, GlWorker* mips, const ShaderLibrary* shad
             Draw d{};
             d.node = ni;
             d.primitive = static_cast<int>(pi);
-            d.primitive_material = p.material >= 0 ? p.material : static_cast<int>(scene.materials.size());
             d.index_count = static_cast<GLsizei>(p.indices.size());
             d.first_index = ranges[static_cast<size_t>(node.mesh)][pi].first_index;
             d.base_vertex = ranges[static_cast<size_t>(node.mesh)][pi].base_vertex;
@@ -196,20 +195,11 @@ GpuScene::GpuScene(const Scene& scene, GlWorker* mips, const ShaderLibrary* shad
             d.model_open = d.model_close = node.world;
             d.normal_matrix = glm::inverseTranspose(glm::mat3(node.world));
             d.mirrored = node.mirrored();
-            const Material& m = scene.material(p.material);
-            d.alpha_mode = m.alpha_mode;
-            d.double_sided = m.double_sided;
+            set_material(d, p);
             for (int corner = 0; corner < 8; ++corner)
                 d.world_bounds.extend(glm::vec3(node.world * glm::vec4(corner & 1 ? p.bounds.max.x : p.bounds.min.x,
                                                                         corner & 2 ? p.bounds.max.y : p.bounds.min.y,
                                                                         corner & 4 ? p.bounds.max.z : p.bounds.min.z, 1.0f)));
-            const TextureRef* slots[5] = {&m.base_color_texture, &m.metallic_roughness_texture, &m.normal_texture,
-                                          &m.occlusion_texture, &m.emissive_texture};
-            for (int s = 0; s < 5; ++s) {
-                d.textures[static_cast<size_t>(s)] = slots[s]->image;
-                d.srgb[static_cast<size_t>(s)] = s == 0 || s == 4;
-                d.samplers[static_cast<size_t>(s)] = slots[s]->sampler;
-            }
             triangles_ += p.triangle_count();
             draws_.push_back(d);
         }
@@ -255,6 +245,27 @@ GpuScene::GpuScene(const Scene& scene, GlWorker* mips, const ShaderLibrary* shad
             for (size_t s = 0; s < d.textures.size(); ++s)
                 if (d.textures[s] >= 0) texture(d.textures[s], d.srgb[s]);
         prefetching_ = false;
+    }
+}
+
+void GpuScene::set_material(Draw& d, const Primitive& p) const {
+    d.primitive_material = p.material >= 0 ? p.material : static_cast<int>(scene_.materials.size());
+    const Material& m = scene_.material(p.material);
+    d.alpha_mode = m.alpha_mode;
+    d.double_sided = m.double_sided;
+    const TextureRef* slots[5] = {&m.base_color_texture, &m.metallic_roughness_texture, &m.normal_texture, &m.occlusion_texture,
+                                  &m.emissive_texture};
+    for (int s = 0; s < 5; ++s) {
+        d.textures[static_cast<size_t>(s)] = slots[s]->image;
+        d.srgb[static_cast<size_t>(s)] = s == 0 || s == 4;
+        d.samplers[static_cast<size_t>(s)] = slots[s]->sampler;
+    }
+}
+
+void GpuScene::refresh_materials() {
+    for (Draw& d : draws_) {
+        const Node& node = scene_.nodes[static_cast<size_t>(d.node)];
+        set_material(d, scene_.meshes[static_cast<size_t>(node.mesh)].primitives[static_cast<size_t>(d.primitive)]);
     }
 }
 

@@ -105,6 +105,10 @@ public:
         sorted_indices_.update(0, static_cast<GLsizeiptr>(indices.size() * sizeof(std::uint32_t)), indices.data());
     }
     const gl::Buffer& materials() const { return materials_; }
+    // After select_variant() on the scene: every draw's material (its index, alpha mode, sides and
+    // textures) from its primitive again. The material buffer holds every material of the file
+    // already, so nothing is uploaded but textures a draw had not used yet (at its first frame).
+    void refresh_materials();
     // Whether any material samples a texture (the shading programs leave texture code out otherwise).
     bool has_material_textures() const { return material_textures_; }
     // A material uses a layer of the glTF material extensions (clearcoat, sheen, anisotropy,
@@ -158,6 +162,7 @@ public:
     std::uint64_t pose_version() const { return pose_version_; }  // bumped by update_pose when something moved
 
 private:
+    void set_material(Draw& d, const Primitive& p) const;
     struct Range { std::size_t first_index; GLint base_vertex; };
     std::vector<std::vector<Range>> ranges_;  // [mesh][primitive]
     gl::Buffer motion_;

@@ -1,6 +1,7 @@
 // glTF loading of accessors, meshes and primitives, with their skin attributes and morph targets.
 #include "scene/gltf_loader_internal.hpp"
 
+#include <cmath>
 #include <cstring>
 
 #include "scene/mesh_utils.hpp"
@@ -21,6 +22,22 @@ float read_component(const unsigned char* p, int type, bool normalized) {
         case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: { uint32_t v; std::memcpy(&v, p, 4); return static_cast<float>(v); }
         default: return 0.0f;
     }
+}
+
+// KHR_materials_variants' names, in the file's order (extensions.KHR_materials_variants.variants;
+// the validation has made sure that each is an object with a string name).
+std::vector<std::string> variant_names(const tinygltf::Model& m) {
+    std::vector<std::string> out;
+    auto ext = m.extensions.find("KHR_materials_variants");
+    if (ext == m.extensions.end() || !ext->second.IsObject() || !ext->second.Has("variants")) return out;
+    const Value& list = ext->second.Get("variants");
+    if (!list.IsArray()) return out;
+    for (size_t i = 0; i < list.ArrayLen(); ++i) {
+        const Value& v = list.Get(static_cast<int>(i));
+        out.push_back(v.IsObject() && v.Has("name") && v.Get("name").IsString() ? v.Get("name").Get<std::string>()
+                                                                                 : "variant " + std::to_string(i));
+    }
+    return out;
 }
 
 }  // namespace
@@ -152,6 +169,7 @@ Mesh Loader::build_mesh(size_t mi, Scene& scene) {
     if (primitive_source_.size() <= mi) primitive_source_.resize(mi + 1);
     Mesh mesh;
     mesh.name = src.name.empty() ? idx("meshes", mi) : src.name;
+    if (mi == 0) scene.variants = variant_names(m_);
     for (size_t pi = 0; pi < src.primitives.size(); ++pi) {
         const tinygltf::Primitive& p = src.primitives[pi];
         const std::string path = idx("meshes", mi) + "." + idx("primitives", pi);
@@ -226,6 +244,35 @@ Mesh Loader::build_mesh(size_t mi, Scene& scene) {
             fail(path + ".material", "material " + std::to_string(p.material) + " does not exist (the file has " +
                                          std::to_string(m_.materials.size()) + ")");
         prim.material = p.material;
+        prim.variants.default_material = p.material;
+        // KHR_materials_variants: the material of each variant this primitive's mappings name.
+        if (auto ext = p.extensions.find("KHR_materials_variants"); ext != p.extensions.end() && ext->second.IsObject() &&
+                                                                    ext->second.Has("mappings") && ext->second.Get("mappings").IsArray()) {
+            const std::string vpath = path + ".extensions.KHR_materials_variants.mappings";
+            const Value& maps = ext->second.Get("mappings");
+            prim.variants.by_variant.assign(scene.variants.size(), PrimitiveVariants::kUnmapped);
+            for (size_t k = 0; k < maps.ArrayLen(); ++k) {
+                const Value& map = maps.Get(static_cast<int>(k));
+                const std::string mp = vpath + "[" + std::to_string(k) + "]";
+                if (!map.IsObject() || !map.Has("material") || !map.Get("material").IsNumber())
+                    fail(mp, "needs a 'material' index");
+                const double material = map.Get("material").GetNumberAsDouble();
+                if (material < 0 || material >= static_cast<double>(m_.materials.size()) || material != std::floor(material))
+                    fail(mp + ".material", "material " + num(material) + " does not exist (the file has " +
+                                               std::to_string(m_.materials.size()) + ")");
+                const Value& vs = map.Get("variants");
+                if (!vs.IsArray()) fail(mp, "needs a 'variants' array");
+                for (size_t j = 0; j < vs.ArrayLen(); ++j) {
+                    const Value& v = vs.Get(static_cast<int>(j));
+                    const double vi = v.IsNumber() ? v.GetNumberAsDouble() : -1.0;
+                    if (vi < 0 || vi >= static_cast<double>(scene.variants.size()) || vi != std::floor(vi))
+                        fail(mp + ".variants[" + std::to_string(j) + "]",
+                             "variant " + (v.IsNumber() ? num(vi) : std::string("(not a number)")) + " does not exist (the file has " +
+                                 std::to_string(scene.variants.size()) + " in extensions.KHR_materials_variants.variants)");
+                    prim.variants.by_variant[static_cast<size_t>(vi)] = static_cast<int>(material);
+                }
+            }
+        }
         // Deformation data (skins, morph targets), per vertex like the attributes above; what the node it is
         // drawn by does not use (joints without a skin) is dropped in build_deformation.
         read_skin_attributes(p, path, prim);

@@ -19,7 +19,8 @@ const char* const kImplemented[] = {"KHR_lights_punctual", "KHR_materials_emissi
                                     "KHR_texture_transform", "KHR_mesh_quantization", "KHR_materials_clearcoat",
                                     "KHR_materials_sheen", "KHR_materials_anisotropy", "KHR_materials_iridescence",
                                     "KHR_materials_unlit", "KHR_materials_pbrSpecularGlossiness", "KHR_draco_mesh_compression",
-                                    "EXT_meshopt_compression", "EXT_mesh_gpu_instancing", "KHR_texture_basisu", "KHR_xmp", "KHR_xmp_json_ld"};
+                                    "EXT_meshopt_compression", "EXT_mesh_gpu_instancing", "KHR_texture_basisu", "KHR_xmp", "KHR_xmp_json_ld",
+                                    "KHR_materials_variants"};
 
 std::string plural(const std::string& kind, size_t n) {
     static const std::map<std::string, std::string> p = {
@@ -55,10 +56,10 @@ std::vector<Issue> Validator::run() {
     check_node_loops();
     check_skins();       // errors: what posing reads (joints, inverse bind matrices); warnings: the hierarchy
     check_animations();  // errors: what sampling reads (times, output formats and counts); warnings: the rest
+    check_variants();  // errors: the variants' mappings select materials
     {
         Soft soft(*this);  // posing works without these
         check_skinned_nodes_in_scenes();
-        check_variants();
     }
     return std::move(issues_);
 }

@@ -194,4 +194,40 @@ float focus_distance_or_auto(const Camera& camera, const Bounds& scene_bounds) {
     return std::isfinite(along) ? std::max(along, znear) : std::max(znear, 1.0f);
 }
 
+int find_variant(const Scene& scene, const std::string& selector) {
+    const int n = static_cast<int>(scene.variants.size());
+    auto available = [&] {
+        if (n == 0) return std::string("the scene has no material variants");
+        std::string s = "the scene has " + std::to_string(n) + ": ";
+        for (int i = 0; i < n; ++i) s += (i ? ", " : "") + std::to_string(i) + " '" + scene.variants[static_cast<size_t>(i)] + "'";
+        return s + "; or default";
+    };
+    if (selector == "default" || selector == "none") return -1;
+    if (!selector.empty() && std::all_of(selector.begin(), selector.end(), [](char c) { return c >= '0' && c <= '9'; })) {
+        const long i = selector.size() > 9 ? -1 : std::stol(selector);
+        if (i >= 0 && i < n) return static_cast<int>(i);
+        throw bad_input("--variant " + selector + ": no such material variant (" + available() + ")");
+    }
+    for (int i = 0; i < n; ++i)
+        if (scene.variants[static_cast<size_t>(i)] == selector) return i;
+    throw bad_input("--variant '" + selector + "': no such material variant (" + available() + ")");
+}
+
+void select_variant(Scene& scene, int variant) {
+    if (variant >= static_cast<int>(scene.variants.size()) || variant < -1)
+        throw bad_input(scene.source.string() + ": material variant " + std::to_string(variant) + " does not exist (the scene has " +
+                        std::to_string(scene.variants.size()) + ")");
+    for (Mesh& mesh : scene.meshes)
+        for (Primitive& p : mesh.primitives)
+            if (!p.variants.by_variant.empty()) p.material = p.variants.material(variant);
+    scene.active_variant = variant;
+}
+
+int variant_changes(const Scene& scene, int variant) {
+    int n = 0;
+    for (const Mesh& mesh : scene.meshes)
+        for (const Primitive& p : mesh.primitives) n += p.variants.material(variant) != p.variants.default_material;
+    return n;
+}
+
 }  // namespace candela

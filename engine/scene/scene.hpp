@@ -145,10 +145,26 @@ struct MorphTarget {
     std::vector<glm::vec3> position, normal, tangent;
 };
 
+// KHR_materials_variants on one primitive: the material the file gives it (`material`, the
+// default look) and, per variant of Scene::variants, the material that variant maps it to
+// (kUnmapped: the variant keeps the default). Empty `by_variant`: the primitive has no mappings.
+struct PrimitiveVariants {
+    static constexpr int kUnmapped = -2;
+    int default_material = -1;
+    std::vector<int> by_variant;
+    // The material under `variant` (-1: the default look).
+    int material(int variant) const {
+        if (variant < 0 || static_cast<size_t>(variant) >= by_variant.size()) return default_material;
+        const int m = by_variant[static_cast<size_t>(variant)];
+        return m == kUnmapped ? default_material : m;
+    }
+};
+
 struct Primitive {
     std::vector<Vertex> vertices;        // posed (animation.hpp pose_scene); rest pose for rigid ones
     std::vector<std::uint32_t> indices;  // always indexed (non-indexed input gets 0..n-1)
-    int material = -1;                   // -1: the default material
+    int material = -1;                   // -1: the default material; the selected variant's (select_variant)
+    PrimitiveVariants variants;          // KHR_materials_variants mappings
     Bounds bounds;                       // mesh space, of `vertices`
     // Deformation (skins, morph targets), empty for rigid primitives:
     // - rest: the vertices as the file gives them, before morphing and skinning; `vertices` is
@@ -328,6 +344,10 @@ struct Scene {
     // glTF features in the file that Candela does not implement, one phrase each, e.g.
     // "KHR_materials_clearcoat on 4 materials", "TEXCOORD morph targets on 1 mesh". The loader also warns once each.
     std::vector<std::string> ignored;
+    // KHR_materials_variants: the variant names in the file's order, and the selected one
+    // (-1: every primitive has its default material). select_variant() switches.
+    std::vector<std::string> variants;
+    int active_variant = -1;
 
     const Material& material(int index) const;
     // Recomputes every node's world matrix from the hierarchy.
@@ -351,6 +371,15 @@ struct Scene {
     // always the framing camera.
     Camera select_camera(const std::string& selector, float image_aspect) const;
 };
+
+// KHR_materials_variants. find_variant: a variant by index or name ("default" or "none": -1,
+// the file's own materials); throws bad_input naming the available variants otherwise.
+// select_variant: sets every primitive's material to the variant's (-1: the defaults); an
+// index out of range throws bad_input. variant_changes: how many primitives (counted per mesh,
+// not per instance) the variant gives another material than their default.
+int find_variant(const Scene& scene, const std::string& selector);
+void select_variant(Scene& scene, int variant);
+int variant_changes(const Scene& scene, int variant);
 
 // A camera that frames `bounds` from the front (+Z side), slightly above.
 Camera framing_camera(const Bounds& bounds);

@@ -17,7 +17,7 @@
 namespace candela::cli {
 
 int cmd_info(const Args& args) {
-    const Parsed p = parse(args, {"--effects", "--set", "--path", "--lighting", "--environment", "--camera", "--shader-dir", "--size"},
+    const Parsed p = parse(args, {"--effects", "--set", "--path", "--lighting", "--environment", "--camera", "--shader-dir", "--size", "--variant"},
                            {"--strict", "--knobs"});
     if (p.flags.count("--knobs")) {
         for (const KnobInfo& k : knob_infos())
@@ -30,6 +30,7 @@ int cmd_info(const Args& args) {
     if (p.has("--path")) apply_knob(settings, "render.path=" + p.get("--path"));
     apply_knobs(settings, p.all("--set"));
     Scene scene = load_scene(p.positional[0], p.flags.count("--strict") > 0);
+    if (p.has("--variant")) select_variant(scene, find_variant(scene, p.get("--variant")));
     const std::string camera_choice = p.has("--camera") ? p.get("--camera") : "";
     // The render's size (its aspect frames the camera the planner measures from): as render's.
     int width = 512, height = 512;
@@ -79,6 +80,14 @@ int cmd_info(const Args& args) {
             const Animation& a = scene.animations[i];
             std::printf("  [%zu] '%s' %.3f s (keyframes %.3f to %.3f s), %zu channels\n", i, a.name.c_str(), a.end, a.start, a.end,
                         a.channels.size());
+        }
+    }
+    if (!scene.variants.empty()) {
+        std::printf("material variants: %zu (KHR_materials_variants; selected: %s)\n", scene.variants.size(),
+                    scene.active_variant < 0 ? "default" : ("[" + std::to_string(scene.active_variant) + "]").c_str());
+        for (size_t i = 0; i < scene.variants.size(); ++i) {
+            const int n = variant_changes(scene, static_cast<int>(i));
+            std::printf("  [%zu] '%s' changes %d primitive%s\n", i, scene.variants[i].c_str(), n, n == 1 ? "" : "s");
         }
     }
     std::printf("cameras: %zu\n", scene.cameras.size());

@@ -36,18 +36,20 @@ void print_usage() {
         "                 [--debug-gl] [--verify-state] [--timings] [--strict] [--quiet]\n"
         "                 [--path auto|forward|deferred] [--output-buffer radiance|visibility]\n"
         "                 [--raytrace whitted|path|direct|indirect|ao|primary|visibility] [--spp N] [--max-depth N] [--seed N]\n"
-        "                 [--spp-shard K/N] [--time-limit S] [--shader-dir DIR]\n"
+        "                 [--spp-shard K/N] [--time-limit S] [--shader-dir DIR] [--variant NAME|INDEX|default]\n"
         "  candela batch JOBS.json|JOBS.txt [--backend auto|egl|osmesa] [--debug-gl] [--timings] [--quiet]\n"
         "  candela merge OUT.exr SHARD.exr...\n"
         "  candela farm reference SCENE -o DIR --shards N [render's options] [--batch-stats]\n"
         "  candela farm sweep [SCENE...] -o DIR [bench accuracy's options]\n"
         "               (both: [--sbatch ARG]... [--dry-run] [--submit [--wait]])\n"
         "  candela farm task|finish|status|submit DIR [INDEX] [--wait]\n"
-        "  candela info SCENE [--effects ...] [--set ...] [--lighting L] [--environment E] [--camera C] [--size WxH] [--strict]\n"
+        "  candela info SCENE [--effects ...] [--set ...] [--lighting L] [--environment E] [--camera C] [--size WxH] [--variant V]\n"
+        "              [--strict]\n"
         "  candela compare A B [--heatmap OUT.png] [--tolerance T] [--max-failing F] [--check] [--blocks K]\n"
         "  candela compare --batches A1.exr A2.exr... --against B1.exr B2.exr...|REF.exr [--ref-stderr SE.exr]\n"
         "                  [--z-threshold Z] [--z-map OUT.png] [--save-mean M.exr] [--save-stderr S.exr]\n"
         "  candela bench frame SCENE [--effects LIST ...] [--path P ...] [--size WxH] [--frames N] [--warmup N] [--json FILE]\n"
+        "                    [--variant V]\n"
         "  candela bench rays SCENE|generated:N ... [--size WxH] [--spp N] [--repeat N]\n"
         "  candela bench reload SCENE [--size WxH] [--count N] [--shader-dir DIR]\n"
         "  candela bench accuracy [SCENE...] -o DIR [--report FILE.md] [--quick] [--effect NAME...]\n"
@@ -61,6 +63,9 @@ void print_usage() {
         "         --set effect.knob=value (repeatable; 'candela info --knobs' lists them),\n"
         "         --camera glTF camera index or name (default: the first, else a framing camera;\n"
         "         auto: always the framing camera), --exposure EV for .png (default 0),\n"
+        "         --variant the KHR_materials_variants variant by name or index (default: the file's\n"
+        "         own materials; 'candela info' lists them; an unknown one is bad input, exit 2;\n"
+        "         also for info, view, bench frame and batch jobs),\n"
         "         --lighting auto (default: the file's lights, or the default rig - a built-in sky and a\n"
         "         key light - when the file has none), file (the file's only) or default (the rig only),\n"
         "         --environment FILE (.hdr/.exr, equirectangular) replaces the environment, none removes\n"
@@ -113,7 +118,8 @@ void print_usage() {
         "         it ends. task DIR INDEX runs one task and skips it if its output is complete;\n"
         "         finish and status report an incomplete task with its log (exit 1); submit DIR\n"
         "         submits again (complete tasks skip). Rerunning the same farm command reuses DIR.\n"
-        "info     counts, bounds, cameras, lights, the effects the scene calls for and the planned passes.\n"
+        "info     counts, bounds, cameras, lights, material variants (index, name, primitives changed),\n"
+        "         the effects the scene calls for, the planned passes and reflection probes.\n"
         "compare  RMSE, relative MSE, PSNR, max difference and the pixels beyond --tolerance\n"
         "         (default 2/255) of A against B; --check exits 4 if more than --max-failing (default\n"
         "         0.001 = 0.1 %) of the pixels fail. --blocks K also compares A with a noisy reference B\n"
@@ -290,7 +296,7 @@ LightingChoice setup_lighting(Scene& scene, const Parsed& p, const std::string& 
 
 const std::vector<std::string> kSceneSetupOptions = {"--size", "--backend", "--camera", "--environment", "--lighting",
                                                      "--effects", "--set", "--frames", "--warmup", "--path",
-                                                     "--output-buffer", "--shader-dir", "--animation", "--time"};
+                                                     "--output-buffer", "--shader-dir", "--animation", "--time", "--variant"};
 const std::vector<std::string> kSceneSetupFlags = {"--debug-gl", "--strict", "--verify-state", "--quiet"};
 
 SceneSetup setup_scene(const Parsed& p, const std::string& scene_path, int default_w, int default_h) {
@@ -343,6 +349,7 @@ SceneSetup setup_scene(const Parsed& p, const std::string& scene_path, int defau
         s.options.animation = 0;
     }
     s.options.time = s.time_first;
+    if (p.has("--variant")) select_variant(s.scene, find_variant(s.scene, p.get("--variant")));
     if (s.options.animation >= 0) pose_scene(s.scene, s.options.animation, s.options.time);
     s.lighting = setup_lighting(s.scene, p, s.options.camera,
                                 static_cast<float>(s.options.width) / static_cast<float>(s.options.height));

@@ -17,7 +17,8 @@ std::vector<ScriptCommand> load_script(const std::filesystem::path& file) {
         {"orbit", {2, 2}}, {"zoom", {1, 1}},    {"pan", {2, 2}},        {"camera", {1, 1}}, {"frame", {0, 0}},
         {"effects", {1, 1}}, {"set", {1, 1}}, {"path", {1, 1}}, {"screenshot", {1, 1}}, {"quit", {0, 0}},
         {"reference", {1, 2}}, {"show", {1, 1}}, {"inspect", {1, 4}},
-        {"animation", {1, 1}}, {"time", {1, 1}}, {"play", {0, 0}}, {"pause", {0, 0}}, {"speed", {1, 1}}, {"loop", {1, 1}}};
+        {"animation", {1, 1}}, {"time", {1, 1}}, {"play", {0, 0}}, {"pause", {0, 0}}, {"speed", {1, 1}}, {"loop", {1, 1}},
+        {"variant", {1, 1}}};
     std::vector<ScriptCommand> out;
     std::string text;
     int line_no = 0;

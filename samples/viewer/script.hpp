@@ -20,6 +20,7 @@
 //   FRAME pause               stop at the current time (the pose stays, nothing is posed again)
 //   FRAME speed X             playback speed, 0.1..4
 //   FRAME loop on|off         wrap at the end, or stop there
+//   FRAME variant NAME|INDEX|default  the KHR_materials_variants variant (as --variant), live
 //   FRAME quit
 #include <filesystem>
 #include <string>

@@ -98,6 +98,22 @@ void Viewer::pose_within_shutter(float u) {
     pose_scene(scene_, anim_.animation, shutter_.open + v * (shutter_.close - shutter_.open));
 }
 
+void Viewer::select_variant_live(int variant) {
+    if (variant == scene_.active_variant) return;
+    const auto t0 = Clock::now();
+    select_variant(scene_, variant);
+    gpu_.refresh_materials();
+    apply_settings(settings_);  // re-plans with the new materials
+    renderer_.invalidate_captures();
+    ref_.tracer.reset();  // the tracer reads the draws' materials when it is made
+    ref_.built_mode = -1;
+    char line[256];
+    std::snprintf(line, sizeof line, "viewer: material variant %s (%.1f ms)",
+                  variant < 0 ? "default" : ("[" + std::to_string(variant) + "] '" + scene_.variants[static_cast<size_t>(variant)] + "'").c_str(),
+                  ms_since(t0));
+    log::info(line);
+}
+
 void Viewer::reload_shaders() {
     std::vector<fs::path> changed = watcher_.poll();
     for (fs::path& f : effects_watcher_.poll()) changed.push_back(std::move(f));

@@ -32,6 +32,7 @@ void Viewer::run_script(int frame) {
             else if (c.verb == "frame") controller_.frame(bounds_);
             else if (c.verb == "screenshot") pending_screenshots_.push_back(c.args[0]);
             else if (c.verb == "quit") quit_ = true;
+            else if (c.verb == "variant") select_variant_live(find_variant(scene_, c.args[0]));
             else if (c.verb == "animation" || c.verb == "time" || c.verb == "play" || c.verb == "pause" || c.verb == "speed" ||
                      c.verb == "loop") {
                 if (c.verb == "animation") {

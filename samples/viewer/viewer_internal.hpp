@@ -158,6 +158,12 @@ private:
     }
     void log_animation(const std::string& why) const;
     void animation_ui();
+    // KHR_materials_variants: the scene's primitives take the variant's materials (-1: the
+    // defaults), the draws follow (no reload: every material is on the GPU already), the
+    // renderer re-plans (a variant may call for other effects), probes re-capture and the
+    // reference starts over.
+    void select_variant_live(int variant);
+    void variant_ui();
     void reload_shaders();
     void draw_ui(double frame_ms);
     void knob_widgets(const std::string& prefix_filter, bool exclude);

@@ -123,6 +123,22 @@ void Viewer::animation_ui() {
     if (!info.empty()) wrapped_disabled(info);
 }
 
+void Viewer::variant_ui() {
+    auto label = [&](int i) {
+        return i < 0 ? std::string("default (the file's materials)")
+                     : std::to_string(i) + ": " + scene_.variants[static_cast<size_t>(i)] + " (" +
+                           std::to_string(variant_changes(scene_, i)) + " primitives)";
+    };
+    if (ImGui::BeginCombo("variant", label(scene_.active_variant).c_str())) {
+        for (int i = -1; i < static_cast<int>(scene_.variants.size()); ++i) {
+            ImGui::PushID(i);
+            if (ImGui::Selectable(label(i).c_str(), i == scene_.active_variant)) select_variant_live(i);
+            ImGui::PopID();
+        }
+        ImGui::EndCombo();
+    }
+}
+
 void Viewer::draw_ui(double frame_ms) {
     // Docked: pinned to the right edge at full height, opaque (the scene is not behind it), and
     // resizable only by its left edge; the new width moves the scene's edge on the next frame.
@@ -171,6 +187,7 @@ void Viewer::draw_ui(double frame_ms) {
         ImGui::SliderFloat("exposure (EV)", &o_.exposure_ev, -8.0f, 8.0f);
     }
     if (!scene_.animations.empty() && ImGui::CollapsingHeader("Animation", ImGuiTreeNodeFlags_DefaultOpen)) animation_ui();
+    if (!scene_.variants.empty() && ImGui::CollapsingHeader("Material variants", ImGuiTreeNodeFlags_DefaultOpen)) variant_ui();
     if (ImGui::CollapsingHeader("Effects", ImGuiTreeNodeFlags_DefaultOpen)) {
         const Features& f = renderer_.features();
         RenderSettings s = settings_;

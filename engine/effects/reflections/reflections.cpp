@@ -1,6 +1,7 @@
 #include "effects/reflections/reflections.hpp"
 
 #include <algorithm>
+#include <cstdio>
 #include <cstring>
 
 #include <glm/gtc/constants.hpp>
@@ -19,22 +20,36 @@ namespace candela {
 const std::vector<ProbePlacement>& ReflectionsRuntime::placements() const { return res_.placements; }
 
 void ReflectionsRuntime::configure(const EffectSetup& s) {
-    // Probes are placed now and captured by the next frame that plans env_probe.
+    // Probes are planned by the next frame (automatic ones rank by what that frame's view shows)
+    // and captured by the next frame that plans env_probe.
     options_ = s.settings.get<ReflectionsOptions>();
     res_.valid = false;
     res_.placements.clear();
     scene_bounds_ = s.scene.world_bounds();
-    if (!s.decision.planned) return;
-    res_.placements = place_probes(s.scene, s.gpu.draws(), options_);
-    if (res_.placements.size() > static_cast<size_t>(kMaxProbes)) {
-        log::warn(s.scene.source.string() + ": " + std::to_string(res_.placements.size()) + " reflection probes; using the first " +
-                  std::to_string(kMaxProbes));
-        res_.placements.resize(static_cast<size_t>(kMaxProbes));
+    placed_ = false;
+    summary_.clear();
+    scene_ = s.decision.planned ? &s.scene : nullptr;
+    gpu_ = &s.gpu;
+}
+
+void ReflectionsRuntime::place(const FramePrep& p) {
+    placed_ = true;
+    if (!scene_) return;
+    const glm::mat4 view_proj = p.frame.view_proj;
+    res_.placements = place_probes(*scene_, gpu_->draws(), options_, &view_proj, &summary_);
+    log::info(scene_->source.filename().string() + ": reflection probes: " + summary_);
+    for (size_t k = 0; k < res_.placements.size(); ++k) {
+        const ProbePlacement& pl = res_.placements[k];
+        char line[160];
+        std::snprintf(line, sizeof line, "  probe %zu at (%.3g, %.3g, %.3g) radius %.3g weight %.3g: ", k, pl.position.x, pl.position.y,
+                      pl.position.z, pl.has_box ? 0.0 : static_cast<double>(pl.radius), static_cast<double>(pl.weight));
+        log::debug(line + pl.origin);
     }
 }
 
 void ReflectionsRuntime::prepare(const FramePrep& p) {
     options_ = p.settings.get<ReflectionsOptions>();
+    if (!placed_) place(p);
     probes_id_ = -1;
     on_ = p.decision.planned && !res_.placements.empty();
     gpu::ReflectionsData d{};
@@ -96,6 +111,7 @@ void ReflectionsRuntime::prepare_faces(const FramePrep& prep) {
         glGetIntegerv(GL_UNIFORM_BUFFER_OFFSET_ALIGNMENT, &align);
         pr.frame_stride = (static_cast<GLsizeiptr>(sizeof(FrameData)) + align - 1) / align * align;
         std::vector<std::uint8_t> bytes(static_cast<size_t>(pr.frame_stride) * static_cast<size_t>(6 * cubes));
+        pr.face_view_proj.assign(static_cast<size_t>(6 * cubes), glm::mat4(1.0f));
         Camera cam;
         cam.yfov = glm::half_pi<float>();
         cam.aspect_ratio = 1.0f;
@@ -118,6 +134,7 @@ void ReflectionsRuntime::prepare_faces(const FramePrep& prep) {
                 f.debug_view = 0;
                 f.debug_light = 0;
                 std::memcpy(bytes.data() + pr.frame_stride * (6 * k + face), &f, sizeof(FrameData));
+                pr.face_view_proj[static_cast<size_t>(6 * k + face)] = f.view_proj;
             }
         }
         const auto total = static_cast<GLsizeiptr>(bytes.size());
@@ -155,11 +172,32 @@ void ReflectionsRuntime::inspectables(std::vector<std::pair<std::string, const g
     if (res_.filtered) out.emplace_back("probe_cube", &res_.filtered);
 }
 
+namespace {
+
+// Whether a world box lies entirely beyond one clip plane of view_proj (reversed Z: z > w is in
+// front of the near plane, w <= 0 behind the eye).
+bool outside_frustum(const Bounds& b, const glm::mat4& view_proj) {
+    int outside[6] = {0, 0, 0, 0, 0, 0};
+    for (int c = 0; c < 8; ++c) {
+        const glm::vec4 p = view_proj * glm::vec4(c & 1 ? b.max.x : b.min.x, c & 2 ? b.max.y : b.min.y, c & 4 ? b.max.z : b.min.z, 1.0f);
+        outside[0] += p.x < -p.w, outside[1] += p.x > p.w, outside[2] += p.y < -p.w, outside[3] += p.y > p.w;
+        outside[4] += p.z > p.w, outside[5] += p.w <= 0.0f;
+    }
+    for (int k = 0; k < 6; ++k)
+        if (outside[k] == 8) return true;
+    return false;
+}
+
+}  // namespace
+
 // Reflection probes: each probe's six cube faces rendered with the forward path from its
 // position (opaque and masked geometry, then the sky), then GGX-prefiltered for rough
-// reflections. Draws whose bounds contain the probe are left out (from inside they would only
-// hide the room). Blended draws are left out too (no per-face sorting). Inside a probe, shading
-// reads the static environment, not the probes (no feedback between probes), and no SSAO/RSM.
+// reflections. Draws a probe serves or whose bounds contain it are left out (from inside they
+// would only hide the room). Blended draws are left out too (no per-face sorting). Inside a
+// probe, shading reads the static environment, not the probes (no feedback between probes),
+// and no SSAO/RSM. Per face, only the draws in its frustum are drawn, depth first (no colour),
+// then shaded with depth EQUAL: each texel is shaded once, as the forward path's depth
+// pre-pass does (the forward shading is most of a capture's cost on a software rasterizer).
 void ReflectionsRuntime::add_capture(FrameGraph& graph, const PassEnv& env) {
     graph.add_pass(
         "env_probe",
@@ -173,31 +211,41 @@ void ReflectionsRuntime::add_capture(FrameGraph& graph, const PassEnv& env) {
                 // Inside a probe, shading reads the static environment, not the probes.
                 glBindBufferBase(GL_UNIFORM_BUFFER, REFLECTIONS_BINDING, capture_block_.id());
                 const auto& draws = env.scene.draws();
+                const GLuint forward = env.programs.get("forward").id();
+                std::vector<size_t> visible;
                 for (int k = 0; k < pr.cubes; ++k) {
                     const ProbePlacement& placement = pr.placements[static_cast<size_t>(k)];
                     std::vector<bool> skip(draws.size(), false);
                     for (int i : placement.excluded_draws) skip[static_cast<size_t>(i)] = true;
                     for (int face = 0; face < 6; ++face) {
                         const int layer = 6 * k + face;
+                        visible.clear();
+                        for (size_t i = 0; i < draws.size(); ++i)
+                            if (!skip[i] && draws[i].alpha_mode != AlphaMode::blend &&
+                                !outside_frustum(draws[i].world_bounds, pr.face_view_proj[static_cast<size_t>(layer)]))
+                                visible.push_back(i);
                         glBindBufferRange(GL_UNIFORM_BUFFER, FRAME_BINDING, pr.frames.id(), pr.frame_stride * layer, sizeof(FrameData));
-                        gl::PipelineState ps;
-                        ps.depth_test = true;
-                        ps.depth_func = GL_GREATER;
-                        ps.depth_write = true;
-                        ctx.state.apply(ps);
+                        gl::PipelineState depth;
+                        depth.depth_test = true;
+                        depth.depth_func = GL_GREATER;
+                        depth.depth_write = true;
+                        depth.color_write = false;
+                        ctx.state.apply(depth);
                         ctx.state.bind_framebuffer(pr.face_fbos[static_cast<size_t>(layer)].id());
                         ctx.state.viewport(0, 0, pr.size, pr.size);
                         const float clear_color[4] = {0, 0, 0, 1};
                         glClearBufferfv(GL_COLOR, 0, clear_color);
                         const float clear_depth = 0.0f;
                         glClearBufferfv(GL_DEPTH, 0, &clear_depth);
-                        ctx.state.use_program(env.programs.get("forward").id());
+                        ctx.state.use_program(forward);
                         ctx.state.bind_vertex_array(env.scene.vertex_array().id());
-                        for (size_t i = 0; i < draws.size(); ++i) {
-                            const auto& d = draws[i];
-                            if (skip[i] || d.alpha_mode == AlphaMode::blend) continue;
-                            draw_item(env, ctx, d, !d.double_sided, GL_BACK);
-                        }
+                        for (size_t i : visible) draw_item(env, ctx, draws[i], !draws[i].double_sided, GL_BACK, forward);
+                        gl::PipelineState shade;
+                        shade.depth_test = true;
+                        shade.depth_func = GL_EQUAL;
+                        shade.depth_write = false;
+                        ctx.state.apply(shade);
+                        for (size_t i : visible) draw_item(env, ctx, draws[i], !draws[i].double_sided, GL_BACK, forward);
                         if (pr.sky) {
                             gl::PipelineState sky;
                             sky.depth_test = true;
@@ -267,8 +315,14 @@ public:
                 .choice("update", &ReflectionsOptions::update, kProbeUpdates,
                         "once: capture when the scene or the settings change; every_frame: every frame")
                 .choice("placement", &ReflectionsOptions::placement, kProbePlacements,
-                        "scene: the extras.reflection_probe nodes (auto if there are none); auto: one probe at the centre of "
-                        "each reflective object, no box")
+                        "scene: the extras.reflection_probe nodes (auto if there are none); auto: probes planned for the "
+                        "reflective objects (objects with nearly the same surroundings share one), no box")
+                .integer("budget", &ReflectionsOptions::probe_budget, 1, 64,
+                         "at most this many automatic probes: beyond it, the probes that show least (screen coverage x "
+                         "reflectance) merge into others")
+                .real("merge", &ReflectionsOptions::probe_merge, 0.0f, 4.0f,
+                      "objects share an automatic probe while its parallax error (offset / distance to other geometry) "
+                      "stays below this")
                 .integer("samples", &ReflectionsOptions::probe_samples, 1, 1024,
                          "GGX samples per texel when prefiltering probes for rough reflections")
                 .rows;

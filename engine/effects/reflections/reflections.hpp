@@ -19,8 +19,10 @@ struct ReflectionsOptions {
     float max_roughness = 0.3f;  // [0, 1] metallic surfaces rougher than this need no reflection pass
     int probe_resolution = 128;  // [16, 1024] face size of each reflection probe (probe.resolution)
     ProbeUpdate update = ProbeUpdate::once;  // once re-captures when the scene or settings change
-    // scene: extras.reflection_probe nodes (auto if none); auto: one per reflective object
+    // scene: extras.reflection_probe nodes (auto if none); auto: planned (probes.hpp plan_probes)
     ProbePlacementMode placement = ProbePlacementMode::scene;
+    int probe_budget = 8;       // [1, 64] at most this many automatic probes (probe.budget)
+    float probe_merge = 0.25f;  // [0, 4] parallax error under which objects share a probe (probe.merge)
     int probe_samples = 32;  // [1, 1024] GGX samples per texel of the prefiltered levels (probe.samples)
 };
 
@@ -29,8 +31,10 @@ const Effect& reflections_effect();
 // The effect's state in a renderer (Renderer::effect_runtime<ReflectionsRuntime>()).
 class ReflectionsRuntime final : public EffectRuntime {
 public:
-    // The probes of this scene and settings (empty when the effect is not planned).
+    // The probes of this scene and settings (empty when the effect is not planned, and until the
+    // first frame: automatic probes are planned from its view), and the plan's one-line summary.
     const std::vector<ProbePlacement>& placements() const;
+    const std::string& plan_summary() const { return summary_; }
 
     void configure(const EffectSetup& setup) override;
     void prepare(const FramePrep& prep) override;
@@ -43,6 +47,7 @@ public:
     void inspectables(std::vector<std::pair<std::string, const gl::Texture*>>& out) const override;
 
 private:
+    void place(const FramePrep& prep);
     void prepare_faces(const FramePrep& prep);
     void add_capture(FrameGraph& graph, const PassEnv& env);
     void add_transmissive(FrameGraph& graph, const PassEnv& env, FrameTargets& targets);
@@ -56,6 +61,7 @@ private:
         gl::Texture depth;     // size x size, shared by every face
         std::vector<gl::Framebuffer> face_fbos;  // per cube face (layer 6 probe + face)
         gl::Buffer frames;     // FrameData per face at `frame_stride` bytes
+        std::vector<glm::mat4> face_view_proj;  // per face (layer): what it sees (culling)
         GLsizeiptr frame_stride = 0;
         gl::Buffer data;       // ProbeData per probe
         int size = 0, cubes = 0, levels = 0;
@@ -64,6 +70,10 @@ private:
     } res_;
     ReflectionsOptions options_;
     Bounds scene_bounds_;
+    const Scene* scene_ = nullptr;  // set by configure when the effect is planned
+    GpuScene* gpu_ = nullptr;
+    bool placed_ = false;      // res_.placements planned for the current scene and settings
+    std::string summary_;      // what was planned (logged once per plan)
     gl::Buffer block_, capture_block_;  // ReflectionsData for the camera's view and for probe faces
     bool on_ = false;                   // probes are bound for shading this frame
     std::vector<std::string> defines_;  // shading_defines: what block_ turns off
