@@ -267,6 +267,7 @@ void GpuScene::refresh_materials() {
         const Node& node = scene_.nodes[static_cast<size_t>(d.node)];
         set_material(d, scene_.meshes[static_cast<size_t>(node.mesh)].primitives[static_cast<size_t>(d.primitive)]);
     }
+    ++pose_version_;  // what the renderer re-plans and re-captures on, as for a new pose
 }
 
 void GpuScene::update_lights(int area_samples, EmitterSplitter split, bool shadows, int cascades, int max_shadowed) {

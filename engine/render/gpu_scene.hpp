@@ -108,6 +108,8 @@ public:
     // After select_variant() on the scene: every draw's material (its index, alpha mode, sides and
     // textures) from its primitive again. The material buffer holds every material of the file
     // already, so nothing is uploaded but textures a draw had not used yet (at its first frame).
+    // Bumps pose_version(): the renderer then re-plans and its effects re-capture and retrace
+    // (reflection probes, GI) as they do for a new pose.
     void refresh_materials();
     // Whether any material samples a texture (the shading programs leave texture code out otherwise).
     bool has_material_textures() const { return material_textures_; }
@@ -159,7 +161,7 @@ public:
     void clear_motion();
     bool has_motion() const { return has_motion_; }
     const gl::VertexArray& motion_vertex_array() const { return motion_vao_; }
-    std::uint64_t pose_version() const { return pose_version_; }  // bumped by update_pose when something moved
+    std::uint64_t pose_version() const { return pose_version_; }  // bumped by update_pose when something moved, and by refresh_materials
 
 private:
     void set_material(Draw& d, const Primitive& p) const;

@@ -102,10 +102,8 @@ void Viewer::select_variant_live(int variant) {
     if (variant == scene_.active_variant) return;
     const auto t0 = Clock::now();
     select_variant(scene_, variant);
-    gpu_.refresh_materials();
-    apply_settings(settings_);  // re-plans with the new materials
-    renderer_.invalidate_captures();
-    ref_.tracer.reset();  // the tracer reads the draws' materials when it is made
+    gpu_.refresh_materials();  // the renderer re-plans, probes re-capture, GI retraces (a new pose version)
+    ref_.tracer.reset();       // the tracer reads the primitives' materials when it is made
     ref_.built_mode = -1;
     char line[256];
     std::snprintf(line, sizeof line, "viewer: material variant %s (%.1f ms)",

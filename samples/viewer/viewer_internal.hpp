@@ -160,8 +160,8 @@ private:
     void animation_ui();
     // KHR_materials_variants: the scene's primitives take the variant's materials (-1: the
     // defaults), the draws follow (no reload: every material is on the GPU already), the
-    // renderer re-plans (a variant may call for other effects), probes re-capture and the
-    // reference starts over.
+    // renderer re-plans (a variant may call for other effects), probes re-capture, GI retraces
+    // and the reference starts over.
     void select_variant_live(int variant);
     void variant_ui();
     void reload_shaders();

@@ -242,16 +242,13 @@ std::vector<ProbePlacement> place_probes(const Scene& scene, const std::vector<G
         out = std::move(plan.probes);
         if (summary) *summary = plan.summary;
     }
-    for (ProbePlacement& p : out) {
-        const std::set<int> served(p.nodes.begin(), p.nodes.end());
+    for (ProbePlacement& p : out)
         for (size_t i = 0; i < draws.size(); ++i) {
             const Bounds& b = draws[i].world_bounds;
             const glm::vec3 eps(1e-5f * (1.0f + glm::length(b.extent())));
-            if (served.count(draws[i].node) ||
-                (glm::all(glm::greaterThanEqual(p.position, b.min - eps)) && glm::all(glm::lessThanEqual(p.position, b.max + eps))))
+            if (glm::all(glm::greaterThanEqual(p.position, b.min - eps)) && glm::all(glm::lessThanEqual(p.position, b.max + eps)))
                 p.excluded_draws.push_back(static_cast<int>(i));
         }
-    }
     return out;
 }
 

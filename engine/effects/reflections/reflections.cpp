@@ -20,8 +20,8 @@ namespace candela {
 const std::vector<ProbePlacement>& ReflectionsRuntime::placements() const { return res_.placements; }
 
 void ReflectionsRuntime::configure(const EffectSetup& s) {
-    // Probes are planned by the next frame (automatic ones rank by what that frame's view shows)
-    // and captured by the next frame that plans env_probe.
+    // Probes are planned now and again by the next frame (automatic ones rank by what that
+    // frame's view shows), and captured by the next frame that plans env_probe.
     options_ = s.settings.get<ReflectionsOptions>();
     res_.valid = false;
     res_.placements.clear();
@@ -30,6 +30,8 @@ void ReflectionsRuntime::configure(const EffectSetup& s) {
     summary_.clear();
     scene_ = s.decision.planned ? &s.scene : nullptr;
     gpu_ = &s.gpu;
+    // A plan without a view (reflectance alone ranks the probes) until the first frame's.
+    if (scene_) res_.placements = place_probes(s.scene, s.gpu.draws(), options_, nullptr, &summary_);
 }
 
 void ReflectionsRuntime::place(const FramePrep& p) {
@@ -37,6 +39,7 @@ void ReflectionsRuntime::place(const FramePrep& p) {
     if (!scene_) return;
     const glm::mat4 view_proj = p.frame.view_proj;
     res_.placements = place_probes(*scene_, gpu_->draws(), options_, &view_proj, &summary_);
+    res_.cubes = 0;  // prepare_faces uploads this plan's probes
     log::info(scene_->source.filename().string() + ": reflection probes: " + summary_);
     for (size_t k = 0; k < res_.placements.size(); ++k) {
         const ProbePlacement& pl = res_.placements[k];
@@ -192,12 +195,12 @@ bool outside_frustum(const Bounds& b, const glm::mat4& view_proj) {
 
 // Reflection probes: each probe's six cube faces rendered with the forward path from its
 // position (opaque and masked geometry, then the sky), then GGX-prefiltered for rough
-// reflections. Draws a probe serves or whose bounds contain it are left out (from inside they
-// would only hide the room). Blended draws are left out too (no per-face sorting). Inside a
+// reflections. Draws whose bounds contain the probe are left out (from inside they would only
+// hide the room); the other objects a shared probe serves are captured, as they see each other. Blended draws are left out too (no per-face sorting). Inside a
 // probe, shading reads the static environment, not the probes (no feedback between probes),
-// and no SSAO/RSM. Per face, only the draws in its frustum are drawn, depth first (no colour),
-// then shaded with depth EQUAL: each texel is shaded once, as the forward path's depth
-// pre-pass does (the forward shading is most of a capture's cost on a software rasterizer).
+// and no SSAO/RSM. Per face, only the draws in its frustum are drawn. (A depth-only pass
+// first, then shading with depth EQUAL, was measured slower: llvmpipe runs most of the forward
+// program in the depth pass too, and the captures have little overdraw.)
 void ReflectionsRuntime::add_capture(FrameGraph& graph, const PassEnv& env) {
     graph.add_pass(
         "env_probe",
@@ -225,12 +228,11 @@ void ReflectionsRuntime::add_capture(FrameGraph& graph, const PassEnv& env) {
                                 !outside_frustum(draws[i].world_bounds, pr.face_view_proj[static_cast<size_t>(layer)]))
                                 visible.push_back(i);
                         glBindBufferRange(GL_UNIFORM_BUFFER, FRAME_BINDING, pr.frames.id(), pr.frame_stride * layer, sizeof(FrameData));
-                        gl::PipelineState depth;
-                        depth.depth_test = true;
-                        depth.depth_func = GL_GREATER;
-                        depth.depth_write = true;
-                        depth.color_write = false;
-                        ctx.state.apply(depth);
+                        gl::PipelineState ps;
+                        ps.depth_test = true;
+                        ps.depth_func = GL_GREATER;
+                        ps.depth_write = true;
+                        ctx.state.apply(ps);
                         ctx.state.bind_framebuffer(pr.face_fbos[static_cast<size_t>(layer)].id());
                         ctx.state.viewport(0, 0, pr.size, pr.size);
                         const float clear_color[4] = {0, 0, 0, 1};
@@ -239,13 +241,7 @@ void ReflectionsRuntime::add_capture(FrameGraph& graph, const PassEnv& env) {
                         glClearBufferfv(GL_DEPTH, 0, &clear_depth);
                         ctx.state.use_program(forward);
                         ctx.state.bind_vertex_array(env.scene.vertex_array().id());
-                        for (size_t i : visible) draw_item(env, ctx, draws[i], !draws[i].double_sided, GL_BACK, forward);
-                        gl::PipelineState shade;
-                        shade.depth_test = true;
-                        shade.depth_func = GL_EQUAL;
-                        shade.depth_write = false;
-                        ctx.state.apply(shade);
-                        for (size_t i : visible) draw_item(env, ctx, draws[i], !draws[i].double_sided, GL_BACK, forward);
+                        for (size_t i : visible) draw_item(env, ctx, draws[i], !draws[i].double_sided, GL_BACK);
                         if (pr.sky) {
                             gl::PipelineState sky;
                             sky.depth_test = true;

@@ -31,8 +31,8 @@ const Effect& reflections_effect();
 // The effect's state in a renderer (Renderer::effect_runtime<ReflectionsRuntime>()).
 class ReflectionsRuntime final : public EffectRuntime {
 public:
-    // The probes of this scene and settings (empty when the effect is not planned, and until the
-    // first frame: automatic probes are planned from its view), and the plan's one-line summary.
+    // The probes of this scene and settings (empty when the effect is not planned; automatic
+    // probes are planned again from the first frame's view), and the plan's one-line summary.
     const std::vector<ProbePlacement>& placements() const;
     const std::string& plan_summary() const { return summary_; }
 
