@@ -46,6 +46,7 @@ for f in $(ls -1 tests/data/models/*/*.gltf tests/data/models/*/*.glb | sort); d
   printf '| %s | %s | %.4f | %.3f | %.3f | %s |\n' "$n" "$tris" "$mean" "$p99" "$ratio" "$frame" >> "$tmp/models.md"
   echo "$n done" >&2
 done
-oiiotool "${pairs[@]}" --mosaic:pad=4 3x5 -o docs/models.png
+rows=$(( (${#pairs[@]} + 2) / 3 ))
+oiiotool "${pairs[@]}" --mosaic:pad=4 3x$rows -o docs/models.png
 cp "$tmp/models.md" docs/models.md
 echo "wrote docs/models.png and docs/models.md"
