@@ -17,41 +17,49 @@ layout(binding = LTC_AMPLITUDE_UNIT) uniform sampler2D t_ltc_amplitude;
 // The lights the per-light loops shade one by one: with LTC the pieces only cast shadows.
 int shaded_light_count() { return area_lights.method == 1 ? frame.punctual_light_count : frame.light_count; }
 
-// Integral over the edge a->b (unit vectors) of the clamped cosine's vector form factor, z part:
-// theta * normalize(a x b).z with theta the angle between a and b, stable near 0.
-float ltc_edge(vec3 a, vec3 b) {
+// The vector form factor of the great-circle edge a->b (any non-zero lengths):
+// theta * normalize(a x b), theta the angle between a and b, stable near 0.
+vec3 ltc_edge_vector(vec3 a, vec3 b) {
+    a = normalize(a);
+    b = normalize(b);
     vec3 c = cross(a, b);
     float s = length(c);
     float theta = atan(s, dot(a, b));
-    return c.z * (s > 1e-7 ? theta / s : 1.0);
+    return c * (s > 1e-7 ? theta / s : 1.0);
 }
 
 // The polygon's vector form factor in its frame: sum over the edges (a, b) of the polygon spanned
 // by L0..L2 (any lengths), clipped to z >= 0, of theta * normalize(a x b) / (2 pi). Its z is the
 // integral of the normalised clamped cosine (z / pi) over the polygon (Lambert's formula), signed
 // by the winding; its direction is the cosine-weighted mean direction of the light.
-vec3 ltc_polygon_vector(vec3 L0, vec3 L1, vec3 L2) {
-    vec3 v[3] = vec3[3](L0, L1, L2);
-    vec3 clipped[4];
-    int n = 0;
-    for (int i = 0; i < 3; ++i) {
-        vec3 a = v[i], b = v[(i + 1) % 3];
-        if (a.z >= 0.0) clipped[n++] = a;
-        if ((a.z >= 0.0) != (b.z >= 0.0)) {
-            float t = a.z / (a.z - b.z);
-            clipped[n++] = mix(a, b, t);
+// The clipped polygon is walked edge by edge without storing it: each edge keeps its part above
+// the horizon, and a triangle crosses the horizon at most once each way, so one horizon edge joins
+// the exit point to the entry point. (A local array indexed by a running count is what this
+// replaces: CPU rasterisers such as llvmpipe keep such arrays in memory, and the lookup cost most
+// of a frame.)
+void ltc_clipped_edge(vec3 a, vec3 b, inout vec3 sum, inout vec3 exit_point, inout vec3 entry_point) {
+    bool a_up = a.z >= 0.0, b_up = b.z >= 0.0;
+    if (a_up && b_up) {
+        sum += ltc_edge_vector(a, b);
+    } else if (a_up || b_up) {
+        vec3 x = mix(a, b, a.z / (a.z - b.z));
+        if (a_up) {
+            sum += ltc_edge_vector(a, x);
+            exit_point = x;
+        } else {
+            sum += ltc_edge_vector(x, b);
+            entry_point = x;
         }
     }
-    if (n < 3) return vec3(0.0);
-    vec3 sum = vec3(0.0);
-    for (int i = 0; i < n; ++i) {
-        vec3 a = normalize(clipped[i]);
-        vec3 b = normalize(clipped[(i + 1) % n]);
-        vec3 c = cross(a, b);
-        float s = length(c);
-        float theta = atan(s, dot(a, b));
-        sum += c * (s > 1e-7 ? theta / s : 1.0);
-    }
+}
+
+vec3 ltc_polygon_vector(vec3 L0, vec3 L1, vec3 L2) {
+    if (L0.z < 0.0 && L1.z < 0.0 && L2.z < 0.0) return vec3(0.0);
+    vec3 sum = vec3(0.0), exit_point = vec3(0.0), entry_point = vec3(0.0);
+    ltc_clipped_edge(L0, L1, sum, exit_point, entry_point);
+    ltc_clipped_edge(L1, L2, sum, exit_point, entry_point);
+    ltc_clipped_edge(L2, L0, sum, exit_point, entry_point);
+    if (L0.z < 0.0 || L1.z < 0.0 || L2.z < 0.0) sum += ltc_edge_vector(exit_point, entry_point);
     return sum / (2.0 * PI);
 }
 
