@@ -24,6 +24,8 @@ const std::vector<ProgramDesc>& raster_programs() {
         {"deferred_light_ms_edges", {{S::compute, "deferred/light.comp"}}, {"MULTISAMPLED", "EDGE_GROUPS"}},
         {"gbuffer_resolve", {{S::vertex, "post/fullscreen.vert"}, {S::fragment, "deferred/gbuffer_resolve.frag"}}, {}},
         {"depth_normals", {{S::vertex, "forward/forward.vert"}, {S::fragment, "forward/normals.frag"}}, {}},
+        {"depth_prepass", {{S::vertex, "forward/forward.vert"}, {S::fragment, "forward/depth.frag"}}, {"DEPTH_ONLY"}},
+        {"depth_prepass_mask", {{S::vertex, "forward/forward.vert"}, {S::fragment, "forward/depth.frag"}}, {}},
         {"debug_view", {{S::vertex, "post/fullscreen.vert"}, {S::fragment, "post/debug_view.frag"}}, {}},
         {"brdf_lut", {{S::compute, "env/brdf_lut.comp"}}, {}},
         {"equirect_to_cube", {{S::compute, "env/equirect_to_cube.comp"}}, {}},
