@@ -68,7 +68,6 @@ set(CPACK_GENERATOR DEB)
 set(CPACK_PACKAGE_NAME candela)
 set(CPACK_PACKAGE_VENDOR "Candela")
 set(CPACK_PACKAGE_VERSION ${PROJECT_VERSION})
-set(CPACK_PACKAGE_DESCRIPTION_SUMMARY "OpenGL 4.5 renderer checked against its own ray tracer")
 set(CPACK_PACKAGE_CONTACT "${CANDELA_PACKAGE_MAINTAINER}")
 set(CPACK_DEBIAN_PACKAGE_MAINTAINER "${CANDELA_PACKAGE_MAINTAINER}")
 set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
@@ -78,9 +77,11 @@ set(CPACK_COMPONENTS_ALL runtime development)
 set(CPACK_DEBIAN_RUNTIME_PACKAGE_NAME candela)
 set(CPACK_DEBIAN_DEVELOPMENT_PACKAGE_NAME libcandela-dev)
 set(CPACK_DEBIAN_DEVELOPMENT_PACKAGE_SECTION libdevel)
-set(CPACK_COMPONENT_RUNTIME_DESCRIPTION "Candela renderer: the candela command and its shaders\n\
+# Each package's first line is its Debian synopsis (no CPACK_PACKAGE_DESCRIPTION_SUMMARY: CPack
+# would put that one line before both).
+set(CPACK_COMPONENT_RUNTIME_DESCRIPTION "Candela: OpenGL 4.5 glTF renderer, the candela command and its shaders\n\
 Renders glTF 2.0 scenes offscreen (EGL, or OSMesa) or in a window, ray traces references, compares images.")
-set(CPACK_COMPONENT_DEVELOPMENT_DESCRIPTION "Candela renderer: the engine library, headers and CMake package\n\
+set(CPACK_COMPONENT_DEVELOPMENT_DESCRIPTION "Candela: OpenGL 4.5 glTF renderer, the engine library and CMake package\n\
 find_package(Candela CONFIG) gives Candela::engine, Candela::candela and candela_add_golden_test().")
 # The runtime package's Depends come from the shared libraries its ELF files link, through
 # dpkg-shlibdeps (dpkg-dev): libc6, libstdc++6, libegl1, libosmesa6, libglfw3, libpng16-16,
