@@ -19,5 +19,8 @@ if(NOT EXISTS "${_glad_stamp}")
   file(WRITE "${_glad_stamp}" "")
 endif()
 add_library(candela_glad STATIC "${CANDELA_GLAD_DIR}/src/gl.c")
-target_include_directories(candela_glad SYSTEM PUBLIC "${CANDELA_GLAD_DIR}/include")
+target_include_directories(candela_glad SYSTEM PUBLIC $<BUILD_INTERFACE:${CANDELA_GLAD_DIR}/include>)
+# Installed with the engine's headers (<prefix>/include/candela/glad, KHR), which include glad/gl.h;
+# an imported target's include directories are system ones for its users anyway.
+target_include_directories(candela_glad PUBLIC $<INSTALL_INTERFACE:include/candela>)
 set_target_properties(candela_glad PROPERTIES POSITION_INDEPENDENT_CODE ON)

@@ -1,5 +1,8 @@
 #include "shader/shader_library.hpp"
 
+#include <unistd.h>
+
+#include <climits>
 #include <cstdlib>
 #include <fstream>
 #include <mutex>
@@ -23,7 +26,14 @@ namespace {
 
 std::string read_text(const fs::path& path) {
     std::ifstream in(path, std::ios::binary);
-    if (!in) throw Error(ExitCode::internal, path.string() + ": cannot open shader file");
+    if (!in) {
+        std::error_code ec;
+        const std::string where = fs::exists(path, ec) ? ""
+                                  : " (shaders are read from CANDELA_SHADER_DIR and CANDELA_EFFECTS_DIR, else from "
+                                    "<prefix>/share/candela beside an installed candela, else from the source tree; "
+                                    "docs/install.md)";
+        throw Error(ExitCode::internal, path.string() + ": cannot open shader file" + where);
+    }
     std::ostringstream ss;
     ss << in.rdbuf();
     return ss.str();
@@ -142,8 +152,20 @@ void ShaderLibrary::set_default_generated_include(const std::string& name, std::
     default_generated(lock)[name] = std::move(files);
 }
 
+fs::path ShaderLibrary::installed_data_dir() {
+    char buf[PATH_MAX];
+    const ssize_t n = readlink("/proc/self/exe", buf, sizeof buf - 1);
+    if (n <= 0) return {};
+    buf[n] = '\0';
+    // <prefix>/bin/candela -> <prefix>/share/candela (cmake --install, the .deb's /usr).
+    const fs::path dir = fs::path(buf).parent_path().parent_path() / "share" / "candela";
+    std::error_code ec;
+    return fs::is_directory(dir / "shaders", ec) ? dir : fs::path();
+}
+
 fs::path ShaderLibrary::default_effects_root() {
     if (const char* env = std::getenv("CANDELA_EFFECTS_DIR"); env && *env) return env;
+    if (fs::path installed = installed_data_dir(); !installed.empty()) return installed;
     return CANDELA_EFFECTS_DIR;
 }
 
@@ -156,6 +178,7 @@ std::vector<fs::path> ShaderLibrary::watched_dirs() const {
 
 fs::path ShaderLibrary::default_root() {
     if (const char* env = std::getenv("CANDELA_SHADER_DIR"); env && *env) return env;
+    if (fs::path installed = installed_data_dir(); !installed.empty()) return installed / "shaders";
     return CANDELA_SHADER_DIR;
 }
 

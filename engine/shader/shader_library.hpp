@@ -37,10 +37,15 @@ public:
     // #include is looked up relative to the including file, then in `root`, then in `effects_root`,
     // so "effects/ssao/ssao_data.h" and "gpu/scene_blocks.h" name the same file from C++ and GLSL.
     explicit ShaderLibrary(std::filesystem::path root, std::filesystem::path effects_root = default_effects_root());
-    // The directory from CANDELA_SHADER_DIR in the environment, else the source tree's shaders/.
+    // The directory from CANDELA_SHADER_DIR in the environment, else the installed shaders/ beside
+    // the executable (installed_data_dir()), else the source tree's shaders/.
     static std::filesystem::path default_root();
-    // CANDELA_EFFECTS_DIR in the environment, else the source tree's engine/ (which holds effects/).
+    // CANDELA_EFFECTS_DIR in the environment, else installed_data_dir() (which holds effects/ and
+    // gpu/), else the source tree's engine/.
     static std::filesystem::path default_effects_root();
+    // An installed Candela's data: <prefix>/share/candela for an executable in <prefix>/bin, if it
+    // holds shaders/ (docs/install.md); empty otherwise (a build tree, another program's directory).
+    static std::filesystem::path installed_data_dir();
 
     const std::filesystem::path& root() const { return root_; }
     const std::filesystem::path& effects_root() const { return effects_root_; }

@@ -19,6 +19,7 @@ int cmd_shaders(const Args& args);
 int cmd_view(const Args& args);
 int cmd_batch(const Args& args);  // many render jobs in one process (cmd_batch.cpp)
 int cmd_farm(const Args& args);   // tasks for a batch scheduler: Slurm, GNU parallel, ... (cmd_farm.cpp)
+int cmd_version(const Args& args);  // `candela --version`: version, git hash, shader directory, GL device
 // The --help text (options.cpp).
 void print_usage();
 

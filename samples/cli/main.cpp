@@ -14,6 +14,7 @@ int main(int argc, char** argv) {
     const std::string command = args[0];
     args.erase(args.begin());
     try {
+        if (command == "--version") return cli::cmd_version(args);
         if (command == "render") return cli::cmd_render(args);
         if (command == "info") return cli::cmd_info(args);
         if (command == "compare") return cli::cmd_compare(args);

@@ -56,6 +56,7 @@ void print_usage() {
         "  candela shaders check [--shader-dir DIR] [--backend auto|egl|osmesa]\n"
         "  candela view SCENE [--size WxH] [--effects ...] [--set ...] [--path P] [--camera C] [--shader-dir DIR]\n"
         "               [--script FILE] [--frames N] [--screenshot OUT.png] [--window-shot OUT.png] [--no-vsync]\n"
+        "  candela --version [--backend auto|egl|osmesa]\n"
         "\n"
         "render   SCENE (.gltf/.glb) to OUT: .exr holds linear radiance; .png is exposure + ACES + sRGB.\n"
         "         --size WxH (default 512x512), --backend (default auto: EGL, then OSMesa),\n"
