@@ -136,7 +136,7 @@ std::vector<PlannedPass> plan_passes(const Features& f, const RenderSettings& s)
     } else {
         if (screen_reader)
             plan.push_back({"depth_normal_prepass", std::string(screen_reader) + " needs depth and normals before shading", nullptr, {"depth_normals"}});
-        else if (s.forward.depth_prepass) plan.push_back({"depth_prepass", "forward.depth_prepass=1", nullptr, {"forward"}});
+        else if (s.forward.depth_prepass) plan.push_back({"depth_prepass", "forward.depth_prepass=1", nullptr, {"depth_prepass", "depth_prepass_mask"}});
         add_stage(Stage::screen);
         plan.push_back({"forward_opaque", what + "; forward path, " + f.path_reason, nullptr, {"forward"}});
         add_stage(Stage::after_lighting);

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <fstream>
 
+#include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtx/quaternion.hpp>
 
 #include "gltf_builder.hpp"
@@ -288,6 +289,45 @@ TEST_P(ShadowTest, ForwardAndDeferredAgreeOnOpaqueScenes) {
         EXPECT_LE(off, static_cast<int>(0.001 * 96 * 96 * 3) + 1);
         std::printf("forward vs deferred %s: %d channel values off by > 2/255\n", name, off);
         EXPECT_EQ(count_nonfinite(def.radiance), 0u);
+    }
+}
+
+// shadows.cache: a renderer that keeps its shadow views across frames redraws only the views that
+// changed, and its image is the image of a renderer that draws every view afresh. A point light's
+// cube does not follow the camera; a directional light's cascades do.
+TEST_P(ShadowTest, CachedViewsGiveTheImageOfFreshOnes) {
+    for (const char* name : {"cornell_point", "shadow_test"}) {
+        SCOPED_TRACE(name);
+        const Scene scene = load_gltf(fs::path(CANDELA_SOURCE_DIR) / "samples" / "scenes" / (std::string(name) + ".gltf"));
+        const int w = 96, h = 72;
+        const Camera first = scene.select_camera("", static_cast<float>(w) / h);
+        Camera moved = first;
+        moved.world = glm::translate(glm::mat4(1.0f), glm::vec3(0.15f, 0.05f, 0.1f)) * first.world;
+        GpuScene gpu(scene);
+        Renderer cached(lib_, scene, gpu, settings("shadows", {}));
+        cached.render(first, w, h);
+        const auto* shadows = cached.effect_runtime<ShadowsRuntime>();
+        const int views = static_cast<int>(shadows->views().views.size());
+        ASSERT_GT(views, 0);
+        EXPECT_EQ(shadows->layers_drawn(), views);
+        cached.render(first, w, h);
+        EXPECT_EQ(shadows->layers_drawn(), 0) << "the same view again: every layer is still valid";
+        cached.render(moved, w, h);
+        const int redrawn = shadows->layers_drawn();
+        if (std::string(name) == "cornell_point") EXPECT_EQ(redrawn, 0) << "a point light's cube does not follow the camera";
+        else EXPECT_GT(redrawn, 0) << "a directional light's cascade follows the camera";
+        const ImageF kept = cached.read_radiance();
+        GpuScene fresh_gpu(scene);
+        Renderer fresh(lib_, scene, fresh_gpu, settings("shadows", {"shadows.cache=0"}));
+        fresh.render(moved, w, h);
+        const ImageF reference = fresh.read_radiance();
+        EXPECT_EQ(count_nonfinite(kept), 0u);
+        ASSERT_EQ(kept.pixels.size(), reference.pixels.size());
+        size_t differ = 0;
+        for (size_t i = 0; i < kept.pixels.size(); ++i) differ += kept.pixels[i] != reference.pixels[i];
+        EXPECT_EQ(differ, 0u);
+        std::printf("%s: %d views, %d redrawn after the camera moved, %zu values differ from a fresh render\n", name, views,
+                    redrawn, differ);
     }
 }
 

@@ -82,7 +82,15 @@ void ShadowsRuntime::prepare(const FramePrep& p) {
         }
         resolution_ = res;
         layers_ = layers;
+        drawn_.clear();
     }
+    // A new scene, a new pose or other caster settings: every cached layer is stale.
+    if (!options_.cache || drawn_gpu_ != &p.gpu || drawn_pose_ != p.gpu.pose_version() || drawn_slope_bias_ != options_.slope_bias)
+        drawn_.clear();
+    drawn_gpu_ = &p.gpu;
+    drawn_pose_ = p.gpu.pose_version();
+    drawn_slope_bias_ = options_.slope_bias;
+    drawn_.resize(static_cast<size_t>(layers));
     if (!compare_) {
         compare_ = gl::Sampler::create(GL_LINEAR, GL_LINEAR, GL_CLAMP_TO_EDGE, GL_CLAMP_TO_EDGE);
         glSamplerParameteri(compare_.id(), GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
@@ -153,7 +161,14 @@ void ShadowsRuntime::add_pass(const std::string&, FrameGraph& graph, const PassE
             const auto visible = [&](size_t di, const glm::mat4& view_proj) {
                 return !cullable[di] || !outside_view(view_proj, draws[di].world_bounds);
             };
+            layers_drawn_ = 0;
             for (size_t layer = 0; layer < cpu_.views.size(); ++layer) {
+                DrawnLayer& drawn = drawn_[layer];
+                if (drawn.valid && drawn.view_proj == cpu_.views[layer].view_proj && drawn.light == cpu_.light[layer] &&
+                    drawn.skip == cpu_.skip[layer])
+                    continue;  // the depth in the layer is this view's (shadows.cache)
+                drawn = {cpu_.views[layer].view_proj, cpu_.light[layer], cpu_.skip[layer], options_.cache};
+                ++layers_drawn_;
                 ctx.state.bind_framebuffer(layer_fbos_[layer].id());
                 const float clear_depth = 0.0f;  // reversed-Z far: lit
                 glClearBufferfv(GL_DEPTH, 0, &clear_depth);
@@ -212,6 +227,7 @@ public:
             .integer("cascades", &O::cascades, 1, 4, "cascades of a directional light's shadow map")
             .integer("max_lights", &O::max_lights, 0, 4096, "shadow-casting lights at most: directional first, then the brightest")
             .real("split_lambda", &O::split_lambda, 0.0f, 1.0f, "cascade split blend: 0 uniform, 1 logarithmic")
+            .boolean("cache", &O::cache, "keep a shadow view's depth while its view, the pose and the caster settings are unchanged")
             .rows;
     }
     EffectDecision decide(const Features& f, const RenderSettings& s) const override {

@@ -27,6 +27,9 @@ struct ShadowsOptions {
     int cascades = 1;                           // [1, 4] directional-light cascades
     int max_lights = 16;                        // [0, 4096] lights with shadow maps: directional first, then brightest
     float split_lambda = 0.7f;                  // [0, 1] cascade splits: 0 uniform, 1 logarithmic
+    // Keep a view's depth from an earlier frame while its view, the scene's pose and the caster
+    // settings are unchanged (a still light under a moving camera: only cascades follow the camera).
+    bool cache = true;
 };
 
 const Effect& shadows_effect();
@@ -38,6 +41,8 @@ public:
     const ShadowViews& views() const { return cpu_; }
     // The nearest-texel sampler of the maps (other effects read their own light views with it).
     const gl::Sampler& raw_sampler() const { return raw_; }
+    // Shadow views drawn in the last frame (the others kept their cached depth).
+    int layers_drawn() const { return layers_drawn_; }
 
     void prepare(const FramePrep& prep) override;
     void begin_graph(FrameGraph& graph) override;
@@ -59,6 +64,18 @@ private:
     gl::Buffer block_;
     std::vector<std::string> defines_;  // shading_defines: from the block's filter mode
     FrameGraph::ResourceId maps_ = -1;
+    // What each layer of array_ holds (shadows.cache): the view, light and skip it was drawn with.
+    struct DrawnLayer {
+        glm::mat4 view_proj{0.0f};
+        int light = -1;
+        bool skip = false;
+        bool valid = false;
+    };
+    std::vector<DrawnLayer> drawn_;
+    const GpuScene* drawn_gpu_ = nullptr;
+    std::uint64_t drawn_pose_ = 0;
+    float drawn_slope_bias_ = -1.0f;
+    int layers_drawn_ = 0;
 };
 
 }  // namespace candela
