@@ -237,9 +237,10 @@ int Viewer::run() {
         const QualityState previous = quality_;
         quality_ = choose_quality(camera);
         if (!(quality_ == previous)) {
-            char line[160];
-            std::snprintf(line, sizeof line, "viewer: frame %d: quality %s, scale %.2f (last frame %.1f ms, target %.0f ms)", frame,
-                          quality_level_name(quality_.level), quality_.scale, last_render_frame_ms_, adaptive_.target_ms());
+            char line[160], last[48] = "";
+            if (last_render_frame_ms_ >= 0.0) std::snprintf(last, sizeof last, "last frame %.1f ms, ", last_render_frame_ms_);
+            std::snprintf(line, sizeof line, "viewer: frame %d: quality %s, scale %.2f (%starget %.0f ms)", frame,
+                          quality_level_name(quality_.level), quality_.scale, last, adaptive_.target_ms());
             log::info(line);
         }
         // The render size: the scene's, or a fraction of it upscaled below (the same aspect:
