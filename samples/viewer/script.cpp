@@ -18,7 +18,7 @@ std::vector<ScriptCommand> load_script(const std::filesystem::path& file) {
         {"effects", {1, 1}}, {"set", {1, 1}}, {"path", {1, 1}}, {"screenshot", {1, 1}}, {"quit", {0, 0}},
         {"reference", {1, 2}}, {"show", {1, 1}}, {"inspect", {1, 4}},
         {"animation", {1, 1}}, {"time", {1, 1}}, {"play", {0, 0}}, {"pause", {0, 0}}, {"speed", {1, 1}}, {"loop", {1, 1}},
-        {"variant", {1, 1}}};
+        {"variant", {1, 1}}, {"adaptive", {1, 2}}};
     std::vector<ScriptCommand> out;
     std::string text;
     int line_no = 0;
@@ -46,6 +46,22 @@ std::vector<ScriptCommand> load_script(const std::filesystem::path& file) {
             throw bad_input(where + "'" + c.verb + "' takes " + std::to_string(v->second.first) + " argument(s)");
         if (c.verb == "loop" && c.args[0] != "on" && c.args[0] != "off")
             throw bad_input(where + "'loop' takes on or off, not '" + c.args[0] + "'");
+        if (c.verb == "adaptive") {
+            if (c.args[0] != "on" && c.args[0] != "off" && c.args[0] != "reduced")
+                throw bad_input(where + "'adaptive' takes on, off or reduced, not '" + c.args[0] + "'");
+            if (c.args.size() > 1) {
+                float ms = 0.0f;
+                try {
+                    size_t used = 0;
+                    ms = std::stof(c.args[1], &used);
+                    if (used != c.args[1].size()) throw std::invalid_argument(c.args[1]);
+                } catch (const std::exception&) {
+                    ms = -1.0f;
+                }
+                if (!std::isfinite(ms) || ms < 1.0f || ms > 10000.0f)
+                    throw bad_input(where + "'adaptive' target '" + c.args[1] + "' is not a frame time in ms in [1, 10000]");
+            }
+        }
         for (const char* numeric : {"orbit", "zoom", "pan", "time", "speed"})
             if (c.verb == numeric)
                 for (const auto& a : c.args) {

@@ -21,6 +21,11 @@
 //   FRAME speed X             playback speed, 0.1..4
 //   FRAME loop on|off         wrap at the end, or stop there
 //   FRAME variant NAME|INDEX|default  the KHR_materials_variants variant (as --variant), live
+//   FRAME adaptive on|off|reduced [TARGET_MS]  adaptive quality (viewer/adaptive_quality.hpp):
+//                             on: moving frames are cheaper; off: every frame at full quality;
+//                             reduced: every frame at the reduced level (full size), e.g. to
+//                             compare it. TARGET_MS (1..10000, default 100): the moving frames'
+//                             target time. Scripted runs start with it off.
 //   FRAME quit
 #include <filesystem>
 #include <string>

@@ -104,6 +104,7 @@ void Viewer::select_variant_live(int variant) {
     select_variant(scene_, variant);
     gpu_.refresh_materials();  // the renderer re-plans, probes re-capture, GI retraces (a new pose version)
     ref_.tracer.reset();       // the tracer reads the primitives' materials when it is made
+    ++view_generation_;
     ref_.built_mode = -1;
     char line[256];
     std::snprintf(line, sizeof line, "viewer: material variant %s (%.1f ms)",
@@ -116,6 +117,7 @@ void Viewer::reload_shaders() {
     std::vector<fs::path> changed = watcher_.poll();
     for (fs::path& f : effects_watcher_.poll()) changed.push_back(std::move(f));
     if (changed.empty()) return;
+    ++view_generation_;
     const auto t0 = Clock::now();
     const ShaderReload r = renderer_.reload_shaders(changed);
     // The viewer's own programs are rebuilt on next use: the reference tracer (which then
@@ -159,6 +161,46 @@ bool Viewer::progress_worked(std::string* pace) const {
     return false;
 }
 
+namespace {
+
+// Whether two cameras show the same view (the name aside).
+bool same_view(const Camera& a, const Camera& b) {
+    return a.world == b.world && a.orthographic == b.orthographic && a.yfov == b.yfov && a.aspect_ratio == b.aspect_ratio &&
+           a.znear == b.znear && a.zfar == b.zfar && a.xmag == b.xmag && a.ymag == b.ymag && a.aperture == b.aperture &&
+           a.focus_distance == b.focus_distance;
+}
+
+}  // namespace
+
+QualityState Viewer::choose_quality(const Camera& camera) {
+    // The view moves: the camera changed since the last frame (mouse, keys, the script, a scene
+    // camera), or the animation posed the scene again.
+    const bool moved = (have_last_camera_ && !same_view(camera, last_camera_)) || (shown_.valid && shown_.pose != pose_serial_);
+    last_camera_ = camera;
+    have_last_camera_ = true;
+    moved_ = moved;
+    QualityState q = adaptive_.update(moved, std::chrono::duration<double>(Clock::now() - start_).count());
+    if (force_reduced_) q = QualityState{QualityLevel::reduced, 1.0f, 0};
+    return q;
+}
+
+void Viewer::use_settings_for(const QualityState& q) {
+    const bool reduced = q.level != QualityLevel::full;
+    if (reduced == renderer_reduced_) return;
+    // Both were accepted by the renderer before (reduced_ lowers knobs within their ranges).
+    renderer_.set_settings(reduced ? reduced_ : settings_);
+    renderer_reduced_ = reduced;
+}
+
+bool Viewer::view_unchanged(const Camera& camera, int rw, int rh) const {
+    // Only with adaptive quality on (off: every frame renders, as before), and never while an
+    // effect still converges over frames (GI probes) or the reference refines against the raster.
+    if (!adaptive_.enabled() || !shown_.valid || progress_worked(nullptr)) return false;
+    return same_view(camera, shown_.camera) && rw == shown_.width && rh == shown_.height && quality_ == shown_.quality &&
+           o_.exposure_ev == shown_.exposure && pose_serial_ == shown_.pose && view_generation_ == shown_.generation &&
+           inspect_.name == shown_.inspect;
+}
+
 int Viewer::run() {
     GLFWwindow* window = ctx_.window();
     auto last = Clock::now();
@@ -167,6 +209,8 @@ int Viewer::run() {
     std::vector<double> whole_frames;
     std::vector<bool> converging_frames;  // whether the frame did work of a converging effect (GI probe rays)
     std::string pace;                     // the knob that paces that work
+    std::vector<bool> moving_frames;      // whether the view moved in the frame (adaptive quality's input)
+    std::map<std::string, int> level_frames;  // frames rendered at each quality level
     while (!glfwWindowShouldClose(window) && !quit_) {
         glfwPollEvents();
         int window_w = 0, window_h = 0;  // framebuffer pixels
@@ -188,22 +232,47 @@ int Viewer::run() {
         handle_input(std::min(dt, 0.1f));
         update_pose();
         const Camera camera = controller_.camera();
-        renderer_.render(camera, w, h, FrameOutput::display, o_.exposure_ev);
-        renderer_.resolve_gpu_times();
-        converging_frames.push_back(progress_worked(&pace));
+        const bool last_frame = o_.frames > 0 && frame + 1 >= o_.frames;
+        if (last_frame && !o_.screenshot.empty()) pending_screenshots_.push_back(o_.screenshot);
+        const QualityState previous = quality_;
+        quality_ = choose_quality(camera);
+        if (!(quality_ == previous)) {
+            char line[160], last[48] = "";
+            if (last_render_frame_ms_ >= 0.0) std::snprintf(last, sizeof last, "last frame %.1f ms, ", last_render_frame_ms_);
+            std::snprintf(line, sizeof line, "viewer: frame %d: quality %s, scale %.2f (%starget %.0f ms)", frame,
+                          quality_level_name(quality_.level), quality_.scale, last, adaptive_.target_ms());
+            log::info(line);
+        }
+        // The render size: the scene's, or a fraction of it upscaled below (the same aspect:
+        // a camera that takes the image's aspect gets the scene's exactly).
+        const int rw = std::max(1, static_cast<int>(std::lround(static_cast<float>(w) * quality_.scale)));
+        const int rh = std::max(1, static_cast<int>(std::lround(static_cast<float>(h) * quality_.scale)));
+        Camera render_camera = camera;
+        if (quality_.scale != 1.0f && render_camera.aspect_ratio <= 0.0f) render_camera.aspect_ratio = static_cast<float>(w) / static_cast<float>(h);
+        const bool rendered = !view_unchanged(camera, rw, rh);
+        if (rendered) {
+            use_settings_for(quality_);
+            renderer_.render(render_camera, rw, rh, FrameOutput::display, o_.exposure_ev);
+            renderer_.resolve_gpu_times();
+            shown_ = Shown{true, camera, rw, rh, quality_, o_.exposure_ev, pose_serial_, view_generation_, inspect_.name};
+            render_w_ = rw;
+            render_h_ = rh;
+        }
+        converging_frames.push_back(rendered && progress_worked(&pace));
         log_progress(frame);
-        update_reference(camera, w, h);
+        update_reference(render_camera, render_w_, render_h_);
         // The panel is opaque, but the strip under it must not show stale frames either.
         const GLfloat backdrop[4] = {0.08f, 0.08f, 0.09f, 1.0f};
         glClearNamedFramebufferfv(0, GL_COLOR, 0, backdrop);
         glNamedFramebufferTexture(blit_.id(), GL_COLOR_ATTACHMENT0, renderer_.display().id(), 0);
-        glBlitNamedFramebuffer(blit_.id(), 0, 0, 0, w, h, 0, 0, w, h, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+        const bool upscaled = render_w_ != w || render_h_ != h;
+        glBlitNamedFramebuffer(blit_.id(), 0, 0, 0, render_w_, render_h_, 0, 0, w, h, GL_COLOR_BUFFER_BIT, upscaled ? GL_LINEAR : GL_NEAREST);
         draw_reference(w, h);
         draw_inspected(w, h);
-        const bool last_frame = o_.frames > 0 && frame + 1 >= o_.frames;
-        if (last_frame && !o_.screenshot.empty()) pending_screenshots_.push_back(o_.screenshot);
         for (const fs::path& p : pending_screenshots_) {
-            write_display_rgba8(p, renderer_.read_display(), w, h);
+            // The image the frame rendered: at a reduced level (the view moving with adaptive
+            // quality on) it is the reduced one, at its own size; the log says which.
+            write_display_rgba8(p, renderer_.read_display(), render_w_, render_h_);
             // The display image cannot show a NaN: the log counts them in the radiance.
             const ImageF radiance = renderer_.read_radiance();
             size_t nonfinite = 0;
@@ -214,7 +283,9 @@ int Viewer::run() {
                 std::snprintf(t, sizeof t, " (animation %d at %.3f s)", anim_.animation, anim_.time);
                 pose = t;
             }
-            log::info("viewer: wrote " + p.string() + pose + ", " + std::to_string(nonfinite) + " non-finite radiance values");
+            char quality[96];
+            std::snprintf(quality, sizeof quality, " at quality %s (%dx%d)", quality_level_name(shown_.quality.level), render_w_, render_h_);
+            log::info("viewer: wrote " + p.string() + pose + quality + ", " + std::to_string(nonfinite) + " non-finite radiance values");
         }
         pending_screenshots_.clear();
         if (show_ui_) draw_ui(ms_since(t0));
@@ -226,6 +297,12 @@ int Viewer::run() {
         }
         ctx_.swap_buffers();
         whole_frames.push_back(ms_since(t0));
+        if (rendered) {
+            ++level_frames[quality_level_name(quality_.level)];
+            last_render_frame_ms_ = whole_frames.back();
+            adaptive_.measured(last_render_frame_ms_);
+        }
+        moving_frames.push_back(moved_);
         ++frame;
         if (last_frame) break;
     }
@@ -236,6 +313,21 @@ int Viewer::run() {
         log::info("viewer: " + std::to_string(frame) + " frames; median frame (render, UI, swap; after the first) " +
                   std::to_string(steady[steady.size() / 2]).substr(0, 6) + " ms; scene " + std::to_string(w) + "x" + std::to_string(h) +
                   (show_ui_ ? " left of the panel" : ", panel hidden"));
+        // The frames in which the view moved: what adaptive quality is for (on or off).
+        std::vector<double> moving;
+        for (size_t i = 1; i < whole_frames.size(); ++i)
+            if (moving_frames[i]) moving.push_back(whole_frames[i]);
+        std::string levels;
+        for (const auto& [name, count] : level_frames) levels += (levels.empty() ? "" : ", ") + name + " " + std::to_string(count);
+        if (!moving.empty()) {
+            std::sort(moving.begin(), moving.end());
+            const double m = moving[moving.size() / 2];
+            char line[256];
+            std::snprintf(line, sizeof line, "viewer: %zu frames with the view moving: median frame %.1f ms (%.2f fps); adaptive quality %s, target %.0f ms",
+                          moving.size(), m, m > 0.0 ? 1000.0 / m : 0.0, adaptive_.enabled() ? "on" : "off", adaptive_.target_ms());
+            log::info(line);
+        }
+        log::info("viewer: frames rendered by quality level: " + (levels.empty() ? std::string("none") : levels));
         // The frames that did converging work (GI probe updates) against the others: the cost of
         // the knob that paces it (gi.budget).
         std::vector<double> with, without;

@@ -33,6 +33,13 @@ void Viewer::run_script(int frame) {
             else if (c.verb == "screenshot") pending_screenshots_.push_back(c.args[0]);
             else if (c.verb == "quit") quit_ = true;
             else if (c.verb == "variant") select_variant_live(find_variant(scene_, c.args[0]));
+            else if (c.verb == "adaptive") {
+                adaptive_.set_enabled(c.args[0] != "off");
+                force_reduced_ = c.args[0] == "reduced";
+                if (c.args.size() > 1) adaptive_.set_target_ms(num(1));
+                log::info("viewer: frame " + std::to_string(frame) + ": adaptive quality " + c.args[0] + ", target " +
+                          std::to_string(static_cast<int>(adaptive_.target_ms())) + " ms; reduced: " + join_reductions());
+            }
             else if (c.verb == "animation" || c.verb == "time" || c.verb == "play" || c.verb == "pause" || c.verb == "speed" ||
                      c.verb == "loop") {
                 if (c.verb == "animation") {

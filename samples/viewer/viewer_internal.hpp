@@ -25,6 +25,7 @@
 #include <utility>
 #include <vector>
 
+#include "adaptive_quality.hpp"
 #include "camera_controller.hpp"
 #include "effect_status.hpp"
 #include "playback.hpp"
@@ -100,6 +101,10 @@ public:
         ImGui_ImplGlfw_InitForOpenGL(ctx.window(), true);
         ImGui_ImplOpenGL3_Init("#version 450 core");
         blit_ = gl::Framebuffer::create();
+        reduced_ = reduced_settings(settings_);
+        // Scripted runs replay the same images on any machine: adaptive quality starts off
+        // there (the script's `adaptive on` turns it on).
+        adaptive_.set_enabled(script_.empty());
         log::info(std::string("viewer: watching ") + shaders_.root().string() + " and " + (shaders_.effects_root() / "effects").string() +
                   (watcher_.uses_inotify() ? " (inotify)" : " (polling)"));
     }
@@ -121,11 +126,27 @@ private:
         try {
             renderer_.set_settings(s);
             settings_ = s;
+            reduced_ = reduced_settings(settings_);
+            renderer_reduced_ = false;
+            ++view_generation_;
             settings_error_.clear();
         } catch (const Error& e) {
             settings_error_ = e.what();
             log::warn(settings_error_);
         }
+    }
+    // Adaptive quality (adaptive_quality.hpp): the state this frame renders at, the renderer's
+    // settings switched between the user's and the reduced ones, and whether the frame needs
+    // rendering at all (a still view already shown at full quality is not rendered again).
+    QualityState choose_quality(const Camera& camera);
+    void use_settings_for(const QualityState& q);
+    bool view_unchanged(const Camera& camera, int rw, int rh) const;
+    void adaptive_ui();
+    // reductions(settings_) as "knob=value knob=value", for the log and the panel.
+    std::string join_reductions() const {
+        std::string out;
+        for (const std::string& a : reductions(settings_)) out += (out.empty() ? "" : " ") + a;
+        return out.empty() ? "nothing to lower" : out;
     }
     // The panel's width this frame (window coordinates): what the user left it at, narrowed so
     // that a narrow window keeps kMinSceneWidth for the scene.
@@ -215,6 +236,30 @@ private:
     ShutterInterval shutter_{};
     std::uint64_t pose_serial_ = 0;
     std::vector<double> pose_ms_;  // CPU pose + GPU upload + motion, per pose (the log's median)
+
+    // Adaptive quality. The renderer holds reduced_ (the user's settings_ made cheaper) while
+    // the view moves. What the last rendered frame showed decides whether a frame renders again.
+    AdaptiveQuality adaptive_;
+    QualityState quality_;          // this frame's
+    bool force_reduced_ = false;    // the script's `adaptive reduced`: every frame at the reduced level
+    RenderSettings reduced_;
+    bool renderer_reduced_ = false;
+    std::uint64_t view_generation_ = 0;  // settings, shaders, variants: anything else a frame shows
+    Clock::time_point start_ = Clock::now();
+    struct Shown {
+        bool valid = false;
+        Camera camera;
+        int width = 0, height = 0;
+        QualityState quality;
+        float exposure = 0.0f;
+        std::uint64_t pose = 0, generation = 0;
+        std::string inspect;
+    } shown_;
+    Camera last_camera_;
+    bool have_last_camera_ = false;
+    bool moved_ = false;  // this frame's input to adaptive_
+    int render_w_ = 0, render_h_ = 0;  // the last rendered frame's size (scaled: less than the scene's)
+    double last_render_frame_ms_ = -1.0;
 };
 
 }  // namespace candela::viewer

@@ -139,6 +139,27 @@ void Viewer::variant_ui() {
     }
 }
 
+void Viewer::adaptive_ui() {
+    bool on = adaptive_.enabled();
+    if (ImGui::Checkbox("adaptive quality", &on)) {
+        adaptive_.set_enabled(on);
+        force_reduced_ = false;
+    }
+    if (ImGui::IsItemHovered())
+        ImGui::SetTooltip("while the view moves, render cheaper frames (lower effect rates, then a smaller size, upscaled);\n"
+                          "when it has been still for %.2f s, one full-quality frame, shown until the view changes",
+                          adaptive_.params().still_seconds);
+    float target = static_cast<float>(adaptive_.target_ms());
+    if (ImGui::SliderFloat("target ms", &target, 10.0f, 1000.0f, "%.0f ms", ImGuiSliderFlags_Logarithmic)) adaptive_.set_target_ms(target);
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("a moving frame should take at most this long (100 ms: 10 fps)");
+    const int w = std::max(render_w_, 1), h = std::max(render_h_, 1);
+    ImGui::Text("level %s%s, scale %.2f (%dx%d)", quality_level_name(quality_.level), force_reduced_ ? " (forced)" : "", quality_.scale, w, h);
+    if (last_render_frame_ms_ >= 0.0)
+        ImGui::Text("last rendered frame %.1f ms (%.1f fps), target %.0f ms", last_render_frame_ms_, 1000.0 / std::max(last_render_frame_ms_, 1e-3),
+                    adaptive_.target_ms());
+    wrapped_disabled("while moving: " + join_reductions());
+}
+
 void Viewer::draw_ui(double frame_ms) {
     // Docked: pinned to the right edge at full height, opaque (the scene is not behind it), and
     // resizable only by its left edge; the new width moves the scene's edge on the next frame.
@@ -177,6 +198,7 @@ void Viewer::draw_ui(double frame_ms) {
     }
     if (!status_.empty()) wrapped_disabled(status_);
 
+    if (ImGui::CollapsingHeader("Adaptive quality", ImGuiTreeNodeFlags_DefaultOpen)) adaptive_ui();
     if (ImGui::CollapsingHeader("Camera")) {
         if (ImGui::Button("Frame scene (F)")) controller_.frame(bounds_);
         for (size_t i = 0; i < scene_.cameras.size(); ++i) {
