@@ -145,8 +145,10 @@ int bench_accuracy(const Args& args) {
     return run_accuracy(o);
 }
 
-// `candela bench frame SCENE`: the variants (--effects values, or --path values) rendered
-// interleaved, frame by frame.
+constexpr const char* kSpeedOfLight = "speed-of-light";
+
+// `candela bench frame SCENE`: the variants (--effects values, or --path values) and the
+// speed-of-light frame rendered interleaved, frame by frame.
 int bench_frame(const Args& args) {
     std::vector<std::string> with_value = kSceneSetupOptions;
     with_value.push_back("--json");
@@ -181,6 +183,16 @@ int bench_frame(const Args& args) {
         apply_knobs(options[v].settings, p.all("--set"));
         loops.push_back(std::make_unique<FrameLoop>(s.scene, shaders, options[v]));
     }
+    // The speed-of-light frame: the cheapest correct image of the same scene at the same size, a
+    // depth prepass and one forward pass with the scene's own lights, no effect (so no shadows).
+    // Every variant's time is also printed as a ratio to it: ratios carry from one machine to
+    // another where absolute times do not.
+    variants.push_back(kSpeedOfLight);
+    options.push_back(s.options);
+    apply_effects(options.back().settings, "none");
+    apply_knob(options.back().settings, "render.path=forward");
+    apply_knob(options.back().settings, "forward.depth_prepass=1");
+    loops.push_back(std::make_unique<FrameLoop>(s.scene, shaders, options.back()));
     for (auto& loop : loops) loop->warmup(s.options.warmup);
     for (int f = 0; f < s.options.frames; ++f)
         for (auto& loop : loops) loop->measure_frame();
@@ -190,16 +202,21 @@ int bench_frame(const Args& args) {
                 ctx.context->device_string().c_str(), to_string(ctx.context->backend()), p.positional[0].c_str(),
                 s.options.width, s.options.height, s.options.frames, s.options.warmup);
     nlohmann::json all = nlohmann::json::array();
+    const double light_ms = results.back().median_frame_ms();
     for (size_t v = 0; v < variants.size(); ++v) {
         const auto [q1, q3] = quartiles(results[v].frame_ms);
-        std::printf("effects=%-12s frame median %8.2f ms  IQR [%.2f, %.2f]  graph %.3f ms  passes:", variants[v].c_str(),
-                    results[v].median_frame_ms(), q1, q3, results[v].report.graph_ms);
+        const std::string label = variants[v] == kSpeedOfLight ? variants[v] : "effects=" + variants[v];
+        std::printf("%-20s frame median %8.2f ms  IQR [%.2f, %.2f]  x%.2f speed of light  graph %.3f ms  passes:", label.c_str(),
+                    results[v].median_frame_ms(), q1, q3, results[v].median_frame_ms() / light_ms, results[v].report.graph_ms);
         for (const auto& ps : results[v].report.passes) std::printf(" %s %.2f", ps.name.c_str(), ps.gpu_ms);
         std::printf(" (GPU ms, median)\n");
-        all.push_back(stats_json({ctx.context->device_string(), to_string(ctx.context->backend()), p.positional[0]},
-                                 options[v], results[v]));
+        nlohmann::json j = stats_json({ctx.context->device_string(), to_string(ctx.context->backend()), p.positional[0]},
+                                      options[v], results[v]);
+        j["variant"] = variants[v];
+        j["speed_of_light_ratio"] = results[v].median_frame_ms() / light_ms;
+        all.push_back(std::move(j));
     }
-    if (variants.size() >= 2)
+    if (variants.size() >= 3)  // two measured variants and the speed-of-light frame
         std::printf("ratio %s / %s = %.3f\n", variants[0].c_str(), variants[1].c_str(),
                     results[0].median_frame_ms() / results[1].median_frame_ms());
     if (p.has("--json")) write_json(p.get("--json"), all);

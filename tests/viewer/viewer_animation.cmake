@@ -35,7 +35,7 @@ foreach(line
     message(FATAL_ERROR "the log does not say: ${line}")
   endif()
 endforeach()
-string(REGEX MATCHALL "wrote anim_[a-z0-9_]+\\.png \\(animation 1 at [0-9.]+ s\\), 0 non-finite radiance values" clean "${err}")
+string(REGEX MATCHALL "wrote anim_[a-z0-9_]+\\.png \\(animation 1 at [0-9.]+ s\\)[^\n]*, 0 non-finite radiance values" clean "${err}")
 list(LENGTH clean n_clean)
 if(NOT n_clean EQUAL 7)
   message(FATAL_ERROR "expected 7 screenshots of animation 1 with 0 non-finite radiance values, the log has ${n_clean}")
