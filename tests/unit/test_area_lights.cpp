@@ -90,6 +90,38 @@ protected:
 
 // Unshadowed polygon light on a smooth and a rough floor, metal (the specular LTC alone) and
 // dielectric (diffuse and specular): the raster agrees with the tracer per pixel.
+// Two coplanar triangles of one emitter with the same radiance are integrated as one convex quad
+// (the quad light test below then checks the quad's shading against the tracer); a folded pair
+// stays two triangles.
+TEST_P(AreaLightTest, CoplanarTrianglePairsBecomeOneQuad) {
+    {
+        const Scene scene = floor_under_quad("merge_quad", glm::vec3(0.5f), 0.0f, 1.0f, 4.0f);
+        GpuScene gpu(scene);
+        const std::vector<PolygonLightGpu> polys = polygon_lights(scene, gpu, 4);
+        ASSERT_EQ(polys.size(), 1u);
+        EXPECT_EQ(polys[0].corners, 4.0f);
+        // The quad's area (two triangles fanned from p0) is the light's 0.6 x 0.6.
+        const PolygonLightGpu& q = polys[0];
+        const float area = 0.5f * glm::length(glm::cross(q.p1 - q.p0, q.p2 - q.p0)) + 0.5f * glm::length(glm::cross(q.p2 - q.p0, q.p3 - q.p0));
+        EXPECT_NEAR(area, 0.36f, 1e-5f);
+        // Convex, wound one way: every corner turns the same way as the first.
+        const glm::vec3 c[4] = {q.p0, q.p1, q.p2, q.p3};
+        const glm::vec3 n = glm::cross(c[1] - c[0], c[2] - c[1]);
+        for (int k = 0; k < 4; ++k) EXPECT_GT(glm::dot(glm::cross(c[(k + 1) % 4] - c[k], c[(k + 2) % 4] - c[(k + 1) % 4]), n), 0.0f);
+    }
+    {
+        test::GltfBuilder b;
+        b.json()["materials"] = {emitter(2.0f)};
+        const std::vector<glm::vec3> p = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0.5f}};  // the fourth corner lifted
+        b.add_node({{"mesh", b.add_mesh({{"POSITION", b.add_positions(p)}}, b.add_indices({0, 1, 2, 0, 2, 3}), 0)}});
+        const Scene scene = load_gltf(b.write(test::test_dir("merge_folded"), "merge_folded"));
+        GpuScene gpu(scene);
+        const std::vector<PolygonLightGpu> polys = polygon_lights(scene, gpu, 4);
+        ASSERT_EQ(polys.size(), 2u);
+        for (const PolygonLightGpu& t : polys) EXPECT_EQ(t.corners, 3.0f);
+    }
+}
+
 TEST_P(AreaLightTest, QuadLightOnSmoothAndRoughFloorsMatchesTheTracer) {
     struct Case {
         const char* name;

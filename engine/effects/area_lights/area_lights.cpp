@@ -1,7 +1,11 @@
 #include "effects/area_lights/area_lights.hpp"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstring>
 #include <map>
+#include <unordered_map>
 
 #include "effects/area_lights/area_lights_data.h"
 #include "effects/area_lights/area_lights_sweep.hpp"
@@ -46,6 +50,81 @@ glm::vec3 emissive_texture_average(const Scene& scene, const Material& m, const 
             }
     return sum / static_cast<float>(count);
 }
+
+// Two triangles of one emitter that share an edge (walked in opposite directions), lie in one
+// plane, have the same radiance and together form a convex quad are one polygon to the LTC
+// integral: the integral over the union is the sum of the two integrals, and the quad has four
+// edges where the pair had six (and one horizon edge where they had two). `shared` is the corner
+// of A that starts the shared edge, `b_third` B's corner off it. False when the pair does not
+// qualify; else `out` is the quad in A's winding order.
+bool merge_into_quad(const PolygonLightGpu& A, const PolygonLightGpu& B, int shared, int b_third, PolygonLightGpu& out) {
+    const glm::vec3 a[3] = {A.p0, A.p1, A.p2}, b[3] = {B.p0, B.p1, B.p2};
+    for (int c = 0; c < 3; ++c)
+        if (std::abs(A.radiance[c] - B.radiance[c]) > 1e-4f * std::max(A.radiance[c], B.radiance[c])) return false;
+    // A = (x, y, z) with the shared edge x -> y; B = (y, x, w): the union is x, w, y, z.
+    const glm::vec3 x = a[shared], y = a[(shared + 1) % 3], z = a[(shared + 2) % 3], w = b[b_third];
+    const glm::vec3 n = glm::cross(y - x, z - x);
+    const float n_len = glm::length(n);
+    const float scale = std::max({glm::length(y - x), glm::length(z - x), glm::length(w - x)});
+    if (!(n_len > 0.0f) || !(scale > 0.0f)) return false;
+    if (std::abs(glm::dot(n / n_len, w - x)) > 1e-5f * scale) return false;  // not coplanar
+    const glm::vec3 q[4] = {x, w, y, z};
+    for (int k = 0; k < 4; ++k)  // convex: every corner turns the way of the normal
+        if (!(glm::dot(glm::cross(q[(k + 1) % 4] - q[k], q[(k + 2) % 4] - q[(k + 1) % 4]), n) > 1e-12f * n_len * scale)) return false;
+    out = A;
+    out.p0 = x;
+    out.p1 = w;
+    out.p2 = y;
+    out.p3 = z;
+    out.corners = 4.0f;
+    return true;
+}
+
+// Pairs of one emitter's triangles merged into quads where merge_into_quad allows; the others stay.
+std::vector<PolygonLightGpu> merge_coplanar_pairs(const std::vector<PolygonLightGpu>& tris) {
+    // Directed edge (from, to), by the bits of its corners' coordinates -> triangle index.
+    using Key = std::array<std::uint32_t, 6>;
+    struct KeyHash {
+        size_t operator()(const Key& k) const {
+            size_t h = 1469598103934665603ull;
+            for (std::uint32_t v : k) h = (h ^ v) * 1099511628211ull;
+            return h;
+        }
+    };
+    const auto key = [](const glm::vec3& from, const glm::vec3& to) {
+        Key k;
+        std::memcpy(k.data(), &from, sizeof from);
+        std::memcpy(k.data() + 3, &to, sizeof to);
+        return k;
+    };
+    std::unordered_map<Key, size_t, KeyHash> open_edges;
+    std::vector<bool> used(tris.size(), false);
+    std::vector<PolygonLightGpu> out;
+    for (size_t i = 0; i < tris.size(); ++i) {
+        const glm::vec3 a[3] = {tris[i].p0, tris[i].p1, tris[i].p2};
+        bool merged = false;
+        for (int e = 0; e < 3 && !merged; ++e) {
+            const auto it = open_edges.find(key(a[(e + 1) % 3], a[e]));  // the same edge, the other way
+            if (it == open_edges.end() || used[it->second]) continue;
+            const PolygonLightGpu& other = tris[it->second];
+            const glm::vec3 b[3] = {other.p0, other.p1, other.p2};
+            int third = 0;
+            while (third < 3 && (b[third] == a[e] || b[third] == a[(e + 1) % 3])) ++third;
+            PolygonLightGpu quad{};
+            if (third < 3 && merge_into_quad(tris[i], other, e, third, quad)) {
+                used[it->second] = used[i] = true;
+                out.push_back(quad);
+                merged = true;
+            }
+        }
+        if (!merged)
+            for (int e = 0; e < 3; ++e) open_edges.emplace(key(a[e], a[(e + 1) % 3]), i);
+    }
+    for (size_t i = 0; i < tris.size(); ++i)
+        if (!used[i]) out.push_back(tris[i]);
+    return out;
+}
+
 
 // The most emissive triangles shaded as LTC polygons; more: the pieces shade (see prepare).
 constexpr int kMaxPolygons = 64;
@@ -173,6 +252,7 @@ std::vector<PolygonLightGpu> polygon_lights(const Scene& scene, const GpuScene& 
         const Node& node = scene.nodes[static_cast<size_t>(d.node)];
         const Primitive& prim = scene.meshes[static_cast<size_t>(node.mesh)].primitives[static_cast<size_t>(d.primitive)];
         const Material& m = scene.material(prim.material);
+        std::vector<PolygonLightGpu> tris;
         for (size_t t = 0; t < prim.triangle_count(); ++t) {
             glm::vec3 p[3];
             for (int c = 0; c < 3; ++c)
@@ -190,8 +270,11 @@ std::vector<PolygonLightGpu> polygon_lights(const Scene& scene, const GpuScene& 
             g.p2 = p[2];
             g.piece_count = static_cast<float>(range.second);
             g.radiance = radiance;
-            out.push_back(g);
+            g.corners = 3.0f;
+            g.p3 = p[0];
+            tris.push_back(g);
         }
+        for (const PolygonLightGpu& g : merge_coplanar_pairs(tris)) out.push_back(g);
     }
     return out;
 }

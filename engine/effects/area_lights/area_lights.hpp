@@ -39,9 +39,10 @@ std::vector<AreaPiece> area_light_pieces(const Scene& scene, const GpuScene& gpu
 struct Scene;
 class GpuScene;
 
-// One emissive triangle as the lighting passes read it (area_lights_data.h).
+// One emissive triangle, or a quad of two coplanar ones, as the lighting passes read it (area_lights_data.h).
 using PolygonLightGpu = gpu::PolygonLight;
-// The polygon lights of the scene's emissive primitives, grouped by emitter in the light
+// The polygon lights of the scene's emissive primitives (pairs of coplanar triangles of equal
+// radiance merged into convex quads), grouped by emitter in the light
 // buffer's piece order (GpuScene::update_lights with `samples` pieces per primitive).
 std::vector<PolygonLightGpu> polygon_lights(const Scene& scene, const GpuScene& gpu, int samples);
 

@@ -3,7 +3,7 @@
 #define CANDELA_AREA_LIGHTS_DATA_H
 #include "gpu/gpu_block.h"
 #define AREA_LIGHTS_BINDING 5
-#define AREA_POLYGONS_BINDING 7   // SSBO: one PolygonLight per emissive triangle
+#define AREA_POLYGONS_BINDING 7   // SSBO: one PolygonLight per emissive triangle or merged quad
 #define LTC_MATRIX_UNIT 19        // RGBA32F: M^-1 entries, engine/effects/area_lights/ltc.hpp
 #define LTC_AMPLITUDE_UNIT 20     // RG32F: (norm, fresnel)
 
@@ -16,18 +16,21 @@ GPU_BLOCK(AreaLightsData, AREA_LIGHTS_BINDING) {
 } GPU_BLOCK_INSTANCE(area_lights);
 GPU_BLOCK_CHECK(AreaLightsData, 16)
 
-// One emissive triangle as the lighting reads it, the element of the AREA_POLYGONS_BINDING buffer.
+// One emissive triangle, or a convex quad of two coplanar triangles of the same radiance, as the
+// lighting reads it: the element of the AREA_POLYGONS_BINDING buffer.
 GPU_STRUCT(PolygonLight) {
-    vec3 p0;             // world positions of the corners
+    vec3 p0;             // world positions of the corners, in winding order
     float double_sided;  // 1 if the emitter is double-sided
     vec3 p1;
     float first_piece;   // the index of its emitter's first piece in the light buffer
     vec3 p2;
     float piece_count;   // its emitter's piece count
-    vec3 radiance;       // emitted radiance (an emissive texture averaged over the triangle)
+    vec3 radiance;       // emitted radiance (an emissive texture averaged over the polygon)
+    float corners;       // 3 or 4 (p3 is used)
+    vec3 p3;
     float pad0;
 };
-GPU_STRUCT_CHECK(PolygonLight, 64)
+GPU_STRUCT_CHECK(PolygonLight, 80)
 GPU_NAMESPACE_END
 
 #endif

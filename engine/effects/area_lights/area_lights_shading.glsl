@@ -29,7 +29,7 @@ vec3 ltc_edge_vector(vec3 a, vec3 b) {
 }
 
 // The polygon's vector form factor in its frame: sum over the edges (a, b) of the polygon spanned
-// by L0..L2 (any lengths), clipped to z >= 0, of theta * normalize(a x b) / (2 pi). Its z is the
+// by L0..L2 or L0..L3 (any lengths), clipped to z >= 0, of theta * normalize(a x b) / (2 pi). Its z is the
 // integral of the normalised clamped cosine (z / pi) over the polygon (Lambert's formula), signed
 // by the winding; its direction is the cosine-weighted mean direction of the light.
 // The clipped polygon is walked edge by edge without storing it: each edge keeps its part above
@@ -53,13 +53,17 @@ void ltc_clipped_edge(vec3 a, vec3 b, inout vec3 sum, inout vec3 exit_point, ino
     }
 }
 
-vec3 ltc_polygon_vector(vec3 L0, vec3 L1, vec3 L2) {
-    if (L0.z < 0.0 && L1.z < 0.0 && L2.z < 0.0) return vec3(0.0);
+// A triangle (quad false) or a convex quad L0..L3: a convex polygon too crosses the horizon at
+// most once each way.
+vec3 ltc_polygon_vector(vec3 L0, vec3 L1, vec3 L2, vec3 L3, bool quad) {
+    vec3 last = quad ? L3 : L2;
+    if (L0.z < 0.0 && L1.z < 0.0 && L2.z < 0.0 && last.z < 0.0) return vec3(0.0);
     vec3 sum = vec3(0.0), exit_point = vec3(0.0), entry_point = vec3(0.0);
     ltc_clipped_edge(L0, L1, sum, exit_point, entry_point);
     ltc_clipped_edge(L1, L2, sum, exit_point, entry_point);
-    ltc_clipped_edge(L2, L0, sum, exit_point, entry_point);
-    if (L0.z < 0.0 || L1.z < 0.0 || L2.z < 0.0) sum += ltc_edge_vector(exit_point, entry_point);
+    if (quad) ltc_clipped_edge(L2, L3, sum, exit_point, entry_point);
+    ltc_clipped_edge(last, L0, sum, exit_point, entry_point);
+    if (L0.z < 0.0 || L1.z < 0.0 || L2.z < 0.0 || last.z < 0.0) sum += ltc_edge_vector(exit_point, entry_point);
     return sum / (2.0 * PI);
 }
 
@@ -143,13 +147,14 @@ vec3 shade_area_lights(BrdfInput bi, vec3 p, vec3 n, vec3 v, vec2 pixel, float t
             group_sum = vec3(0.0);
         }
         PolygonLight pl = polygon_lights[i];
-        vec3 a = pl.p0 - p, b = pl.p1 - p, c = pl.p2 - p;
+        vec3 a = pl.p0 - p, b = pl.p1 - p, c = pl.p2 - p, d = pl.p3 - p;
+        bool quad = pl.corners > 3.5;
         // One-sided: only the side the winding's normal points to emits.
         float facing = dot(cross(b - a, c - a), -a);
         if (pl.double_sided < 0.5 && facing <= 0.0) continue;
-        vec3 form = ltc_polygon_vector(to_local * a, to_local * b, to_local * c);
+        vec3 form = ltc_polygon_vector(to_local * a, to_local * b, to_local * c, to_local * d, quad);
         float diffuse = abs(form.z);
-        vec3 spec_form = ltc_polygon_vector(m_inv * a, m_inv * b, m_inv * c);
+        vec3 spec_form = ltc_polygon_vector(m_inv * a, m_inv * b, m_inv * c, m_inv * d, quad);
         float specular = abs(spec_form.z) * amplitude.x;  // times the lobe's albedo (F = 1)
         // Schlick's Fresnel at the light's mean direction within the lobe (the vector form factor
         // taken back through M), not the lobe's average: a small light sees one F.
