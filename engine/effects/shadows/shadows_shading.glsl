@@ -37,12 +37,8 @@ int shadow_view_index(LightData light, vec3 p) {
 // Interleaved gradient noise (Jimenez 2014): a per-pixel rotation of the tap pattern.
 float shadow_noise(vec2 pixel) { return fract(52.9829189 * fract(dot(pixel, vec2(0.06711056, 0.00583715)))); }
 
-// Vogel (golden angle) disk: tap i of n, unit radius.
-vec2 vogel_disk(int i, int n, float phi) {
-    float r = sqrt((float(i) + 0.5) / float(n));
-    float theta = float(i) * 2.39996323 + phi;
-    return r * vec2(cos(theta), sin(theta));
-}
+// The PCSS taps lie on a Vogel (golden angle) disk: tap i of n at radius sqrt((i + 0.5) / n) and
+// angle i * 2.39996323 + phi, phi a per-pixel rotation.
 
 // Distance from the light plane (ortho) or point (perspective) of a stored depth.
 float shadow_linear_depth(ShadowView sv, float d) {
@@ -112,8 +108,13 @@ float shadow_factor(LightData light, vec3 p, vec3 n, vec3 l, vec2 pixel) {
     float blocker_sum = 0.0;
     int blockers = 0;
     float ref = ref0 + slope_per_texel * (search_texels + 1.0);
+    // The Vogel disk's angles step by the golden angle: each tap's direction is the last one
+    // turned by it (vogel_disk without a sine and cosine per tap).
+    const vec2 golden_turn = vec2(cos(2.39996323), sin(2.39996323));
+    vec2 dir = vec2(cos(phi), sin(phi));
     for (int i = 0; i < blocker_taps; ++i) {
-        vec2 o = vogel_disk(i, blocker_taps, phi) * search_texels * texel_uv;
+        vec2 o = sqrt((float(i) + 0.5) / float(blocker_taps)) * dir * search_texels * texel_uv;
+        dir = vec2(dir.x * golden_turn.x - dir.y * golden_turn.y, dir.y * golden_turn.x + dir.x * golden_turn.y);
         float d = textureLod(t_shadow_depth, vec3(uv + o, layer), 0.0).r;
         if (d > ref) {
             blocker_sum += shadow_linear_depth(sv, d);
@@ -128,8 +129,10 @@ float shadow_factor(LightData light, vec3 p, vec3 n, vec3 l, vec2 pixel) {
     ref = ref0 + slope_per_texel * (radius + 1.0);
     int taps = shadows.pcss_taps;
     float sum = 0.0;
+    dir = vec2(cos(phi), sin(phi));
     for (int i = 0; i < taps; ++i) {
-        vec2 o = vogel_disk(i, taps, phi) * radius * texel_uv;
+        vec2 o = sqrt((float(i) + 0.5) / float(taps)) * dir * radius * texel_uv;
+        dir = vec2(dir.x * golden_turn.x - dir.y * golden_turn.y, dir.y * golden_turn.x + dir.x * golden_turn.y);
         sum += texture(t_shadow, vec4(uv + o, layer, ref));
     }
     return sum / float(taps);
