@@ -40,11 +40,15 @@ void main() {
     vec3 origin = p + n * bias;
     vec2 fsize = vec2(size);
     int occluded = 0;
+    // Vogel disk points (radius sqrt((i + 0.5) / n), angle i times the golden angle): each
+    // direction is the last one turned by the golden angle, without a sine and cosine per sample.
+    const vec2 golden_turn = vec2(cos(2.39996323), sin(2.39996323));
+    vec2 turn = vec2(1.0, 0.0);
     for (int i = 0; i < samples; ++i) {
-        // Vogel disk point, rotated by the pixel's noise, lifted to a cosine-weighted direction.
+        // The disk point, rotated by the pixel's noise, lifted to a cosine-weighted direction.
         float r = sqrt((float(i) + 0.5) / float(samples));
-        float theta = float(i) * 2.39996323;
-        vec2 d2 = r * vec2(cos(theta), sin(theta));
+        vec2 d2 = r * turn;
+        turn = vec2(turn.x * golden_turn.x - turn.y * golden_turn.y, turn.y * golden_turn.x + turn.x * golden_turn.y);
         d2 = vec2(d2.x * noise.r - d2.y * noise.g, d2.x * noise.g + d2.y * noise.r);
         vec3 dir = d2.x * t + d2.y * b + sqrt(max(0.0, 1.0 - dot(d2, d2))) * n;
         for (int k = 0; k < steps; ++k) {
