@@ -38,7 +38,9 @@ struct AdaptiveParams {
     double still_seconds = 0.25;  // no movement for this long: the full-quality frame
     // The ladder's scales: the first is the reduced level at full size (1), the others the scaled
     // steps, decreasing. At least one entry; each in (0, 1].
-    std::vector<float> scales = {1.0f, 0.71f, 0.5f, 0.35f};
+    // The last, a quarter of each side, is what keeps full-screen scenes near 10 fps on a 2-core
+    // CPU rasteriser (docs/performance.md).
+    std::vector<float> scales = {1.0f, 0.71f, 0.5f, 0.35f, 0.25f};
     double up_margin = 0.75;  // step up when the step above is predicted under target * this
     int up_frames = 2;        // ... for this many frames in a row
 };
