@@ -80,7 +80,7 @@ const std::vector<Candidate>& ladder() {
     // scene does not call for never run, so a rung that switches them on costs nothing where they
     // are not needed. "default" is exactly the default settings.
     static const std::vector<Candidate> rungs = {
-        {"none", "none", {}},
+        {"no_effects", "none", {}},
         {"hard_shadows", "shadows,transparency", {"shadows.filter=hard", "shadows.resolution=512", "arealight.samples=1"}},
         {"lite", "shadows,transparency,reflections",
          {"shadows.filter=pcf", "shadows.pcf_size=3", "probe.resolution=64", "arealight.samples=2"}},
