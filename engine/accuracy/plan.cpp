@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <utility>
 
+#include "accuracy/error_budget.hpp"
 #include "core/error.hpp"
 #include "render/effect_registry.hpp"
 #include "render/features.hpp"
@@ -46,6 +47,27 @@ std::vector<AccuracySweep> make_sweeps(bool quick) {
         s.variants.push_back({"base BRDF only", "none", {"render.material_layers=0"}});
         s.shipped = "layers";
         s.needed = [](const Features& f) { return f.scene.material_layers.needed; };
+        sweeps.push_back(s);
+    }
+    if (!quick) {
+        // --error-budget's ladder (error_budget.hpp) as hand-picked knob sets, and the budget's
+        // choices for E = 0.01, 0.03 and 0.1 on this scene as points beside them ("budget:E" is
+        // resolved where the tracer can measure the view: run.cpp). Not in --quick: the ladder's
+        // GI rungs converge their probes before each frame, too slow for CI.
+        AccuracySweep s;
+        s.effect = "error_budget";
+        s.scene = "cornell_box.gltf";
+        s.reference = AccuracySweep::Reference{rt::Mode::path, 256};
+        s.reference->jitter = 1;  // the box-filtered pixel: the reference --error-budget is measured against
+        s.compared = "the candidates of `--error-budget`'s ladder (whole frames) and the budget's choice at E = 0.01, "
+                     "0.03, 0.1 vs `--raytrace path`";
+        s.reading = "The budget picks by a model's prediction of the block error (docs/error-budget.md), not by the "
+                    "RMSE shown here; a choice sits on or near the front when the model ranks the candidates as the "
+                    "measurement does.";
+        for (const budget::Candidate& c : budget::ladder()) s.variants.push_back({c.name, c.effects, c.knobs});
+        for (const char* e : {"0.01", "0.03", "0.1"}) s.variants.push_back({std::string("budget E=") + e, std::string("budget:") + e, {}});
+        s.shipped = "default";
+        s.needed = [](const Features&) { return true; };
         sweeps.push_back(s);
     }
     {

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <memory>
 
+#include "accuracy/error_budget_measure.hpp"
 #include "accuracy/metrics.hpp"
 #include "accuracy/plan.hpp"
 #include "core/error.hpp"
@@ -157,6 +158,23 @@ void raster_rows(const Run& c, const AccuracySweep& s, const Scene& scene, GpuSc
     }
 }
 
+// Variants whose --effects is "budget:E" stand for --error-budget E's choice on this scene and view
+// (error_budget.hpp): resolved here, where the tracer can measure the view's statistics. The
+// row's name says which candidate it became.
+void resolve_budget_variants(const Run& c, AccuracySweep& s, const Scene& scene) {
+    std::optional<budget::SceneStats> stats;
+    const float aspect = static_cast<float>(c.width) / static_cast<float>(c.height);
+    for (AccuracySweep::Variant& v : s.variants) {
+        if (v.effects.rfind("budget:", 0) != 0) continue;
+        if (!stats) stats = budget::scene_stats(scene, c.shaders, with_lens(scene.select_camera("", aspect), RenderSettings{}), aspect);
+        const budget::Choice choice = budget::choose(budget::predict(budget::builtin_model(), *stats), std::stod(v.effects.substr(7)));
+        const budget::Candidate& chosen = budget::ladder()[static_cast<size_t>(choice.predictions[static_cast<size_t>(choice.chosen)].candidate)];
+        v.name += " -> " + chosen.name + (choice.met ? "" : " (none predicted within E)");
+        v.effects = chosen.effects;
+        v.knobs = chosen.knobs;
+    }
+}
+
 }  // namespace
 
 void Progress::step(const std::string& what) {
@@ -261,6 +279,7 @@ Section run_job(const Run& c, const AccuracySweep& s, const std::string& job_sce
         }
         AccuracySweep t = s;
         t.scene = job_scene;
+        resolve_budget_variants(c, t, scene);
         raster_rows(c, t, scene, gpu, rows);
         for (size_t i = sec.first; i < rows.size(); ++i) {
             if (s.region == AccuracySweep::Region::edges) measure_edge_errors(rows[i], rows[i].image, ref);

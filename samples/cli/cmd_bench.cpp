@@ -18,6 +18,7 @@
 #include "core/error.hpp"
 #include "core/log.hpp"
 #include "options.hpp"
+#include "budget.hpp"
 #include "rt/rt_scene.hpp"
 #include "scene/animation.hpp"
 #include "render/stats.hpp"
@@ -152,8 +153,12 @@ constexpr const char* kSpeedOfLight = "speed-of-light";
 int bench_frame(const Args& args) {
     std::vector<std::string> with_value = kSceneSetupOptions;
     with_value.push_back("--json");
+    with_value.insert(with_value.end(), kBudgetOptions.begin(), kBudgetOptions.end());
     const Parsed p = parse(args, with_value, kSceneSetupFlags);
     if (p.positional.size() != 1) throw bad_input("bench frame needs exactly one SCENE");
+    // --error-budget E: the variants are the budget's choice and the default settings.
+    const std::optional<BudgetRequest> budget_req = budget_request(p);
+    if (budget_req && p.all("--path").size() > 1) throw bad_input("bench frame: --error-budget takes at most one --path");
     SceneSetup s = setup_scene(p, p.positional[0], 1280, 720);
     if (!p.has("--frames")) s.options.frames = 20;
     if (!p.has("--warmup")) s.options.warmup = 3;
@@ -175,8 +180,22 @@ int bench_frame(const Args& args) {
     const ShaderLibrary shaders(s.shader_dir);
     finish_lighting(s, shaders);
     std::vector<StillOptions> options(variants.size(), s.options);
+    if (budget_req) {
+        std::string text;
+        const budget::Choice choice = choose_for_scene(*budget_req, s.scene, shaders, s.options.camera, s.options.width,
+                                                       s.options.height, false, text);
+        std::printf("%s", text.c_str());
+        const std::string& name = budget::ladder()[static_cast<size_t>(choice.predictions[static_cast<size_t>(choice.chosen)].candidate)].name;
+        variants = {"budget:" + name, "all"};
+        options.assign(2, s.options);
+        options[0].settings = budget_settings(choice, p);
+    }
     std::vector<std::unique_ptr<FrameLoop>> loops;
     for (size_t v = 0; v < variants.size(); ++v) {
+        if (budget_req && v == 0) {  // the budget's settings, made above
+            loops.push_back(std::make_unique<FrameLoop>(s.scene, shaders, options[v]));
+            continue;
+        }
         const size_t space = variants[v].find(" --path ");
         apply_effects(options[v].settings, variants[v].substr(0, space));
         if (space != std::string::npos) apply_knob(options[v].settings, "render.path=" + variants[v].substr(space + 8));
@@ -205,7 +224,8 @@ int bench_frame(const Args& args) {
     const double light_ms = results.back().median_frame_ms();
     for (size_t v = 0; v < variants.size(); ++v) {
         const auto [q1, q3] = quartiles(results[v].frame_ms);
-        const std::string label = variants[v] == kSpeedOfLight ? variants[v] : "effects=" + variants[v];
+        const std::string label =
+            variants[v] == kSpeedOfLight || variants[v].rfind("budget:", 0) == 0 ? variants[v] : "effects=" + variants[v];
         std::printf("%-20s frame median %8.2f ms  IQR [%.2f, %.2f]  x%.2f speed of light  graph %.3f ms  passes:", label.c_str(),
                     results[v].median_frame_ms(), q1, q3, results[v].median_frame_ms() / light_ms, results[v].report.graph_ms);
         for (const auto& ps : results[v].report.passes) std::printf(" %s %.2f", ps.name.c_str(), ps.gpu_ms);
@@ -296,6 +316,7 @@ int cmd_bench(const Args& args) {
     if (which == "reload") return bench_reload(rest);
     if (which == "accuracy") return bench_accuracy(rest);
     if (which == "animation") return bench_animation(rest);
+    if (which == "error-budget") return bench_error_budget(rest);
     throw bad_input("bench needs a benchmark: 'candela bench frame SCENE' or 'candela bench rays SCENE...'");
 }
 

@@ -6,6 +6,7 @@
 
 #include "core/error.hpp"
 #include "options.hpp"
+#include "budget.hpp"
 #include "effects/reflections/reflections.hpp"
 #include "render/effect_registry.hpp"
 #include "platform/context.hpp"
@@ -18,7 +19,8 @@
 namespace candela::cli {
 
 int cmd_info(const Args& args) {
-    const Parsed p = parse(args, {"--effects", "--set", "--path", "--lighting", "--environment", "--camera", "--shader-dir", "--size", "--variant"},
+    const Parsed p = parse(args, {"--effects", "--set", "--path", "--lighting", "--environment", "--camera", "--shader-dir", "--size", "--variant",
+                                  "--error-budget", "--budget-model"},
                            {"--strict", "--knobs"});
     if (p.flags.count("--knobs")) {
         for (const KnobInfo& k : knob_infos())
@@ -26,6 +28,7 @@ int cmd_info(const Args& args) {
         return 0;
     }
     if (p.positional.size() != 1) throw bad_input("info needs exactly one SCENE");
+    const std::optional<BudgetRequest> budget_req = budget_request(p);
     RenderSettings settings;
     if (p.has("--effects")) apply_effects(settings, p.get("--effects"));
     if (p.has("--path")) apply_knob(settings, "render.path=" + p.get("--path"));
@@ -42,7 +45,7 @@ int cmd_info(const Args& args) {
     // estimates) and some effects plan with the device (Effect::plans_with_device): a headless
     // context when one can be had (without one, `info` says what is missing).
     ContextResult ctx;
-    if (lighting.check_view || planning_needs_gl(settings))
+    if (lighting.check_view || planning_needs_gl(settings) || budget_req)
         ctx = create_context(Backend::auto_select);
     std::optional<ShaderLibrary> shaders;
     if (ctx.context) shaders.emplace(shader_dir_option(p));
@@ -114,6 +117,15 @@ int cmd_info(const Args& args) {
                                             format_number("%.3g", scene.environment.radiance.b) + ")").c_str()
                                          : "none");
     if (lighting.check_view) std::printf("lighting check: none (no usable OpenGL: %s)\n", ctx.error.c_str());
+    // --error-budget: the candidates' predictions and the choice; what follows plans the chosen settings.
+    if (budget_req && shaders) {
+        std::string text;
+        const budget::Choice choice = choose_for_scene(*budget_req, scene, *shaders, camera_choice, width, height, true, text);
+        std::printf("%s", text.c_str());
+        settings = budget_settings(choice, p);
+    } else if (budget_req) {
+        std::printf("error budget: no choice (no usable OpenGL: %s; the statistics need the tracer)\n", ctx.error.c_str());
+    }
     ViewEstimates estimates;
     for (const Effect* e : effects_needing_view_estimate(settings)) {
         if (shaders) {

@@ -17,6 +17,8 @@
 #include "core/log.hpp"
 #include "image/image.hpp"
 #include "options.hpp"
+#include "budget.hpp"
+#include "accuracy/error_budget_measure.hpp"
 #include "render_job.hpp"
 #include "shards.hpp"
 #include "render/stats.hpp"
@@ -113,9 +115,17 @@ int run_render(const Args& args, BatchSession* batch) {
     std::vector<std::string> with_value = kSceneSetupOptions;
     with_value.insert(with_value.end(), {"-o", "--output", "--exposure", "--stats", "--raytrace", "--spp", "--max-depth",
                                          "--seed", "--spp-shard", "--time-limit", "--fps"});
+    with_value.insert(with_value.end(), kBudgetOptions.begin(), kBudgetOptions.end());
     std::vector<std::string> flags = kSceneSetupFlags;
-    flags.push_back("--timings");
+    flags.insert(flags.end(), {"--timings", "--verify"});
     const Parsed p = parse(args, with_value, flags);
+    // --error-budget E: bad input is found before any GL work.
+    const std::optional<BudgetRequest> budget_req = budget_request(p);
+    const bool verify = p.flags.count("--verify") > 0;
+    if (verify && !budget_req) throw bad_input("--verify goes with --error-budget E (it renders the path reference and prints the achieved error)");
+    if (budget_req && p.has("--raytrace")) throw bad_input("--error-budget chooses raster settings: it does not go with --raytrace");
+    if (budget_req && p.has("--time") && p.get("--time").find(':') != std::string::npos)
+        throw bad_input("--error-budget renders one still: it does not go with --time A:B");
     if (p.positional.size() != 1) throw bad_input("render needs exactly one SCENE (got " + std::to_string(p.positional.size()) + ")");
     std::string out = p.has("-o") ? p.get("-o") : p.has("--output") ? p.get("--output") : "";
     if (out.empty()) throw bad_input("render needs -o OUT.png or -o OUT.exr");
@@ -176,6 +186,15 @@ int run_render(const Args& args, BatchSession* batch) {
     s.options.programs = shared ? shared->cache.get() : nullptr;
     finish_lighting(s, shaders);
     const std::vector<float> times = frame_times(s, fps);
+    std::optional<budget::Choice> choice;
+    if (budget_req) {
+        std::string text;
+        choice = choose_for_scene(*budget_req, s.scene, shaders, s.options.camera, s.options.width, s.options.height, false, text);
+        if (!p.flags.count("--quiet")) std::fprintf(stderr, "%s", text.c_str());
+        const DebugView view = s.options.settings.debug.view;
+        s.options.settings = budget_settings(*choice, p);
+        s.options.settings.debug.view = view;
+    }
     if (p.has("--raytrace")) {
         for (size_t i = 0; i < times.size(); ++i) {
             if (i > 0) {
@@ -213,6 +232,20 @@ int run_render(const Args& args, BatchSession* batch) {
     if (display) write_display_rgba8(out_path, result.display, result.radiance.width, result.radiance.height);
     else write_image(out_path, result.radiance, exposure);
     const double write_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    if (verify) {
+        // The promise checked: the tracer's reference of this view, and the block error against it.
+        const int spp = p.has("--spp") ? parse_int("--spp", p.get("--spp"), 2, 1 << 24) : 256;
+        const std::uint32_t seed = p.has("--seed") ? static_cast<std::uint32_t>(parse_int("--seed", p.get("--seed"), 0, 2147483646)) : 1;
+        const float aspect = static_cast<float>(s.options.width) / static_cast<float>(s.options.height);
+        const Camera camera = with_lens(s.scene.select_camera(s.options.camera, aspect), s.options.settings);
+        const budget::Reference ref = budget::path_reference(s.scene, shaders, camera, s.options.width, s.options.height, spp, seed);
+        const double achieved = budget::block_error(result.radiance, ref.image);
+        const budget::Prediction& pred = choice->predictions[static_cast<size_t>(choice->chosen)];
+        std::printf("achieved error: %.4f (budget %.4g, predicted at most %.4f; against --raytrace path at %d spp, whose own noise "
+                    "moves it by about %.4f): %s\n",
+                    achieved, budget_req->budget, pred.error, ref.spp, ref.noise,
+                    achieved <= budget_req->budget ? "within the budget" : "above the budget");
+    }
     if (p.has("--stats")) {
         nlohmann::json j = stats_json({context.device_string(), to_string(context.backend()), p.positional[0]},
                                       s.options, result);
