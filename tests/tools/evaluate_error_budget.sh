@@ -9,28 +9,13 @@
 #                MODEL (a --budget-model JSON; default the built-in model)
 # Writes OUT/evaluation.md (the table of docs/error-budget.md) and prints it.
 set -euo pipefail
-root=$(cd "$(dirname "$0")/../.." && pwd)
-build=${1:-$root/build}
-candela=${CANDELA:-$build/bin/candela}
+source "$(dirname "$0")/error_budget_common.sh"
 seeds=${SEEDS:-32}
-spp=${SPP:-512}
-size=${SIZE:-160x120}
-jobs=${JOBS:-2}
-out=${OUT:-$build/error-budget}
-mkdir -p "$out"
 scenes=()
 for s in $(seq 1001 $((1000 + seeds))); do scenes+=("generated:random:$s"); done
 for f in "$root"/samples/scenes/*.gltf; do scenes+=("$f"); done
 if [ -z "${SKIP_MEASURE:-}" ]; then
-    pids=()
-    for j in $(seq 0 $((jobs - 1))); do
-        part=()
-        for i in "${!scenes[@]}"; do (( i % jobs == j )) && part+=("${scenes[$i]}"); done
-        rm -f "$out/eval.$j.csv"
-        "$candela" bench error-budget "${part[@]}" --csv "$out/eval.$j.csv" --size "$size" --spp "$spp" --quiet > "$out/eval.$j.log" 2>&1 &
-        pids+=($!)
-    done
-    for pid in "${pids[@]}"; do wait "$pid" || echo "evaluate_error_budget.sh: some scenes were not measured (see $out/eval.*.log)" >&2; done
+    measure_scenes eval "${scenes[@]}" || echo "evaluate_error_budget.sh: some scenes were not measured (see $out/eval.*.log)" >&2
 fi
 model=()
 [ -n "${MODEL:-}" ] && model=(--budget-model "$MODEL")

@@ -8,30 +8,12 @@
 #                JOBS (processes, default 2), OUT (measurements, default BUILD_DIR/error-budget)
 # The evaluation uses other seeds (tests/tools/evaluate_error_budget.sh): keep them apart.
 set -euo pipefail
-root=$(cd "$(dirname "$0")/../.." && pwd)
-build=${1:-$root/build}
-candela=${CANDELA:-$build/bin/candela}
+source "$(dirname "$0")/error_budget_common.sh"
 seeds=${SEEDS:-48}
-spp=${SPP:-512}
-size=${SIZE:-160x120}
-jobs=${JOBS:-2}
-out=${OUT:-$build/error-budget}
-mkdir -p "$out"
 scenes=()
 for s in $(seq 1 "$seeds"); do scenes+=("generated:random:$s"); done
 for f in "$root"/samples/scenes/*.gltf; do scenes+=("$f"); done
-# JOBS processes, each a share of the scenes into its own CSV (one GL context and program cache each).
-pids=()
-for j in $(seq 0 $((jobs - 1))); do
-    part=()
-    for i in "${!scenes[@]}"; do (( i % jobs == j )) && part+=("${scenes[$i]}"); done
-    rm -f "$out/fit.$j.csv"
-    "$candela" bench error-budget "${part[@]}" --csv "$out/fit.$j.csv" --size "$size" --spp "$spp" --quiet > "$out/fit.$j.log" 2>&1 &
-    pids+=($!)
-done
-status=0
-for pid in "${pids[@]}"; do wait "$pid" || status=1; done
-[ $status -eq 0 ] || echo "fit_error_budget.sh: some scenes were not measured (see $out/fit.*.log)" >&2
+measure_scenes fit "${scenes[@]}" || echo "fit_error_budget.sh: some scenes were not measured (see $out/fit.*.log)" >&2
 csvs=("$out"/fit.*.csv)
 "$candela" bench error-budget --fit "${csvs[@]}" --size "$size" --spp "$spp" -o "$root/engine/accuracy/error_budget_model.inc"
 "$candela" bench error-budget --fit "${csvs[@]}" --size "$size" --spp "$spp" -o "$out/model.json" > /dev/null
