@@ -121,6 +121,14 @@ std::vector<MeasuredRow> read_measurements(const std::vector<std::string>& files
     return rows;
 }
 
+// `--fit CSV...` / `--evaluate CSV...`: the option's value and the positional arguments after it
+// (every CSV of a parallel measurement; the option parser keeps only the first as its value).
+std::vector<std::string> csv_files(const Parsed& p, const std::string& option) {
+    std::vector<std::string> files = p.all(option);
+    files.insert(files.end(), p.positional.begin(), p.positional.end());
+    return files;
+}
+
 int budget_fit(const Parsed& p) {
     if (!p.has("-o")) throw bad_input("bench error-budget --fit needs -o MODEL.json or MODEL.inc");
     budget::FitOptions o;
@@ -128,7 +136,7 @@ int budget_fit(const Parsed& p) {
     if (p.has("--ridge")) o.ridge = parse_float("--ridge", p.get("--ridge"), 0.0f, 1e6f);
     std::vector<budget::Sample> samples;
     double noise_max = 0;
-    for (const MeasuredRow& r : read_measurements(p.all("--fit"))) samples.push_back(r.sample), noise_max = std::max(noise_max, r.noise);
+    for (const MeasuredRow& r : read_measurements(csv_files(p, "--fit"))) samples.push_back(r.sample), noise_max = std::max(noise_max, r.noise);
     budget::Model m = budget::fit(samples, o);
     m.size = p.has("--size") ? p.get("--size") : "160x120";
     m.reference_spp = p.has("--spp") ? parse_int("--spp", p.get("--spp"), 1, 1 << 20) : 512;
@@ -169,7 +177,7 @@ std::vector<double> budgets_option(const Parsed& p) {
 // `render --error-budget E --verify` on each scene at the measured size, without rendering again.
 int budget_evaluate(const Parsed& p) {
     const budget::Model model = p.has("--budget-model") ? budget::load_model(p.get("--budget-model")) : budget::builtin_model();
-    const std::vector<MeasuredRow> rows = read_measurements(p.all("--evaluate"));
+    const std::vector<MeasuredRow> rows = read_measurements(csv_files(p, "--evaluate"));
     const std::vector<double> budgets = budgets_option(p);
     std::map<std::string, std::map<int, MeasuredRow>> by_scene;
     std::vector<std::string> order;
