@@ -27,6 +27,7 @@
 #include "scene/gltf_decode.hpp"
 #include "scene/gltf_loader_internal.hpp"
 #include "scene/gltf_validate.hpp"
+#include "scene/gltf_validate_internal.hpp"
 #include "scene/mesh_utils.hpp"
 
 namespace candela {
@@ -243,22 +244,6 @@ bool meshopt_fallback(const nlohmann::json& buffer) {
     return f != m->end() && f->is_boolean() && f->get<bool>();
 }
 
-std::string base64(std::string_view bytes) {
-    static const char* abc = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-    std::string out;
-    out.reserve((bytes.size() + 2) / 3 * 4);
-    for (size_t i = 0; i < bytes.size(); i += 3) {
-        uint32_t v = static_cast<uint8_t>(bytes[i]) << 16;
-        if (i + 1 < bytes.size()) v |= static_cast<uint8_t>(bytes[i + 1]) << 8;
-        if (i + 2 < bytes.size()) v |= static_cast<uint8_t>(bytes[i + 2]);
-        out += abc[(v >> 18) & 63];
-        out += abc[(v >> 12) & 63];
-        out += i + 1 < bytes.size() ? abc[(v >> 6) & 63] : '=';
-        out += i + 2 < bytes.size() ? abc[v & 63] : '=';
-    }
-    return out;
-}
-
 // tinygltf refuses some valid files: buffers without data (no uri, http://), data URIs that are
 // not base64, accessors of unknown type (that nothing reads, or validation would have failed),
 // and indices accessors without a bufferView (all zeros). It gets a rewritten document; the
@@ -282,7 +267,7 @@ std::string for_tinygltf(const std::string& file, const nlohmann::json& doc, boo
                 if (len > kMaxStandIn && !fallback)
                     throw bad_input(file + ": " + idx("buffers", i) + ": has no data Candela can read and is too large to stand in for");
                 const uint64_t stand_in = fallback ? 4 : len;
-                buf["uri"] = "data:application/octet-stream;base64," + base64(std::string(stand_in, '\0'));
+                buf["uri"] = "data:application/octet-stream;base64," + gltf::validation::base64_encode(std::string(stand_in, '\0'));
                 buf["byteLength"] = stand_in;
                 (*unavailable)[i] = changed = true;
             } else if (uri != buf.end() && uri->is_string() && uri->get<std::string>().rfind("data:", 0) == 0) {
@@ -298,7 +283,7 @@ std::string for_tinygltf(const std::string& file, const nlohmann::json& doc, boo
                         decoded += u[k];
                     }
                 }
-                *uri = "data:application/octet-stream;base64," + base64(decoded);
+                *uri = "data:application/octet-stream;base64," + gltf::validation::base64_encode(decoded);
                 changed = true;
             }
         }

@@ -71,6 +71,22 @@ int set_index(const std::string& name, const char* prefix) {
     return std::stoi(digits);
 }
 
+std::string base64_encode(std::string_view bytes) {
+    static const char* abc = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    std::string out;
+    out.reserve((bytes.size() + 2) / 3 * 4);
+    for (size_t i = 0; i < bytes.size(); i += 3) {
+        uint32_t v = static_cast<uint32_t>(static_cast<uint8_t>(bytes[i])) << 16;
+        if (i + 1 < bytes.size()) v |= static_cast<uint32_t>(static_cast<uint8_t>(bytes[i + 1])) << 8;
+        if (i + 2 < bytes.size()) v |= static_cast<uint8_t>(bytes[i + 2]);
+        out += abc[(v >> 18) & 63];
+        out += abc[(v >> 12) & 63];
+        out += i + 1 < bytes.size() ? abc[(v >> 6) & 63] : '=';
+        out += i + 2 < bytes.size() ? abc[v & 63] : '=';
+    }
+    return out;
+}
+
 bool valid_base64(std::string_view s, size_t* decoded) {
     if (s.size() % 4 != 0) return false;
     size_t pad = 0;

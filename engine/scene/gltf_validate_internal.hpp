@@ -55,6 +55,8 @@ int set_index(const std::string& name, const char* prefix);
 // ---- URIs (gltf_validate_common.cpp) ----
 
 bool valid_base64(std::string_view s, size_t* decoded);
+// RFC 4648 base64 with '=' padding: the payload of the data URIs the loader and writer make.
+std::string base64_encode(std::string_view bytes);
 // The size of a data URI's non-base64 payload (RFC 2397: percent-encoded octets).
 bool percent_decoded_size(std::string_view s, size_t* decoded);
 // A data: URI "data:[<media type>][;base64],<data>": its media type and base64 payload.

@@ -10,26 +10,12 @@
 #include <nlohmann/json.hpp>
 
 #include "core/error.hpp"
+#include "scene/gltf_validate_internal.hpp"
 
 namespace candela {
 namespace {
 
 using nlohmann::json;
-
-std::string base64(const std::vector<unsigned char>& bytes) {
-    static const char* table = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-    std::string out;
-    out.reserve((bytes.size() + 2) / 3 * 4);
-    for (size_t i = 0; i < bytes.size(); i += 3) {
-        const unsigned v = (static_cast<unsigned>(bytes[i]) << 16) | (i + 1 < bytes.size() ? static_cast<unsigned>(bytes[i + 1]) << 8 : 0u) |
-                           (i + 2 < bytes.size() ? static_cast<unsigned>(bytes[i + 2]) : 0u);
-        out += table[(v >> 18) & 63];
-        out += table[(v >> 12) & 63];
-        out += i + 1 < bytes.size() ? table[(v >> 6) & 63] : '=';
-        out += i + 2 < bytes.size() ? table[v & 63] : '=';
-    }
-    return out;
-}
 
 // Floats go through double, which nlohmann prints with enough digits to read back exactly.
 json vec(const float* v, int n) {
@@ -77,7 +63,7 @@ public:
         }
         for (const std::string& e : material_extensions_) used.push_back(e);
         if (!used.empty()) j_["extensionsUsed"] = used;
-        if (!bin_.empty()) j_["buffers"] = json::array({{{"byteLength", bin_.size()}, {"uri", "data:application/octet-stream;base64," + base64(bin_)}}});
+        if (!bin_.empty()) j_["buffers"] = json::array({{{"byteLength", bin_.size()}, {"uri", "data:application/octet-stream;base64," + gltf::validation::base64_encode(std::string_view(reinterpret_cast<const char*>(bin_.data()), bin_.size()))}}});
         return j_;
     }
 

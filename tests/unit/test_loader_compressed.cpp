@@ -16,6 +16,7 @@
 
 #include "core/error.hpp"
 #include "core/log.hpp"
+#include "scene/gltf_validate_internal.hpp"
 #include "rt/rt_geometry.hpp"
 #include "scene/gltf_loader.hpp"
 
@@ -36,21 +37,6 @@ std::string file_bytes(const fs::path& p) {
     std::ostringstream s;
     s << in.rdbuf();
     return s.str();
-}
-
-std::string to_base64(const std::string& bytes) {
-    static const char* abc = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-    std::string out;
-    for (size_t i = 0; i < bytes.size(); i += 3) {
-        uint32_t v = static_cast<uint8_t>(bytes[i]) << 16;
-        if (i + 1 < bytes.size()) v |= static_cast<uint8_t>(bytes[i + 1]) << 8;
-        if (i + 2 < bytes.size()) v |= static_cast<uint8_t>(bytes[i + 2]);
-        out += abc[(v >> 18) & 63];
-        out += abc[(v >> 12) & 63];
-        out += i + 1 < bytes.size() ? abc[(v >> 6) & 63] : '=';
-        out += i + 2 < bytes.size() ? abc[v & 63] : '=';
-    }
-    return out;
 }
 
 // A .glb split into its JSON and BIN chunks, and put back together.
@@ -86,7 +72,7 @@ std::string write_glb(const Glb& g) {
 // Box-Draco as a self-contained .gltf (its Box.bin as a data URI), for changing either part.
 json draco_box(const std::string& bin) {
     json d = json::parse(file_bytes(kModelDir / "Box-Draco" / "Box.gltf"));
-    d["buffers"][0]["uri"] = "data:application/octet-stream;base64," + to_base64(bin);
+    d["buffers"][0]["uri"] = "data:application/octet-stream;base64," + gltf::validation::base64_encode(bin);
     d["buffers"][0]["byteLength"] = bin.size();
     return d;
 }
