@@ -2,6 +2,7 @@
 #   candela_render_or_fail(WHAT ARG...)    `candela render ARG...`; fails the test naming WHAT
 #   candela_same_or_fail(A B HEATMAP WHAT) `candela compare A B --check` (the default tolerance,
 #                                          no NaN/Inf) writing HEATMAP; fails saying WHAT differs
+#   candela_view_or_fail(DIR LOG_VAR ARG...) `candela view ARG...` under xvfb-run in DIR; LOG_VAR: its log
 function(candela_render_or_fail what)
   execute_process(COMMAND ${CANDELA} render ${ARGN} RESULT_VARIABLE code OUTPUT_VARIABLE out ERROR_VARIABLE err TIMEOUT 300)
   if(NOT code EQUAL 0)
@@ -16,4 +17,21 @@ function(candela_same_or_fail a b heatmap what)
   if(NOT code EQUAL 0)
     message(FATAL_ERROR "${what} differs (see ${heatmap})")
   endif()
+endfunction()
+
+# The viewer tests' run: `candela view ARGS...` under xvfb-run in `dir`; fails on a non-zero exit
+# (or without xvfb-run), prints the log, and sets `log_var` to the viewer's log (its stderr).
+function(candela_view_or_fail dir log_var)
+  find_program(XVFB_RUN xvfb-run)
+  if(NOT XVFB_RUN)
+    message(FATAL_ERROR "xvfb-run is needed for the viewer tests (apt-get install xvfb xauth)")
+  endif()
+  execute_process(COMMAND ${XVFB_RUN} -a -s "-screen 0 1024x768x24" ${CANDELA} view ${ARGN}
+                  WORKING_DIRECTORY ${dir}
+                  RESULT_VARIABLE code OUTPUT_VARIABLE out ERROR_VARIABLE err TIMEOUT 600)
+  message("view ${ARGN}: exit ${code}\n${out}${err}")
+  if(NOT code EQUAL 0)
+    message(FATAL_ERROR "the viewer failed (exit ${code})")
+  endif()
+  set(${log_var} "${err}" PARENT_SCOPE)
 endfunction()

@@ -13,10 +13,6 @@
 # PNG goes through `candela compare --check` (which also fails on NaN/Inf).
 #   cmake -DCANDELA=... -DSCENE=... -DDIR=... -DOUT=... -P viewer_adaptive.cmake
 include(${CMAKE_CURRENT_LIST_DIR}/../cmake/steps.cmake)
-find_program(XVFB_RUN xvfb-run)
-if(NOT XVFB_RUN)
-  message(FATAL_ERROR "xvfb-run is needed for the viewer test (apt-get install xvfb xauth)")
-endif()
 set(size 320x240)
 set(dir ${OUT}/viewer_adaptive)
 file(REMOVE_RECURSE ${dir})
@@ -26,14 +22,8 @@ file(MAKE_DIRECTORY ${dir})
 # the Cornell box's GI probes converge before a frame (as in `candela render`), not over frames,
 # so a still view needs no more frames for them and the frames rendered count the still view's.
 function(run_view script frames out_var)
-  execute_process(COMMAND ${XVFB_RUN} -a -s "-screen 0 1024x768x24" ${CANDELA} view ${SCENE} --size ${size}
-                          --script ${DIR}/${script} --frames ${frames} --screenshot ${dir}/${script}.png --no-vsync --set gi.budget=0
-                  WORKING_DIRECTORY ${dir}
-                  RESULT_VARIABLE code OUTPUT_VARIABLE out ERROR_VARIABLE err TIMEOUT 600)
-  message("view --script ${script}: exit ${code}\n${out}${err}")
-  if(NOT code EQUAL 0)
-    message(FATAL_ERROR "the viewer failed with ${script}")
-  endif()
+  candela_view_or_fail(${dir} err ${SCENE} --size ${size} --script ${DIR}/${script} --frames ${frames}
+                       --screenshot ${dir}/${script}.png --no-vsync --set gi.budget=0)
   string(REGEX MATCHALL "viewer: wrote [^\n]*" wrote "${err}")
   foreach(line IN LISTS wrote)
     if(NOT line MATCHES ", 0 non-finite radiance values")

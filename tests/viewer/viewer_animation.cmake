@@ -7,23 +7,12 @@
 # or infinity, and that a paused viewer posed nothing more.
 #   cmake -DCANDELA=... -DSCENE=... -DSCRIPT=... -DOUT=... -DPYTHON3=... -DCHECK=... -P viewer_animation.cmake
 include(${CMAKE_CURRENT_LIST_DIR}/../cmake/steps.cmake)
-find_program(XVFB_RUN xvfb-run)
-if(NOT XVFB_RUN)
-  message(FATAL_ERROR "xvfb-run is needed for the viewer test (apt-get install xvfb xauth)")
-endif()
 set(size 200x150)
 set(dir ${OUT}/viewer_animation)
 file(REMOVE_RECURSE ${dir})
 file(MAKE_DIRECTORY ${dir})
 # gi.budget=0: any GI probes converge before each frame, so an image depends on the pose only.
-execute_process(COMMAND ${XVFB_RUN} -a -s "-screen 0 1024x768x24" ${CANDELA} view ${SCENE} --size ${size} --script ${SCRIPT}
-                        --set gi.budget=0 --no-vsync
-                WORKING_DIRECTORY ${dir}
-                RESULT_VARIABLE code OUTPUT_VARIABLE out ERROR_VARIABLE err TIMEOUT 300)
-message("view --script: exit ${code}\n${out}${err}")
-if(NOT code EQUAL 0)
-  message(FATAL_ERROR "the viewer failed")
-endif()
+candela_view_or_fail(${dir} err ${SCENE} --size ${size} --script ${SCRIPT} --set gi.budget=0 --no-vsync)
 foreach(line
     "start: animation 'Survey' \\(0 of 3\\), 0.000 s of [0-9.]+ s, playing"
     "frame 0: animation: animation 'Walk' \\(1 of 3\\), 0.000 s"
@@ -54,11 +43,9 @@ if(CMAKE_MATCH_1 LESS 7)
 endif()
 # The command line: posed like `render --animation Walk --time 0.5` (the set-up poses the scene
 # before framing and lighting it, so the camera is that of render, not of the script's run).
-execute_process(COMMAND ${XVFB_RUN} -a -s "-screen 0 1024x768x24" ${CANDELA} view ${SCENE} --size ${size} --animation Walk --time 0.5
-                        --frames 3 --screenshot ${dir}/anim_cli.png --set gi.budget=0 --no-vsync
-                RESULT_VARIABLE code OUTPUT_VARIABLE out ERROR_VARIABLE err TIMEOUT 300)
-message("view --animation Walk --time 0.5: exit ${code}\n${out}${err}")
-if(NOT code EQUAL 0 OR NOT err MATCHES "start: animation 'Walk' \\(1 of 3\\), 0.500 s of [0-9.]+ s, paused")
+candela_view_or_fail(${dir} err ${SCENE} --size ${size} --animation Walk --time 0.5
+                     --frames 3 --screenshot ${dir}/anim_cli.png --set gi.budget=0 --no-vsync)
+if(NOT err MATCHES "start: animation 'Walk' \\(1 of 3\\), 0.500 s of [0-9.]+ s, paused")
   message(FATAL_ERROR "view --animation Walk --time 0.5 did not start paused at 0.5 s of the walk")
 endif()
 candela_render_or_fail("candela render --animation Walk --time 0.5"

@@ -7,21 +7,11 @@
 # shot is too short to show it; a taller --size shows it under the gi row).
 #   cmake -DCANDELA=... -DSCENE=... -DSCRIPT=... -DOUT=... -DCHECK_WINDOW=... -P viewer_gi.cmake
 include(${CMAKE_CURRENT_LIST_DIR}/../cmake/steps.cmake)
-find_program(XVFB_RUN xvfb-run)
-if(NOT XVFB_RUN)
-  message(FATAL_ERROR "xvfb-run is needed for the viewer test (apt-get install xvfb xauth)")
-endif()
 set(size 160x120)
 file(REMOVE ${OUT}/viewer_gi_early.png ${OUT}/viewer_gi.png)
 # 18 updates of 8x8x8 probes x 64 rays at 16384 rays per frame: 36 frames (the log says how many).
-execute_process(COMMAND ${XVFB_RUN} -a -s "-screen 0 1024x768x24" ${CANDELA} view ${SCENE} --size ${size} --script ${SCRIPT}
-                        --frames 90 --screenshot ${OUT}/viewer_gi.png --window-shot ${OUT}/viewer_gi_window.png --no-vsync
-                WORKING_DIRECTORY ${OUT}
-                RESULT_VARIABLE code OUTPUT_VARIABLE out ERROR_VARIABLE err TIMEOUT 600)
-message("view: exit ${code}\n${out}${err}")
-if(NOT code EQUAL 0)
-  message(FATAL_ERROR "the viewer failed")
-endif()
+candela_view_or_fail(${OUT} err ${SCENE} --size ${size} --script ${SCRIPT}
+                     --frames 90 --screenshot ${OUT}/viewer_gi.png --window-shot ${OUT}/viewer_gi_window.png --no-vsync)
 if(NOT err MATCHES "frame 0: GI probes [0-9]+x[0-9]+x[0-9]+, [0-9]+ rays, [0-9]+ bounce\\(s\\): 0/[0-9]+ updates done \\(converging, 16384 rays/frame")
   message(FATAL_ERROR "the viewer did not start the GI probes converging at its default budget (16384 rays/frame)")
 endif()
@@ -46,10 +36,7 @@ if(NOT code EQUAL 0)
   message(FATAL_ERROR "the window shot is not the scene beside the panel:\n${out}${err}")
 endif()
 # The user's --set gi.budget wins over the viewer's default: 0 converges before frame 0's image.
-execute_process(COMMAND ${XVFB_RUN} -a -s "-screen 0 1024x768x24" ${CANDELA} view ${SCENE} --size ${size} --frames 2
-                        --set gi.budget=0 --no-vsync
-                RESULT_VARIABLE code OUTPUT_VARIABLE out ERROR_VARIABLE err TIMEOUT 300)
-message("view --set gi.budget=0: exit ${code}\n${out}${err}")
-if(NOT code EQUAL 0 OR NOT err MATCHES "frame 0: GI probes [^\n]*: converged \\([0-9]+ updates, before the frame: gi.budget=0\\)")
+candela_view_or_fail(${OUT} err ${SCENE} --size ${size} --frames 2 --set gi.budget=0 --no-vsync)
+if(NOT err MATCHES "frame 0: GI probes [^\n]*: converged \\([0-9]+ updates, before the frame: gi.budget=0\\)")
   message(FATAL_ERROR "--set gi.budget=0 was not respected by the viewer")
 endif()

@@ -5,23 +5,12 @@
 # every screenshot's radiance had no NaN or infinity.
 #   cmake -DCANDELA=... -DSCENE=... -DSCRIPT=... -DOUT=... -P viewer_variant.cmake
 include(${CMAKE_CURRENT_LIST_DIR}/../cmake/steps.cmake)
-find_program(XVFB_RUN xvfb-run)
-if(NOT XVFB_RUN)
-  message(FATAL_ERROR "xvfb-run is needed for the viewer test (apt-get install xvfb xauth)")
-endif()
 set(size 160x120)
 set(dir ${OUT}/viewer_variant)
 file(REMOVE_RECURSE ${dir})
 file(MAKE_DIRECTORY ${dir})
 # gi.budget=0: any GI probes converge before each frame, so an image depends on the variant only.
-execute_process(COMMAND ${XVFB_RUN} -a -s "-screen 0 1024x768x24" ${CANDELA} view ${SCENE} --size ${size} --script ${SCRIPT}
-                        --set gi.budget=0 --no-vsync
-                WORKING_DIRECTORY ${dir}
-                RESULT_VARIABLE code OUTPUT_VARIABLE out ERROR_VARIABLE err TIMEOUT 300)
-message("view --script: exit ${code}\n${out}${err}")
-if(NOT code EQUAL 0)
-  message(FATAL_ERROR "the viewer failed")
-endif()
+candela_view_or_fail(${dir} err ${SCENE} --size ${size} --script ${SCRIPT} --set gi.budget=0 --no-vsync)
 foreach(line "material variant \\[1\\] 'Peacock Velvet'" "material variant default")
   if(NOT err MATCHES "${line}")
     message(FATAL_ERROR "the log does not say: ${line}")
