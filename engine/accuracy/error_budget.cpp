@@ -223,6 +223,7 @@ Choice choose(const std::vector<Prediction>& predictions, double budget) {
     for (int i = 0; i < static_cast<int>(predictions.size()); ++i)
         if (predictions[static_cast<size_t>(i)].error <= budget && (c.chosen < 0 || cheaper(i, c.chosen))) c.chosen = i;
     c.met = c.chosen >= 0;
+    c.trace = !c.met;
     if (!c.met) {
         for (int i = 0; i < static_cast<int>(predictions.size()); ++i) {
             const Prediction& p = predictions[static_cast<size_t>(i)];

@@ -93,10 +93,26 @@ struct Choice {
     int chosen = -1;      // index into predictions
     int runner_up = -1;   // the next cheaper candidate than the chosen one (rejected: its error > E), or -1
     bool met = false;     // some candidate is predicted within the budget; else chosen is the most accurate
+    // No raster candidate is predicted within the budget: the path tracer renders the frame, in
+    // rounds until its own noise estimate is within kTraceNoiseShare * budget (TraceRung,
+    // error_budget_measure.hpp). `chosen` stays the most accurate raster candidate: what a
+    // command that must draw a raster frame (bench frame) uses instead.
+    bool trace = false;
 };
+
+// The tracer rung. The path tracer is unbiased (its tests hold it to closed forms), so its error
+// against the converged image is its noise, which two independent halves estimate while it
+// renders. The target is half the budget: against a reference with its own noise n the achieved
+// error is about sqrt((E/2)^2 + n^2), within E while n < 0.87 E. At least kTraceMinSpp samples
+// (a few samples can miss rare paths in both halves and understate the noise), at most
+// kTraceMaxSpp (then the budget is not promised).
+constexpr double kTraceNoiseShare = 0.5;
+constexpr int kTraceMinSpp = 64;
+constexpr int kTraceMaxSpp = 4096;
 // The cheapest (by predicted time; ties: smaller predicted error) candidate whose predicted error
-// is at most `budget`; none: the most accurate. Pure logic: a smaller budget never picks a
-// cheaper candidate than a larger one.
+// is at most `budget`; none: the most accurate raster candidate, and the frame is traced (trace).
+// Pure logic: a smaller budget never picks a cheaper candidate than a larger one (the tracer is
+// slower than every raster candidate on every measured scene).
 Choice choose(const std::vector<Prediction>& predictions, double budget);
 
 // The budget as given to --error-budget: a number in (0, 1]; throws bad_input naming the option.

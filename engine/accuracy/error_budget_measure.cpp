@@ -1,6 +1,7 @@
 #include "accuracy/error_budget_measure.hpp"
 
 #include <algorithm>
+#include <functional>
 #include <memory>
 
 #include "core/error.hpp"
@@ -58,6 +59,59 @@ Reference path_reference(const Scene& scene, const ShaderLibrary& shaders, const
     return r;
 }
 
+TraceRung::TraceRung(const Scene& scene, const ShaderLibrary& shaders, const Camera& camera, int width, int height)
+    : camera_(camera), width_(width), height_(height), gpu_(std::make_unique<GpuScene>(scene)) {
+    rt::Options o = rt::tracer_options(RenderSettings{});
+    o.mode = rt::Mode::path;
+    o.seed = kTraceSeed;
+    tracer_ = std::make_unique<rt::RayTracer>(shaders, scene, *gpu_, o);
+}
+
+TraceRung::~TraceRung() = default;
+
+void TraceRung::step() {
+    const int per_half = rounds_ == 0 ? kTraceMinSpp / 2 : spp_ / 2;
+    for (int h = 0; h < 2; ++h) {
+        tracer_->set_seed(kTraceSeed + static_cast<std::uint32_t>(2 * rounds_ + h));
+        tracer_->set_spp(per_half);
+        rt::Result r = tracer_->render(camera_, width_, height_);
+        ms_ += r.trace_ms;
+        nonfinite_ += r.nonfinite_samples;
+        if (rounds_ == 0) {
+            halves_[h] = std::move(r.image);
+        } else {  // the new round has as many samples as the half so far: the mean of the two
+            for (size_t i = 0; i < halves_[h].pixels.size(); ++i)
+                halves_[h].pixels[i] = 0.5f * (halves_[h].pixels[i] + r.image.pixels[i]);
+        }
+    }
+    spp_ += 2 * per_half;
+    ++rounds_;
+    noise_ = 0.5 * block_error(halves_[0], halves_[1]);
+}
+
+bool TraceRung::done(double target_noise) const { return spp_ >= kTraceMaxSpp || within(target_noise); }
+
+ImageF TraceRung::image() const {
+    ImageF m = halves_[0];
+    for (size_t i = 0; i < m.pixels.size(); ++i) m.pixels[i] = 0.5f * (halves_[0].pixels[i] + halves_[1].pixels[i]);
+    return m;
+}
+
+Traced trace_within(const Scene& scene, const ShaderLibrary& shaders, const Camera& camera, int width, int height, double budget) {
+    TraceRung rung(scene, shaders, camera, width, height);
+    const double target = kTraceNoiseShare * budget;
+    do rung.step();
+    while (!rung.done(target));
+    Traced t;
+    t.image = rung.image();
+    t.noise = rung.noise();
+    t.ms = rung.ms();
+    t.spp = rung.spp();
+    t.within = rung.within(target);
+    t.nonfinite_samples = rung.nonfinite_samples();
+    return t;
+}
+
 RenderSettings speed_of_light_settings() {
     RenderSettings s;
     apply_effects(s, "none");
@@ -67,7 +121,7 @@ RenderSettings speed_of_light_settings() {
 }
 
 SceneMeasurement measure_scene(const Scene& scene, const ShaderLibrary& shaders, const StillOptions& base, int reference_spp,
-                               int frames) {
+                               int frames, const std::vector<double>& trace_budgets) {
     SceneMeasurement m;
     const float aspect = static_cast<float>(base.width) / static_cast<float>(base.height);
     const Camera camera = with_lens(scene.select_camera(base.camera, aspect), base.settings);
@@ -102,6 +156,26 @@ SceneMeasurement measure_scene(const Scene& scene, const ShaderLibrary& shaders,
         c.ms = results[i].median_frame_ms();
         c.ratio = m.light_ms > 0 ? c.ms / m.light_ms : 0.0;
         m.candidates.push_back(c);
+    }
+    // The tracer rung: one run, read where each budget's target is first reached (largest first).
+    std::vector<double> budgets = trace_budgets;
+    std::sort(budgets.begin(), budgets.end(), std::greater<>());
+    if (!budgets.empty()) {
+        TraceRung rung(scene, shaders, camera, base.width, base.height);
+        for (const double e : budgets) {
+            const double target = kTraceNoiseShare * e;
+            while (rung.spp() == 0 || !rung.done(target)) rung.step();
+            SceneMeasurement::TraceResult t;
+            t.budget = e;
+            const ImageF image = rung.image();
+            t.error = block_error(image, m.reference.image);
+            t.noise = rung.noise();
+            t.ms = rung.ms();
+            t.spp = rung.spp();
+            t.within = rung.within(target);
+            t.nonfinite = rung.nonfinite_samples();
+            m.traces.push_back(t);
+        }
     }
     return m;
 }

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <memory>
 
 #include "accuracy/error_budget_measure.hpp"
@@ -160,18 +161,53 @@ void raster_rows(const Run& c, const AccuracySweep& s, const Scene& scene, GpuSc
 
 // Variants whose --effects is "budget:E" stand for --error-budget E's choice on this scene and view
 // (error_budget.hpp): resolved here, where the tracer can measure the view's statistics. The
-// row's name says which candidate it became.
-void resolve_budget_variants(const Run& c, AccuracySweep& s, const Scene& scene) {
+// row's name says which candidate it became. A choice of the tracer rung leaves the raster
+// variants and comes back as (variant name, E): traced_budget_rows makes its rows.
+std::vector<std::pair<std::string, double>> resolve_budget_variants(const Run& c, AccuracySweep& s, const Scene& scene) {
     std::optional<budget::SceneStats> stats;
+    std::vector<std::pair<std::string, double>> traced;
     const float aspect = static_cast<float>(c.width) / static_cast<float>(c.height);
-    for (AccuracySweep::Variant& v : s.variants) {
-        if (v.effects.rfind("budget:", 0) != 0) continue;
-        if (!stats) stats = budget::scene_stats(scene, c.shaders, with_lens(scene.select_camera("", aspect), RenderSettings{}), aspect);
-        const budget::Choice choice = budget::choose(budget::predict(budget::builtin_model(), *stats), std::stod(v.effects.substr(7)));
-        const budget::Candidate& chosen = budget::ladder()[static_cast<size_t>(choice.predictions[static_cast<size_t>(choice.chosen)].candidate)];
-        v.name += " -> " + chosen.name + (choice.met ? "" : " (none predicted within E)");
-        v.effects = chosen.effects;
-        v.knobs = chosen.knobs;
+    std::vector<AccuracySweep::Variant> raster;
+    for (AccuracySweep::Variant v : s.variants) {
+        if (v.effects.rfind("budget:", 0) == 0) {
+            if (!stats) stats = budget::scene_stats(scene, c.shaders, with_lens(scene.select_camera("", aspect), RenderSettings{}), aspect);
+            const double e = std::stod(v.effects.substr(7));
+            const budget::Choice choice = budget::choose(budget::predict(budget::builtin_model(), *stats), e);
+            if (choice.trace) {
+                traced.emplace_back(v.name + " -> trace", e);
+                continue;
+            }
+            const budget::Candidate& chosen = budget::ladder()[static_cast<size_t>(choice.predictions[static_cast<size_t>(choice.chosen)].candidate)];
+            v.name += " -> " + chosen.name;
+            v.effects = chosen.effects;
+            v.knobs = chosen.knobs;
+        }
+        raster.push_back(v);
+    }
+    s.variants = raster;
+    return traced;
+}
+
+// The rows of budgets whose choice is the tracer rung: its image and tracing time.
+void traced_budget_rows(const Run& c, const AccuracySweep& s, const Scene& scene, const std::vector<std::pair<std::string, double>>& traced,
+                        std::vector<Row>& rows) {
+    const Camera camera = scene.select_camera("", static_cast<float>(c.width) / static_cast<float>(c.height));
+    for (const auto& [name, e] : traced) {
+        const budget::Traced t = budget::trace_within(scene, c.shaders, camera, c.width, c.height, e);
+        if (t.nonfinite_samples) throw Error(ExitCode::internal, s.effect + " " + name + ": non-finite samples in the traced frame");
+        Row row;
+        row.effect = s.effect;
+        row.variant = name;
+        char noise[32];
+        std::snprintf(noise, sizeof noise, "%.4f", t.noise);
+        row.settings = "--raytrace path, " + std::to_string(t.spp) + " spp (noise estimate " + noise + ")";
+        row.scene = s.scene;
+        row.width = c.width;
+        row.height = c.height;
+        row.ms = row.frame_ms = t.ms;
+        row.image = t.image;
+        rows.push_back(std::move(row));
+        c.progress.step(s.effect + ": " + name);
     }
 }
 
@@ -279,8 +315,9 @@ Section run_job(const Run& c, const AccuracySweep& s, const std::string& job_sce
         }
         AccuracySweep t = s;
         t.scene = job_scene;
-        resolve_budget_variants(c, t, scene);
+        const auto traced = resolve_budget_variants(c, t, scene);
         raster_rows(c, t, scene, gpu, rows);
+        traced_budget_rows(c, t, scene, traced, rows);
         for (size_t i = sec.first; i < rows.size(); ++i) {
             if (s.region == AccuracySweep::Region::edges) measure_edge_errors(rows[i], rows[i].image, ref);
             else measure_errors(rows[i], rows[i].image, ref, s.buffer);

@@ -58,23 +58,29 @@ budget::Choice choose_for_scene(const BudgetRequest& r, const Scene& scene, cons
                  stats.indirect, stats.coverage, stats.punctual, stats.shadowed, stats.emissive, stats.environment, stats.metal,
                  stats.transmission, stats.blend);
     if (all_candidates) {
-        line("error budget candidates (%zu):\n", c.predictions.size());
+        line("error budget candidates (%zu):\n", c.predictions.size() + 1);
         for (size_t i = 0; i < c.predictions.size(); ++i) {
             const budget::Prediction& p = c.predictions[i];
-            const std::string verdict = static_cast<int>(i) == c.chosen ? "chosen"
+            const std::string verdict = static_cast<int>(i) == c.chosen && !c.trace ? "chosen"
                                         : p.error > r.budget            ? "over the budget"
                                                                         : "within the budget, slower";
             line("  %-16s predicted error %.4f  time x%.2f speed of light  %s\n",
                          budget::ladder()[static_cast<size_t>(p.candidate)].name.c_str(), p.error, p.time, verdict.c_str());
         }
+        line("  %-16s noise estimated while tracing, at most %.4f by %d spp  %s\n", "trace", budget::kTraceNoiseShare * r.budget,
+             budget::kTraceMaxSpp, c.trace ? "chosen" : "not needed (a raster candidate is predicted within the budget)");
     }
     const budget::Prediction& chosen = c.predictions[static_cast<size_t>(c.chosen)];
     if (c.met)
         line("chosen: %s <= %.4g\n", describe_prediction(chosen).c_str(), r.budget);
     else
-        line("chosen: %s; no candidate is predicted within the budget %.4g: the most accurate one is used\n",
-                     describe_prediction(chosen).c_str(), r.budget);
-    if (c.runner_up >= 0)
+        line("chosen: the path tracer (--raytrace path): no raster candidate is predicted within the budget %.4g; it traces in "
+             "rounds of doubling samples (%d to %d spp) until its own noise estimate is at most %.4g (half the budget)\n",
+             r.budget, budget::kTraceMinSpp, budget::kTraceMaxSpp, budget::kTraceNoiseShare * r.budget);
+    if (!c.met)
+        line("runner-up: %s; rejected: predicted error above %.4g (it is the most accurate raster candidate)\n",
+             describe_prediction(chosen).c_str(), r.budget);
+    else if (c.runner_up >= 0)
         line("runner-up: %s; rejected: predicted error above %.4g\n", describe_prediction(c.predictions[static_cast<size_t>(c.runner_up)]).c_str(),
                      r.budget);
     else

@@ -185,6 +185,8 @@ int bench_frame(const Args& args) {
         const budget::Choice choice = choose_for_scene(*budget_req, s.scene, shaders, s.options.camera, s.options.width,
                                                        s.options.height, false, text);
         std::printf("%s", text.c_str());
+        if (choice.trace)
+            std::printf("bench frame times raster frames: the most accurate raster candidate stands in for the tracer (render --error-budget traces)\n");
         const std::string& name = budget::ladder()[static_cast<size_t>(choice.predictions[static_cast<size_t>(choice.chosen)].candidate)].name;
         variants = {"budget:" + name, "all"};
         options.assign(2, s.options);

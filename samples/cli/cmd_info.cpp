@@ -123,6 +123,7 @@ int cmd_info(const Args& args) {
         const budget::Choice choice = choose_for_scene(*budget_req, scene, *shaders, camera_choice, width, height, true, text);
         std::printf("%s", text.c_str());
         settings = budget_settings(choice, p);
+        if (choice.trace) std::printf("error budget: the plan below is that of the most accurate raster candidate (render traces the frame)\n");
     } else if (budget_req) {
         std::printf("error budget: no choice (no usable OpenGL: %s; the statistics need the tracer)\n", ctx.error.c_str());
     }

@@ -80,6 +80,58 @@ int raytrace(const Parsed& p, SceneSetup& s, const fs::path& out_path, float exp
     return check_gl_errors(s);
 }
 
+// The verification reference of --error-budget E --verify: --raytrace path at --spp (default 256)
+// from --seed (default 1), as two halves.
+budget::Reference verify_reference(const Parsed& p, const SceneSetup& s, const ShaderLibrary& shaders) {
+    const int spp = p.has("--spp") ? parse_int("--spp", p.get("--spp"), 2, 1 << 24) : 256;
+    const std::uint32_t seed = p.has("--seed") ? static_cast<std::uint32_t>(parse_int("--seed", p.get("--seed"), 0, 2147483646)) : 1;
+    const float aspect = static_cast<float>(s.options.width) / static_cast<float>(s.options.height);
+    const Camera camera = with_lens(s.scene.select_camera(s.options.camera, aspect), s.options.settings);
+    return budget::path_reference(s.scene, shaders, camera, s.options.width, s.options.height, spp, seed);
+}
+
+void print_achieved(double achieved, double budget, double predicted, const budget::Reference& ref) {
+    std::printf("achieved error: %.4f (budget %.4g, predicted at most %.4f; against --raytrace path at %d spp, whose own noise "
+                "moves it by about %.4f): %s\n",
+                achieved, budget, predicted, ref.spp, ref.noise, achieved <= budget ? "within the budget" : "above the budget");
+}
+
+// --error-budget E where no raster candidate is predicted within E: the tracer rung renders the
+// still (budget::trace_within), then --verify as for a raster frame.
+int render_traced(const Parsed& p, SceneSetup& s, const ShaderLibrary& shaders, const BudgetRequest& req, const fs::path& out_path,
+                  float exposure, bool verify) {
+    for (const std::string& assignment : p.all("--set"))
+        if (!rt::tracer_reads_knob(assignment.substr(0, assignment.find('='))))
+            log::warn("--set " + assignment + " has no effect on the traced frame (the tracer reads rt.*, camera.*, ao.radius and debug.light)");
+    const float aspect = static_cast<float>(s.options.width) / static_cast<float>(s.options.height);
+    const Camera camera = with_lens(s.scene.select_camera(s.options.camera, aspect), s.options.settings);
+    const budget::Traced t = budget::trace_within(s.scene, shaders, camera, s.options.width, s.options.height, req.budget);
+    const double target = budget::kTraceNoiseShare * req.budget;
+    log::info("traced --raytrace path: " + std::to_string(t.spp) + " spp in " + format_number("%.1f", t.ms) + " ms, noise estimate " +
+              format_number("%.4f", t.noise) +
+              (t.within ? " (target " + format_number("%.4f", target) + ")"
+                        : " above the target " + format_number("%.4f", target) + " at the sample limit: the budget is not promised"));
+    if (!t.within && !p.flags.count("--quiet"))
+        std::fprintf(stderr, "error budget: the tracer stopped at %d spp with a noise estimate of %.4f, above its target %.4f\n", t.spp, t.noise,
+                     target);
+    if (t.nonfinite_samples) log::warn(std::to_string(t.nonfinite_samples) + " non-finite samples were replaced by 0");
+    write_image(out_path, t.image, exposure);
+    if (verify) {
+        const budget::Reference ref = verify_reference(p, s, shaders);
+        print_achieved(budget::block_error(t.image, ref.image), req.budget, target, ref);
+    }
+    if (p.has("--stats")) {  // the traced frame has no passes: what the tracer did
+        nlohmann::json j;
+        j["scene"] = p.positional[0];
+        j["width"] = s.options.width;
+        j["height"] = s.options.height;
+        j["error_budget"] = {{"budget", req.budget}, {"traced", true}, {"spp", t.spp}, {"trace_ms", t.ms}, {"noise", t.noise},
+                             {"within_target", t.within}};
+        write_json(p.get("--stats"), j);
+    }
+    return check_gl_errors(s);
+}
+
 // Whether `out` holds exactly one printf integer conversion (%d, %4d, %04d) and no other '%'.
 bool has_frame_pattern(const std::string& out) {
     const size_t at = out.find('%');
@@ -224,6 +276,7 @@ int run_render(const Args& args, BatchSession* batch) {
                   format_number("%.3f", times.back()) + " s at " + format_number("%g", fps) + " fps");
         return check_gl_errors(s);
     }
+    if (choice && choice->trace) return render_traced(p, s, shaders, *budget_req, out_path, exposure, verify);
     const StillResult result = render_still(s.scene, shaders, s.options);
     warn_idle_knobs(p, result.features);
     const std::size_t bad = count_nonfinite(result.radiance);
@@ -234,17 +287,9 @@ int run_render(const Args& args, BatchSession* batch) {
     const double write_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     if (verify) {
         // The promise checked: the tracer's reference of this view, and the block error against it.
-        const int spp = p.has("--spp") ? parse_int("--spp", p.get("--spp"), 2, 1 << 24) : 256;
-        const std::uint32_t seed = p.has("--seed") ? static_cast<std::uint32_t>(parse_int("--seed", p.get("--seed"), 0, 2147483646)) : 1;
-        const float aspect = static_cast<float>(s.options.width) / static_cast<float>(s.options.height);
-        const Camera camera = with_lens(s.scene.select_camera(s.options.camera, aspect), s.options.settings);
-        const budget::Reference ref = budget::path_reference(s.scene, shaders, camera, s.options.width, s.options.height, spp, seed);
-        const double achieved = budget::block_error(result.radiance, ref.image);
-        const budget::Prediction& pred = choice->predictions[static_cast<size_t>(choice->chosen)];
-        std::printf("achieved error: %.4f (budget %.4g, predicted at most %.4f; against --raytrace path at %d spp, whose own noise "
-                    "moves it by about %.4f): %s\n",
-                    achieved, budget_req->budget, pred.error, ref.spp, ref.noise,
-                    achieved <= budget_req->budget ? "within the budget" : "above the budget");
+        const budget::Reference ref = verify_reference(p, s, shaders);
+        print_achieved(budget::block_error(result.radiance, ref.image), budget_req->budget,
+                       choice->predictions[static_cast<size_t>(choice->chosen)].error, ref);
     }
     if (p.has("--stats")) {
         nlohmann::json j = stats_json({context.device_string(), to_string(context.backend()), p.positional[0]},

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Evaluates --error-budget (docs/error-budget.md) on scenes the model was not fitted on: every
-# candidate measured against --raytrace path on random scenes generated:random:1001..(1000+N) and
-# the sample scenes, then the model's choice per scene and budget E = 0.01, 0.03, 0.1 read against
+# candidate (and the tracer rung at each budget) measured against --raytrace path on random scenes
+# generated:random:1001..(1000+N) and the sample scenes, then the model's choice per scene and budget E = 0.01, 0.03, 0.1 read against
 # the measured errors and frame times (what `render --error-budget E --verify` prints, per scene).
 #
 #   tests/tools/evaluate_error_budget.sh [BUILD_DIR]

@@ -13,6 +13,7 @@ seeds=${SEEDS:-48}
 scenes=()
 for s in $(seq 1 "$seeds"); do scenes+=("generated:random:$s"); done
 for f in "$root"/samples/scenes/*.gltf; do scenes+=("$f"); done
+trace_budgets=none  # the tracer rung has no model to fit: it measures its own noise while it renders
 measure_scenes fit "${scenes[@]}" || echo "fit_error_budget.sh: some scenes were not measured (see $out/fit.*.log)" >&2
 csvs=("$out"/fit.*.csv)
 "$candela" bench error-budget --fit "${csvs[@]}" --size "$size" --spp "$spp" -o "$root/engine/accuracy/error_budget_model.inc"

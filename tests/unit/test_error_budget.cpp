@@ -22,6 +22,7 @@ TEST(ErrorBudget, PicksTheCheapestCandidateWithinTheBudget) {
     const auto p = predictions({{0.20, 1.0}, {0.02, 3.0}, {0.05, 1.5}, {0.01, 6.0}, {0.04, 2.0}});
     Choice c = choose(p, 0.045);
     EXPECT_TRUE(c.met);
+    EXPECT_FALSE(c.trace);  // a raster candidate is predicted within: the tracer does not run
     EXPECT_EQ(c.chosen, 4);     // 0.04 at x2.0: cheaper than 0.02 at x3.0
     EXPECT_EQ(c.runner_up, 2);  // the next cheaper one, rejected: 0.05 > 0.045
     c = choose(p, 0.05);        // at the budget exactly: within it
@@ -39,6 +40,7 @@ TEST(ErrorBudget, NoCandidateWithinTheBudgetChoosesTheMostAccurate) {
     const auto p = predictions({{0.20, 1.0}, {0.02, 3.0}, {0.015, 9.0}, {0.03, 2.0}});
     const Choice c = choose(p, 0.001);
     EXPECT_FALSE(c.met);
+    EXPECT_TRUE(c.trace);  // the tracer renders the frame; chosen is the most accurate raster stand-in
     EXPECT_EQ(c.chosen, 2);
     EXPECT_EQ(c.runner_up, 1);
 }
@@ -52,8 +54,13 @@ TEST(ErrorBudget, ASmallerBudgetNeverPicksACheaperCandidate) {
         if (trial % 4 == 0) et[3].second = et[5].second;  // ties in time
         const auto p = predictions(et);
         double last_time = std::numeric_limits<double>::infinity(), last_error = -1;
+        bool raster = false;
         for (double e = 0.001; e <= 0.25; e *= 1.2) {  // growing budgets: time never grows
             const Choice c = choose(p, e);
+            // The tracer, slower than any raster frame, only below every budget a raster candidate meets.
+            EXPECT_EQ(c.trace, !c.met);
+            if (raster) EXPECT_FALSE(c.trace) << "trial " << trial << " budget " << e;
+            raster = raster || !c.trace;
             const Prediction& got = p[static_cast<size_t>(c.chosen)];
             EXPECT_LE(got.time, last_time) << "trial " << trial << " budget " << e;
             if (got.time == last_time) EXPECT_GE(got.error, last_error - 1e-12);
