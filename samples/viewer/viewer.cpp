@@ -285,7 +285,14 @@ int Viewer::run() {
             }
             char quality[96];
             std::snprintf(quality, sizeof quality, " at quality %s (%dx%d)", quality_level_name(shown_.quality.level), render_w_, render_h_);
-            log::info("viewer: wrote " + p.string() + pose + quality + ", " + std::to_string(nonfinite) + " non-finite radiance values");
+            // The reference mode's image (not written: the screenshot is the raster frame) is
+            // checked too, the frame the budget traces among them.
+            std::string reference;
+            if (ref_.on && ref_.tracer && ref_.shown_samples > 0)
+                reference = " (reference " + std::string(Reference::kModes[ref_.mode]) + " at " + std::to_string(ref_.shown_samples) +
+                            " spp: " + std::to_string(ref_.nonfinite) + " non-finite values)";
+            log::info("viewer: wrote " + p.string() + pose + quality + ", " + std::to_string(nonfinite) + " non-finite radiance values" +
+                      reference);
         }
         pending_screenshots_.clear();
         if (show_ui_) draw_ui(ms_since(t0));

@@ -77,6 +77,7 @@ struct Reference {
     bool built_motion = false;
     std::uint32_t motion_slices = 0;
     double rmse = -1.0, rmse_display = -1.0;  // linear radiance; display values
+    std::size_t nonfinite = 0;  // non-finite values in the last image read back (shown_samples)
     gl::Texture image, diff;
     gl::Framebuffer fbo;
 };
