@@ -219,6 +219,7 @@ int Viewer::run() {
             glfwWaitEventsTimeout(0.1);
             continue;
         }
+        frame_ = frame;
         const auto t0 = Clock::now();
         const float dt = static_cast<float>(std::chrono::duration<double>(t0 - last).count());
         last = t0;
@@ -232,6 +233,9 @@ int Viewer::run() {
         handle_input(std::min(dt, 0.1f));
         update_pose();
         const Camera camera = controller_.camera();
+        // The error budget chooses from this view's statistics when asked to (turned on, a new E,
+        // a re-choice), before the frame renders at the choice; never because the camera moved.
+        if (budget_pending_) choose_budget(camera, w, h);
         const bool last_frame = o_.frames > 0 && frame + 1 >= o_.frames;
         if (last_frame && !o_.screenshot.empty()) pending_screenshots_.push_back(o_.screenshot);
         const QualityState previous = quality_;
