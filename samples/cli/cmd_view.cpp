@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "budget.hpp"
 #include "core/error.hpp"
 #include "options.hpp"
 #include "viewer.hpp"
@@ -14,10 +15,13 @@ namespace fs = std::filesystem;
 int cmd_view(const Args& args) {
     std::vector<std::string> with_value = kSceneSetupOptions;
     with_value.insert(with_value.end(), {"--script", "--screenshot", "--window-shot", "--exposure"});
+    with_value.insert(with_value.end(), kBudgetOptions.begin(), kBudgetOptions.end());
     std::vector<std::string> flags = kSceneSetupFlags;
     flags.push_back("--no-vsync");
     const Parsed p = parse(args, with_value, flags);
     if (p.positional.size() != 1) throw bad_input("view needs exactly one SCENE (got " + std::to_string(p.positional.size()) + ")");
+    // --error-budget E [--budget-model FILE]: bad input is found before the scene loads.
+    const std::optional<BudgetRequest> budget_req = budget_request(p);
     SceneSetup s = setup_scene(p, p.positional[0], 1280, 720);
     viewer::ViewerOptions o;
     o.width = s.options.width;
@@ -45,6 +49,11 @@ int cmd_view(const Args& args) {
         o.time = parse_float("--time", p.get("--time"), 0.0f, 1e6f);
     }
     if (p.has("--exposure")) o.exposure_ev = parse_float("--exposure", p.get("--exposure"), -32, 32);
+    if (budget_req) {
+        o.error_budget = budget_req->budget;
+        o.budget_model = budget_req->model;
+        o.budget_model_label = budget_req->model_label;
+    }
     return viewer::run_viewer(s.scene, o);
 }
 

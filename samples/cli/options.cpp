@@ -55,7 +55,7 @@ void print_usage() {
         "  candela bench accuracy [SCENE...] -o DIR [--report FILE.md] [--quick] [--effect NAME...]\n"
         "  candela bench error-budget SCENE... --csv OUT.csv [--size WxH] [--spp N] [--frames N]\n"
         "  candela bench error-budget --fit CSV... -o MODEL.json|MODEL.inc | --evaluate CSV... [--budgets E,...]\n"
-        "  candela render|info|bench frame SCENE ... --error-budget E [--budget-model FILE.json] (render: [--verify [--spp N]])\n"
+        "  candela render|info|view|bench frame SCENE ... --error-budget E [--budget-model FILE.json] (render: [--verify [--spp N]])\n"
         "  candela shaders check [--shader-dir DIR] [--backend auto|egl|osmesa]\n"
         "  candela view SCENE [--size WxH] [--effects ...] [--set ...] [--path P] [--camera C] [--shader-dir DIR]\n"
         "               [--script FILE] [--frames N] [--screenshot OUT.png] [--window-shot OUT.png] [--no-vsync]\n"

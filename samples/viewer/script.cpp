@@ -5,6 +5,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "budget_mode.hpp"
 #include "core/error.hpp"
 
 namespace candela::viewer {
@@ -18,7 +19,7 @@ std::vector<ScriptCommand> load_script(const std::filesystem::path& file) {
         {"effects", {1, 1}}, {"set", {1, 1}}, {"path", {1, 1}}, {"screenshot", {1, 1}}, {"quit", {0, 0}},
         {"reference", {1, 2}}, {"show", {1, 1}}, {"inspect", {1, 4}},
         {"animation", {1, 1}}, {"time", {1, 1}}, {"play", {0, 0}}, {"pause", {0, 0}}, {"speed", {1, 1}}, {"loop", {1, 1}},
-        {"variant", {1, 1}}, {"adaptive", {1, 2}}};
+        {"variant", {1, 1}}, {"adaptive", {1, 2}}, {"budget", {1, 1}}};
     std::vector<ScriptCommand> out;
     std::string text;
     int line_no = 0;
@@ -62,6 +63,11 @@ std::vector<ScriptCommand> load_script(const std::filesystem::path& file) {
                     throw bad_input(where + "'adaptive' target '" + c.args[1] + "' is not a frame time in ms in [1, 10000]");
             }
         }
+        if (c.verb == "budget") try {
+                parse_budget_argument(c.args[0]);
+            } catch (const Error& e) {
+                throw bad_input(where + e.what());
+            }
         for (const char* numeric : {"orbit", "zoom", "pan", "time", "speed"})
             if (c.verb == numeric)
                 for (const auto& a : c.args) {

@@ -26,6 +26,11 @@
 //                             reduced: every frame at the reduced level (full size), e.g. to
 //                             compare it. TARGET_MS (1..10000, default 100): the moving frames'
 //                             target time. Scripted runs start with it off.
+//   FRAME budget E|off        the error budget (viewer/budget_mode.hpp), as --error-budget E:
+//                             E in (0, 1]; the settings are chosen from this frame's view (and
+//                             again at each new E); when no raster candidate is predicted within
+//                             E the reference mode traces the view (path, shown as the
+//                             reference); off gives back the settings and reference from before
 //   FRAME quit
 #include <filesystem>
 #include <string>

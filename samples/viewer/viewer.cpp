@@ -219,6 +219,7 @@ int Viewer::run() {
             glfwWaitEventsTimeout(0.1);
             continue;
         }
+        frame_ = frame;
         const auto t0 = Clock::now();
         const float dt = static_cast<float>(std::chrono::duration<double>(t0 - last).count());
         last = t0;
@@ -232,6 +233,9 @@ int Viewer::run() {
         handle_input(std::min(dt, 0.1f));
         update_pose();
         const Camera camera = controller_.camera();
+        // The error budget chooses from this view's statistics when asked to (turned on, a new E,
+        // a re-choice), before the frame renders at the choice; never because the camera moved.
+        if (budget_pending_) choose_budget(camera, w, h);
         const bool last_frame = o_.frames > 0 && frame + 1 >= o_.frames;
         if (last_frame && !o_.screenshot.empty()) pending_screenshots_.push_back(o_.screenshot);
         const QualityState previous = quality_;
@@ -285,7 +289,14 @@ int Viewer::run() {
             }
             char quality[96];
             std::snprintf(quality, sizeof quality, " at quality %s (%dx%d)", quality_level_name(shown_.quality.level), render_w_, render_h_);
-            log::info("viewer: wrote " + p.string() + pose + quality + ", " + std::to_string(nonfinite) + " non-finite radiance values");
+            // The reference mode's image (not written: the screenshot is the raster frame) is
+            // checked too, the frame the budget traces among them.
+            std::string reference;
+            if (ref_.on && ref_.tracer && ref_.shown_samples > 0)
+                reference = " (reference " + std::string(Reference::kModes[ref_.mode]) + " at " + std::to_string(ref_.shown_samples) +
+                            " spp: " + std::to_string(ref_.nonfinite) + " non-finite values)";
+            log::info("viewer: wrote " + p.string() + pose + quality + ", " + std::to_string(nonfinite) + " non-finite radiance values" +
+                      reference);
         }
         pending_screenshots_.clear();
         if (show_ui_) draw_ui(ms_since(t0));

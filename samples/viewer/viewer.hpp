@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "accuracy/error_budget.hpp"
 #include "render/settings.hpp"
 #include "scene/lighting.hpp"
 #include "scene/scene.hpp"
@@ -37,6 +38,12 @@ struct ViewerOptions {
     // < 0: start at 0, playing.
     std::string animation;
     float time = -1.0f;
+    // --error-budget E [--budget-model FILE] (viewer/budget_mode.hpp): the budget is on from the
+    // first frame (0: off until the panel or a script turns it on); the model the panel and the
+    // script's `budget` choose with.
+    double error_budget = 0.0;
+    budget::Model budget_model = budget::builtin_model();
+    std::string budget_model_label = "built-in";
 };
 
 // Runs until the window closes, the script quits or --frames have passed. Returns the exit code:

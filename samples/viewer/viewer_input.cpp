@@ -40,6 +40,15 @@ void Viewer::run_script(int frame) {
                 log::info("viewer: frame " + std::to_string(frame) + ": adaptive quality " + c.args[0] + ", target " +
                           std::to_string(static_cast<int>(adaptive_.target_ms())) + " ms; reduced: " + join_reductions());
             }
+            else if (c.verb == "budget") {
+                // `budget E`: chosen before this frame renders (from its view); `budget off`: now.
+                if (const std::optional<double> e = parse_budget_argument(c.args[0])) {
+                    budget_e_ = *e;
+                    budget_pending_ = true;
+                } else {
+                    budget_off();
+                }
+            }
             else if (c.verb == "animation" || c.verb == "time" || c.verb == "play" || c.verb == "pause" || c.verb == "speed" ||
                      c.verb == "loop") {
                 if (c.verb == "animation") {

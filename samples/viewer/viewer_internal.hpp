@@ -5,6 +5,7 @@
 //   viewer_panel.cpp      the ImGui panel
 //   viewer_input.cpp      mouse and keyboard, the script's commands, window screenshots
 //   viewer_reference.cpp  the reference tracer refining the view, and the texture inspector
+//   viewer_budget.cpp     the error budget's choice, applied as the settings (and the reference)
 #include <glad/gl.h>
 // After glad: GLFW must not pull in the system's GL header.
 #define GLFW_INCLUDE_NONE
@@ -26,6 +27,7 @@
 #include <vector>
 
 #include "adaptive_quality.hpp"
+#include "budget_mode.hpp"
 #include "camera_controller.hpp"
 #include "effect_status.hpp"
 #include "playback.hpp"
@@ -77,6 +79,7 @@ struct Reference {
     bool built_motion = false;
     std::uint32_t motion_slices = 0;
     double rmse = -1.0, rmse_display = -1.0;  // linear radiance; display values
+    std::size_t nonfinite = 0;  // non-finite values in the last image read back (shown_samples)
     gl::Texture image, diff;
     gl::Framebuffer fbo;
 };
@@ -105,6 +108,10 @@ public:
         // Scripted runs replay the same images on any machine: adaptive quality starts off
         // there (the script's `adaptive on` turns it on).
         adaptive_.set_enabled(script_.empty());
+        if (o.error_budget > 0.0) {  // --error-budget E: chosen before the first frame
+            budget_e_ = o.error_budget;
+            budget_pending_ = true;
+        }
         log::info(std::string("viewer: watching ") + shaders_.root().string() + " and " + (shaders_.effects_root() / "effects").string() +
                   (watcher_.uses_inotify() ? " (inotify)" : " (polling)"));
     }
@@ -142,6 +149,18 @@ private:
     void use_settings_for(const QualityState& q);
     bool view_unchanged(const Camera& camera, int rw, int rh) const;
     void adaptive_ui();
+    // The error budget (budget_mode.hpp). choose_budget measures the statistics of `camera` (a
+    // small trace), chooses for budget_e_ and applies the choice; budget_off gives back what the
+    // budget replaced. Both log what they did.
+    void choose_budget(const Camera& camera, int w, int h);
+    void budget_off();
+    void budget_ui();
+    ReferenceView reference_view() const { return {ref_.on, ref_.mode, ref_.view}; }
+    void set_reference_view(const ReferenceView& v) {
+        ref_.on = v.on;
+        ref_.mode = v.mode;
+        ref_.view = v.view;
+    }
     // reductions(settings_) as "knob=value knob=value", for the log and the panel.
     std::string join_reductions() const {
         std::string out;
@@ -260,6 +279,14 @@ private:
     bool moved_ = false;  // this frame's input to adaptive_
     int render_w_ = 0, render_h_ = 0;  // the last rendered frame's size (scaled: less than the scene's)
     double last_render_frame_ms_ = -1.0;
+
+    // The error budget: the panel's E (the budget's while it is on), and whether to choose
+    // before the next frame (turned on, a new E, the panel's re-choose button, the script).
+    BudgetMode budget_;
+    double budget_e_ = 0.03;
+    bool budget_pending_ = false;
+    std::string budget_stats_;  // the statistics of the last choice, for the panel
+    int frame_ = 0;             // the frame being run (the log's "frame N")
 };
 
 }  // namespace candela::viewer

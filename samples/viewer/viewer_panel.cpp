@@ -1,5 +1,5 @@
-// The viewer's ImGui panel, docked at the window's right edge: settings, knobs, the reference
-// mode, animation, status.
+// The viewer's ImGui panel, docked at the window's right edge: settings, knobs, the error budget,
+// the reference mode, animation, status.
 #include "viewer_internal.hpp"
 
 #include <cstdio>
@@ -160,6 +160,57 @@ void Viewer::adaptive_ui() {
     wrapped_disabled("while moving: " + join_reductions());
 }
 
+void Viewer::budget_ui() {
+    const ImVec4 warm(0.95f, 0.75f, 0.35f, 1.0f);
+    bool on = budget_.on() || budget_pending_;
+    if (ImGui::Checkbox("choose the settings for E", &on)) {
+        if (on) budget_pending_ = true;
+        else budget_off();
+    }
+    if (ImGui::IsItemHovered())
+        ImGui::SetTooltip("the cheapest candidate of the ladder whose predicted error against the path tracer is at most E\n"
+                          "(mean display difference over 4x4 blocks) becomes the settings; off gives back the settings from before");
+    float e = static_cast<float>(budget_e_);
+    ImGui::SliderFloat("E", &e, 0.001f, 1.0f, "%.4g", ImGuiSliderFlags_Logarithmic);
+    if (std::isfinite(e)) budget_e_ = std::clamp(static_cast<double>(e), 0.001, 1.0);
+    // A new E chooses again when the slider is let go (each choice traces the statistics).
+    if (ImGui::IsItemDeactivatedAfterEdit() && budget_.on() && budget_e_ != budget_.budget()) budget_pending_ = true;
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("0.01: about 2.5/255 of display value per channel; 0.1: a difference anyone sees");
+    if (!budget_.on()) {
+        ImGui::BeginDisabled();
+        ImGui::Button("re-choose for this view");
+        ImGui::EndDisabled();
+        return;
+    }
+    if (ImGui::Button("re-choose for this view")) budget_pending_ = true;
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("the choice reads the statistics of the view it was made from; camera moves do not choose again");
+    if (!budget_.choice()) return;
+    const budget::Choice& c = *budget_.choice();
+    const auto name = [](const budget::Prediction& p) { return budget::ladder()[static_cast<size_t>(p.candidate)].name; };
+    const budget::Prediction& chosen = c.predictions[static_cast<size_t>(c.chosen)];
+    if (c.trace) {
+        ImGui::TextColored(warm, "chosen: the path tracer");
+        ImGui::TextWrapped("The frame is traced: no raster candidate is predicted within E = %.4g. The reference mode (path) refines "
+                           "the view between frames%s.",
+                           budget_.budget(), ref_.tracer ? "" : " (starting)");
+        if (ref_.on && ref_.tracer) ImGui::Text("reference: %d spp", ref_.tracer->progressive_samples());
+        ImGui::Text("runner-up: %s, predicted error %.4f, time x%.2f", name(chosen).c_str(), chosen.error, chosen.time);
+        wrapped_disabled("the most accurate raster candidate (its predicted error is above E); the raster frame under the reference renders at it");
+    } else {
+        ImGui::TextColored(ImVec4(0.45f, 0.85f, 0.45f, 1.0f), "chosen: %s", name(chosen).c_str());
+        if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", budget::ladder()[static_cast<size_t>(chosen.candidate)].summary().c_str());
+        ImGui::Text("predicted error %.4f (E %.4g), time x%.2f speed of light", chosen.error, budget_.budget(), chosen.time);
+        if (c.runner_up >= 0) {
+            const budget::Prediction& r = c.predictions[static_cast<size_t>(c.runner_up)];
+            ImGui::Text("runner-up: %s, predicted error %.4f, time x%.2f", name(r).c_str(), r.error, r.time);
+            wrapped_disabled("rejected: its predicted error is above E");
+        } else {
+            ImGui::TextUnformatted("runner-up: none (no cheaper candidate)");
+        }
+    }
+    wrapped_disabled(budget_stats_ + ". Knob and effect edits apply over the choice until the next one.");
+}
+
 void Viewer::draw_ui(double frame_ms) {
     // Docked: pinned to the right edge at full height, opaque (the scene is not behind it), and
     // resizable only by its left edge; the new width moves the scene's edge on the next frame.
@@ -199,6 +250,7 @@ void Viewer::draw_ui(double frame_ms) {
     if (!status_.empty()) wrapped_disabled(status_);
 
     if (ImGui::CollapsingHeader("Adaptive quality", ImGuiTreeNodeFlags_DefaultOpen)) adaptive_ui();
+    if (ImGui::CollapsingHeader("Error budget", budget_.on() ? ImGuiTreeNodeFlags_DefaultOpen : 0)) budget_ui();
     if (ImGui::CollapsingHeader("Camera")) {
         if (ImGui::Button("Frame scene (F)")) controller_.frame(bounds_);
         for (size_t i = 0; i < scene_.cameras.size(); ++i) {

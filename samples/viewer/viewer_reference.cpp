@@ -92,6 +92,8 @@ void Viewer::update_reference(const Camera& camera, int w, int h) {
     if (samples == r.shown_samples && samples > 0) return;
     r.shown_samples = samples;
     const ImageF reference = r.tracer->progressive_image();
+    r.nonfinite = 0;
+    for (float v : reference.pixels) r.nonfinite += std::isfinite(v) ? 0 : 1;
     const ImageF raster = renderer_.read_radiance();
     const ImageF shown = to_display(reference, o_.exposure_ev);
     r.rmse = samples > 0 ? compare(raster, reference, 2.0 / 255.0).rmse : -1.0;
