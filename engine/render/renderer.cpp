@@ -71,7 +71,13 @@ bool Renderer::estimate_if_needed() {
 }
 
 void Renderer::plan() {
-    features_ = analyze(scene_, settings_, &estimates_, camera_ ? &*camera_ : nullptr, moving_draws_);
+    // Plan from the estimates these settings ask for, not every one made so far (an effect whose
+    // knob no longer asks for one, gi.threshold=0, plans as a fresh renderer with that knob does);
+    // the others stay cached for when a knob asks again.
+    ViewEstimates asked;
+    for (const Effect* e : effects_needing_view_estimate(settings_))
+        if (auto it = estimates_.find(e->name()); it != estimates_.end()) asked.insert(*it);
+    features_ = analyze(scene_, settings_, &asked, camera_ ? &*camera_ : nullptr, moving_draws_);
     const LightSetup& ls = features_.lights;
     gpu_.update_lights(ls.area_samples, ls.split_emitters, ls.shadows, ls.cascades, ls.max_shadowed);
     features_.area_light_pieces = gpu_.light_count() - gpu_.punctual_light_count();

@@ -167,6 +167,32 @@ TEST_P(GiTest, BudgetConvergesOverFramesToTheStill) {
     EXPECT_LT(rmse(converged, still), 0.02 * m + 0.005);
 }
 
+// A knob changed on a live renderer plans as a fresh renderer with it does: after gi.threshold
+// goes to 0 (the probes always run, no estimate asked for), the bounces are planned without the
+// indirect estimate the earlier threshold made, as they are from the start.
+TEST_P(GiTest, ThresholdChangedLiveGivesTheImageOfAFreshRenderer) {
+    const Scene scene = load_sample("cornell_point");
+    const Camera camera = scene.select_camera("", 1.0f);
+    RenderSettings always;
+    apply_knob(always, "gi.threshold=0");
+    GpuScene gpu(scene);
+    Renderer live(lib_, scene, gpu, RenderSettings{});
+    live.render(camera, kSize, kSize);
+    live.set_settings(always);
+    live.render(camera, kSize, kSize);
+    const ImageF changed = live.read_radiance();
+    const GiStatusView* view = live.effect_runtime<GiStatusView>();
+    ASSERT_NE(view, nullptr);
+    const int live_bounces = view->gi_status().bounces;
+    GpuScene gpu2(scene);
+    Renderer fresh(lib_, scene, gpu2, always);
+    fresh.render(camera, kSize, kSize);
+    const ImageF expected = fresh.read_radiance();
+    EXPECT_EQ(live_bounces, fresh.effect_runtime<GiStatusView>()->gi_status().bounces);
+    ASSERT_EQ(changed.pixels.size(), expected.pixels.size());
+    EXPECT_EQ(changed.pixels, expected.pixels);
+}
+
 INSTANTIATE_TEST_SUITE_P(Backends, GiTest, ::testing::Values(Backend::egl), test::backend_name);
 
 }  // namespace

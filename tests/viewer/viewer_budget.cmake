@@ -115,10 +115,8 @@ foreach(line "frame 0: error budget 0.008 \\(model built-in" "frame 0: chosen: t
   endif()
 endforeach()
 # The raster frame under the traced view renders at the most accurate raster candidate: the
-# settings info's runner-up line names, given to `candela render`. (Here, not in run 1: switched
-# to live from the defaults, that frame differs from render's in GI's bounce count, since the
-# renderer keeps planning with the indirect estimate it made while gi.threshold was above 0; that
-# is how any live `set gi.threshold=0` behaves, with or without the budget.)
+# settings info's runner-up line names, given to `candela render`. (A live switch plans as a fresh
+# renderer does too: unit test GiTest.ThresholdChangedLiveGivesTheImageOfAFreshRenderer.)
 string(REGEX MATCH "runner-up: ${most_accurate} \\(([^)]*)\\)" _ "${info_0.008}")
 separate_arguments(most_accurate_args UNIX_COMMAND "${CMAKE_MATCH_1}")
 candela_render_or_fail("candela render at ${most_accurate}" ${SCENE} --size ${size} ${most_accurate_args} --set gi.budget=0
