@@ -3,6 +3,7 @@
 #   candela_same_or_fail(A B HEATMAP WHAT) `candela compare A B --check` (the default tolerance,
 #                                          no NaN/Inf) writing HEATMAP; fails saying WHAT differs
 #   candela_view_or_fail(DIR LOG_VAR ARG...) `candela view ARG...` under xvfb-run in DIR; LOG_VAR: its log
+#   candela_log_says_or_fail(LOG WHAT REGEX...) every REGEX matches LOG, else fails naming WHAT and the REGEX
 function(candela_render_or_fail what)
   execute_process(COMMAND ${CANDELA} render ${ARGN} RESULT_VARIABLE code OUTPUT_VARIABLE out ERROR_VARIABLE err TIMEOUT 300)
   if(NOT code EQUAL 0)
@@ -34,4 +35,14 @@ function(candela_view_or_fail dir log_var)
     message(FATAL_ERROR "the viewer failed (exit ${code})")
   endif()
   set(${log_var} "${err}" PARENT_SCOPE)
+endfunction()
+
+# Every regular expression matches `log`, else the test fails naming `what` (whose log) and the
+# first one missing.
+function(candela_log_says_or_fail log what)
+  foreach(line IN LISTS ARGN)
+    if(NOT log MATCHES "${line}")
+      message(FATAL_ERROR "${what} does not say: ${line}")
+    endif()
+  endforeach()
 endfunction()

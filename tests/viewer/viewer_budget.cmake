@@ -61,7 +61,7 @@ set(info_stats "${CMAKE_MATCH_1}")
 # 1. The script.
 candela_view_or_fail(${dir} log ${SCENE} --size ${size} --script ${SCRIPT} --set gi.budget=0 --no-vsync)
 check_screenshots("${log}" 5)
-foreach(line
+candela_log_says_or_fail("${log}" "the log"
     "frame 3: error budget 0.1 \\(model built-in[^\n]*statistics of this view \\([0-9]+ ms\\): ${info_stats}"
     "frame 3: chosen: ${raster} \\([^\n]*<= 0.1\n"
     "frame 3: runner-up: ${raster_runner_up} \\([^\n]*rejected: predicted error above 0.1\n"
@@ -73,10 +73,6 @@ foreach(line
     "frame 31: error budget: reference off \\(show split\\) \\(as before the frame was traced\\)"
     "frame 34: chosen: the path tracer"
     "frame 36: error budget off: the settings from before it was on are back, reference off \\(show split\\)")
-  if(NOT log MATCHES "${line}")
-    message(FATAL_ERROR "the log does not say: ${line}")
-  endif()
-endforeach()
 if(log MATCHES "wrote budget_(start|0.1|0.1_again|off).png[^\n]*\\(reference")
   message(FATAL_ERROR "the reference ran where no budget traced the frame")
 endif()
@@ -107,13 +103,9 @@ endif()
 candela_view_or_fail(${dir} log2 ${SCENE} --size ${size} --error-budget 0.008 --frames 12 --screenshot ${dir}/budget_option.png
                      --set gi.budget=0 --no-vsync)
 check_screenshots("${log2}" 1)
-foreach(line "frame 0: error budget 0.008 \\(model built-in" "frame 0: chosen: the path tracer"
+candela_log_says_or_fail("${log2}" "the log of view --error-budget 0.008" "frame 0: error budget 0.008 \\(model built-in" "frame 0: chosen: the path tracer"
              "frame 0: error budget: reference path, show reference"
              "wrote [^\n]*budget_option.png[^\n]*\\(reference path at [1-9][0-9]* spp: 0 non-finite values\\)")
-  if(NOT log2 MATCHES "${line}")
-    message(FATAL_ERROR "the log of view --error-budget 0.008 does not say: ${line}")
-  endif()
-endforeach()
 # The raster frame under the traced view renders at the most accurate raster candidate: the
 # settings info's runner-up line names, given to `candela render`. (A live switch plans as a fresh
 # renderer does too: unit test GiTest.ThresholdChangedLiveGivesTheImageOfAFreshRenderer.)
