@@ -5,8 +5,12 @@
 // and its distance: the direct light the hit reflects back along the ray with its full BRDF (the
 // tracer's next-event estimation, as in path mode: shadow rays, its own light sampling), so that
 // light a metal or glossy surface sends towards the probe is counted, plus the previous
-// iteration's probes for the bounces before (diffuse only). Emission is left out: the raster
-// shades emitters as direct light. One ray per invocation; work group y: the probe.
+// iteration's probes for the bounces before (diffuse only). A transmissive surface is what the
+// tracer's camera paths make of it (path.comp): with probability `transmission` a smooth
+// dielectric that reflects or refracts the ray by the exact Fresnel term, with no direct light of
+// its own (next-event estimation cannot connect a punctual light through it), and the ray goes on
+// to what lies beyond; otherwise the opaque BRDF. Emission is left out: the raster shades emitters
+// as direct light. One ray per invocation; work group y: the probe.
 #define RT_NO_CAMERA
 #include "rt/trace_common.glsl"
 #include "rt/materials.glsl"
@@ -27,6 +31,56 @@ vec3 gi_ray_direction(int i, int n) {
     return normalize(mat3(gi.rotation) * vec3(cos(phi) * r, sin(phi) * r, z));
 }
 
+// Smooth-dielectric vertices a probe ray passes before it counts as lost (a solid glass object
+// takes two; total internal reflection a few more).
+const int GI_MAX_DIELECTRIC_VERTICES = 8;
+
+// The light leaving the surface a probe ray hit (y, front side or double-sided) back along the
+// ray, as the tracer's camera paths see it: transmissive surfaces pass the ray on (reflected or
+// refracted), the first other surface gives its direct light and the previous probes' bounce.
+vec3 probe_ray_radiance(Ray ray, SurfaceHit y, inout Rng rng) {
+    vec3 throughput = vec3(1.0);
+    for (int k = 0;; ++k) {
+        vec3 v = -normalize(ray.dir);
+        float transmission = material_transmission(y);
+        if (transmission > 0.0 && rng_next(rng) < transmission) {
+            if (k == GI_MAX_DIELECTRIC_VERTICES) return vec3(0.0);
+            BrdfInput m = brdf_input(y);
+            bool thin = material_thin(y.material);
+            float eta = thin ? 1.0 : (y.front ? 1.0 / m.ior : m.ior);
+            float F = fresnel_dielectric(dot(v, y.ng), thin ? 1.0 / m.ior : eta);
+            if (rng_next(rng) < F) {
+                ray = make_ray(offset_ray(y.p, y.ng, rt.ray_offset), reflect(-v, y.ng));
+            } else {
+                ray = make_ray(offset_ray(y.p, -y.ng, rt.ray_offset), thin ? -v : refract(-v, y.ng, eta));
+                throughput *= m.base_color;
+            }
+            Hit hit = trace_closest(ray, 3.0e38);
+            if (hit.prim < 0) return vec3(0.0);  // as a probe ray that misses: no light
+            y = surface_at(ray, hit);
+            // Inside glass every hit is a back face of the glass; a one-sided opaque back face
+            // beyond it sends nothing.
+            if (!y.front && !material_double_sided(y.material) && material_transmission(y) <= 0.0) return vec3(0.0);
+            continue;
+        }
+        // Direct light reflected towards the ray's origin by the hit's whole BRDF: the diffuse
+        // lobe and the specular one, which a metal has alone. Emitters are sampled without MIS:
+        // the probe ray does not go on to sample the BRDF.
+        BrdfInput m = brdf_input(y);
+        vec3 L = direct_punctual(y, m, v);
+#ifdef HAS_EMITTERS
+        if (rt.emitter_count > 0) L += direct_emitters(y, m, v, rng, false);
+#endif
+        // The bounces before: the previous iteration's probes give irradiance, so this part
+        // stays diffuse (the diffuse albedo times E / pi); light a metal reflects from the
+        // lit room, rather than from the lights, is not in it.
+        if (gi.on > 0.5)
+            L += m.base_color * (1.0 - m.metallic) * INV_PI * gi_irradiance(y.p, y.ns, v);
+        return throughput * L;
+    }
+    return vec3(0.0);
+}
+
 void main() {
     int rays = gi.rays_per_probe;
     int probe = gi.first_probe + int(gl_WorkGroupID.y);
@@ -45,20 +99,7 @@ void main() {
             // so that the update counts it and the Chebyshev test keeps the probe from leaking.
             result = vec4(0.0, 0.0, 0.0, -0.2 * hit.t);
         } else {
-            // Direct light reflected towards the probe (v = -dir) by the hit's whole BRDF: the
-            // diffuse lobe and the specular one, which a metal has alone. Emitters are sampled
-            // without MIS: the probe ray does not go on to sample the BRDF.
-            BrdfInput m = brdf_input(y);
-            vec3 L = direct_punctual(y, m, -dir);
-#ifdef HAS_EMITTERS
-            if (rt.emitter_count > 0) L += direct_emitters(y, m, -dir, rng, false);
-#endif
-            // The bounces before: the previous iteration's probes give irradiance, so this part
-            // stays diffuse (the diffuse albedo times E / pi); light a metal reflects from the
-            // lit room, rather than from the lights, is not in it.
-            if (gi.on > 0.5)
-                L += m.base_color * (1.0 - m.metallic) * INV_PI * gi_irradiance(y.p, y.ns, -dir);
-            result = vec4(L, min(hit.t, gi.miss_distance));
+            result = vec4(probe_ray_radiance(ray, y, rng), min(hit.t, gi.miss_distance));
         }
     }
     if (any(isnan(result)) || any(isinf(result.rgb))) {
