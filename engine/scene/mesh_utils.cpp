@@ -1,5 +1,6 @@
 #include "scene/mesh_utils.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace candela {
@@ -10,6 +11,18 @@ glm::vec3 face_normal_area(const glm::vec3& a, const glm::vec3& b, const glm::ve
 }
 
 bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+// v / |v|, or `fallback` when v has no direction (no component above `tiny`, or not finite).
+// Scaled by its largest component first: a vector of denormal or huge components has a length
+// whose float square underflows or overflows, and dividing by that length does not give a unit
+// vector.
+glm::vec3 unit_or(const glm::vec3& v, const glm::vec3& fallback, float tiny = 0.0f) {
+    if (!finite(v)) return fallback;
+    const float m = std::max(std::fabs(v.x), std::max(std::fabs(v.y), std::fabs(v.z)));
+    if (!(m > tiny)) return fallback;
+    const glm::vec3 u = v / m;  // largest component +-1: the length lies in [1, sqrt 3]
+    return u / glm::length(u);
+}
 
 glm::vec3 any_perpendicular(const glm::vec3& n) {
     const glm::vec3 a = std::fabs(n.x) < 0.9f ? glm::vec3(1, 0, 0) : glm::vec3(0, 1, 0);
@@ -24,9 +37,7 @@ void generate_flat_normals(Primitive& primitive) {
     for (size_t t = 0; t + 2 < primitive.indices.size(); t += 3) {
         Vertex v[3];
         for (int k = 0; k < 3; ++k) v[k] = primitive.vertices[primitive.indices[t + static_cast<size_t>(k)]];
-        glm::vec3 n = face_normal_area(v[0].position, v[1].position, v[2].position);
-        const float len = glm::length(n);
-        n = len > 0.0f && std::isfinite(len) ? n / len : glm::vec3(0, 0, 1);
+        const glm::vec3 n = unit_or(face_normal_area(v[0].position, v[1].position, v[2].position), glm::vec3(0, 0, 1));
         for (auto& vertex : v) {
             vertex.normal = n;
             out.push_back(vertex);
@@ -45,10 +56,7 @@ void generate_smooth_normals(Primitive& primitive) {
         if (!finite(n)) continue;
         sum[i0] += n, sum[i1] += n, sum[i2] += n;
     }
-    for (size_t i = 0; i < sum.size(); ++i) {
-        const float len = glm::length(sum[i]);
-        primitive.vertices[i].normal = len > 0.0f ? sum[i] / len : glm::vec3(0, 0, 1);
-    }
+    for (size_t i = 0; i < sum.size(); ++i) primitive.vertices[i].normal = unit_or(sum[i], glm::vec3(0, 0, 1));
 }
 
 void generate_tangents(Primitive& primitive, int texcoord) {
@@ -76,9 +84,7 @@ void generate_tangents(Primitive& primitive, int texcoord) {
     }
     for (size_t k = 0; k < n; ++k) {
         const glm::vec3 nrm = primitive.vertices[k].normal;
-        glm::vec3 t = tan[k] - nrm * glm::dot(nrm, tan[k]);
-        const float len = glm::length(t);
-        t = len > 1e-12f ? t / len : any_perpendicular(nrm);
+        const glm::vec3 t = unit_or(tan[k] - nrm * glm::dot(nrm, tan[k]), any_perpendicular(nrm), 1e-12f);
         const float w = glm::dot(glm::cross(nrm, t), bitan[k]) < 0.0f ? -1.0f : 1.0f;
         primitive.vertices[k].tangent = glm::vec4(t, w);
     }
@@ -95,13 +101,12 @@ int repair_normals(Primitive& primitive) {
     }
     for (size_t i = 0; i < primitive.vertices.size(); ++i) {
         glm::vec3& normal = primitive.vertices[i].normal;
-        const float len = glm::length(normal);
-        if (std::isfinite(len) && len > 1e-12f) {
-            normal /= len;
+        const glm::vec3 given = unit_or(normal, glm::vec3(0.0f), 1e-12f);  // below: zero-length
+        if (given != glm::vec3(0.0f)) {
+            normal = given;
             continue;
         }
-        const float flen = glm::length(face[i]);
-        normal = flen > 0.0f && std::isfinite(flen) ? face[i] / flen : glm::vec3(0, 0, 1);
+        normal = unit_or(face[i], glm::vec3(0, 0, 1));
         ++repaired;
     }
     return repaired;
