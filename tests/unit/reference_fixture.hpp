@@ -3,6 +3,7 @@
 // radiance) and a ray-traced render of the same scene and camera, both checked for NaN/Inf.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -40,6 +41,31 @@ protected:
         EXPECT_EQ(r.nonfinite_samples, 0u);
         EXPECT_EQ(count_nonfinite(r.image), 0u);
         return r;
+    }
+    // `path` at pixel centres (as the rasterizer samples), w x h, in 4 independent batches of
+    // spp / 4 samples: the mean luminance of the image, and in `standard_error` that of the mean
+    // from the batches' spread.
+    double path_mean_luminance(const Scene& scene, int w, int h, int spp, double& standard_error) {
+        rt::Options o;
+        o.mode = rt::Mode::path;
+        o.spp = spp;
+        o.jitter = 0;
+        GpuScene gpu(scene);
+        rt::RayTracer tracer(lib_, scene, gpu, o);
+        const Camera camera = scene.select_camera("", static_cast<float>(w) / static_cast<float>(h));
+        double means[4], mean = 0.0;
+        for (int k = 0; k < 4; ++k) {
+            tracer.set_shard(k, 4);
+            const rt::Result r = tracer.render(camera, w, h);
+            EXPECT_EQ(r.nonfinite_samples, 0u);
+            EXPECT_EQ(count_nonfinite(r.image), 0u);
+            means[k] = mean_luminance(r.image);
+            mean += means[k] / 4.0;
+        }
+        double var = 0.0;
+        for (double b : means) var += (b - mean) * (b - mean) / 3.0;
+        standard_error = std::sqrt(var / 4.0);
+        return mean;
     }
     ShaderLibrary lib_{std::filesystem::path(CANDELA_SOURCE_DIR) / "shaders"};
     ShadowViews last_views_;  // of the last raster() frame

@@ -113,29 +113,6 @@ protected:
     // The probes always run, with enough bounces for the room: the test is about what a probe ray
     // brings back, not about the planner's choice.
     static RenderSettings probes_on() { return settings("", {"gi.threshold=0", "gi.bounces=12"}); }
-
-    // `path` at pixel centres, 4 independent batches: the mean and the standard error of the mean.
-    double path_mean(const Scene& scene, int spp, double& se) {
-        rt::Options o;
-        o.mode = rt::Mode::path;
-        o.spp = spp;
-        o.jitter = 0;
-        GpuScene gpu(scene);
-        rt::RayTracer tracer(lib_, scene, gpu, o);
-        const Camera camera = scene.select_camera("", 1.0f);
-        double means[4], mean = 0.0;
-        for (int k = 0; k < 4; ++k) {
-            tracer.set_shard(k, 4);
-            const rt::Result r = tracer.render(camera, kSize, kSize);
-            EXPECT_EQ(r.nonfinite_samples, 0u);
-            means[k] = mean_luminance(r.image);
-            mean += means[k] / 4.0;
-        }
-        double var = 0.0;
-        for (double b : means) var += (b - mean) * (b - mean) / 3.0;
-        se = std::sqrt(var / 4.0);
-        return mean;
-    }
 };
 
 TEST_P(GlassGiTest, ProbesFindNoLightThatOnlyACausticThroughGlassCarries) {
@@ -143,7 +120,7 @@ TEST_P(GlassGiTest, ProbesFindNoLightThatOnlyACausticThroughGlassCarries) {
     const Scene scene = block_room(true);
     const double m = mean_luminance(raster(scene, kSize, kSize, probes_on()));
     double se = 0.0;
-    const double ref = path_mean(scene, 64, se);
+    const double ref = path_mean_luminance(scene, kSize, kSize, 64, se);
     std::printf("glass block room: path mean %.3g (standard error %.3g); raster %.3g; the same room with a diffuse block: "
                 "raster %.5f\n", ref, se, m, lit);
     ASSERT_GT(lit, 0.0);  // the setting of the test: a lit block lights the room
@@ -155,7 +132,7 @@ TEST_P(GlassGiTest, ProbesSeeThroughAThinGlassPartition) {
     const Scene scene = partition_room();
     const double m = mean_luminance(raster(scene, kSize, kSize, probes_on()));
     double se = 0.0;
-    const double ref = path_mean(scene, 1024, se);
+    const double ref = path_mean_luminance(scene, kSize, kSize, 1024, se);
     RenderSettings off = probes_on();
     off.set_on("gi", false);
     const double no_gi = mean_luminance(raster(scene, kSize, kSize, off));

@@ -87,24 +87,8 @@ TEST_P(MetalGiTest, ProbesCarryLightAMetalPlateReflectsOntoTheRoom) {
     const ImageF image = raster(scene, kSize, kSize, s);
     const double m = mean_luminance(image);
     // `path` at pixel centres, 4 independent batches: the mean and the standard error of the mean.
-    rt::Options o;
-    o.mode = rt::Mode::path;
-    o.spp = 1024;
-    o.jitter = 0;
-    GpuScene gpu(scene);
-    rt::RayTracer tracer(lib_, scene, gpu, o);
-    const Camera camera = scene.select_camera("", 1.0f);
-    double means[4], ref = 0.0;
-    for (int k = 0; k < 4; ++k) {
-        tracer.set_shard(k, 4);
-        const rt::Result r = tracer.render(camera, kSize, kSize);
-        EXPECT_EQ(r.nonfinite_samples, 0u);
-        means[k] = mean_luminance(r.image);
-        ref += means[k] / 4.0;
-    }
-    double var = 0.0;
-    for (double b : means) var += (b - ref) * (b - ref) / 3.0;
-    const double se = std::sqrt(var / 4.0);
+    double se = 0.0;
+    const double ref = path_mean_luminance(scene, kSize, kSize, 1024, se);
     // Without the probes: what the spot lights directly (the plate's highlight, if in view).
     RenderSettings off = s;
     off.set_on("gi", false);
