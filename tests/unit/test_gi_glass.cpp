@@ -19,6 +19,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "reference_fixture.hpp"
+#include "spot_room.hpp"
 #include "scene/generate.hpp"
 #include "scene/mesh_utils.hpp"
 
@@ -39,51 +40,12 @@ Material glass_material(float thickness) {
     return m;
 }
 
-// A 4 m x 3 m x 4 m room (rough, albedo 0.6) around the origin of the floor, its six quads facing
-// in, a spot pointing down from `spot_at` with the outer cone `outer`, and a camera.
-Scene grey_room(const char* source, glm::vec3 spot_at, float outer, glm::vec3 eye, glm::vec3 target) {
-    Scene scene;
-    scene.source = source;
-    scene.materials.push_back(lambert_material("room", glm::vec3(0.6f)));
-    Primitive room;
-    room.material = 0;
-    // append_quad faces cross(eu, ev).
-    append_quad(room, {-2, 0, -2}, {0, 0, 4}, {4, 0, 0});  // floor, +y
-    append_quad(room, {-2, 3, -2}, {4, 0, 0}, {0, 0, 4});  // ceiling, -y
-    append_quad(room, {-2, 0, -2}, {4, 0, 0}, {0, 3, 0});  // z = -2, +z
-    append_quad(room, {-2, 0, 2}, {0, 3, 0}, {4, 0, 0});   // z = 2, -z
-    append_quad(room, {-2, 0, -2}, {0, 3, 0}, {0, 0, 4});  // x = -2, +x
-    append_quad(room, {2, 0, -2}, {0, 0, 4}, {0, 3, 0});   // x = 2, -x
-    add_mesh_node(scene, "room", std::move(room));
-    Light spot;
-    spot.name = "spot";
-    spot.type = LightType::spot;
-    spot.intensity = 20.0f;
-    spot.inner_cone = 0.8f * outer;
-    spot.outer_cone = outer;
-    scene.lights.push_back(spot);
-    Node light;
-    light.name = "spot";
-    light.light = 0;
-    // A node's -z is where the light points: down (-y).
-    light.local = glm::translate(glm::mat4(1.0f), spot_at) * glm::rotate(glm::mat4(1.0f), -1.5707963f, glm::vec3(1, 0, 0));
-    light.has_matrix = true;
-    scene.nodes.push_back(light);
-    scene.roots.push_back(static_cast<int>(scene.nodes.size()) - 1);
-    Camera cam;
-    cam.name = "view";
-    cam.yfov = 1.2f;
-    cam.znear = 0.05f;
-    cam.world = glm::inverse(glm::lookAt(eye, target, glm::vec3(0, 1, 0)));
-    scene.cameras.push_back(cam);
-    return scene;
-}
 
 // The spot 2.9 m above the floor's centre, its cone (0.23 rad: 0.49 m at the block's top) inside
 // the top of a 1.2 m x 0.8 m x 1.2 m block on the floor, solid glass (`glass`) or, for the scale
 // of the test, diffuse (albedo 0.8). The camera looks up from a corner at the far upper corner.
 Scene block_room(bool glass) {
-    Scene scene = grey_room(glass ? "test:gi_glass_block_room" : "test:gi_diffuse_block_room", {0, 2.9f, 0}, 0.23f,
+    Scene scene = test::spot_room(glass ? "test:gi_glass_block_room" : "test:gi_diffuse_block_room", {0, 2.9f, 0}, 0.184f, 0.23f,
                             {1.8f, 1.0f, 1.8f}, {-1.5f, 2.2f, -1.5f});
     scene.materials.push_back(glass ? glass_material(1.2f) : lambert_material("block", glm::vec3(0.8f)));
     Primitive block;
@@ -98,7 +60,7 @@ Scene block_room(bool glass) {
 // floor at x = 1 (cone 0.3 rad: 0.9 m on the floor, all of it at x > 0). The camera at x < 0 looks
 // away from the partition (no ray of its view reaches x = 0).
 Scene partition_room() {
-    Scene scene = grey_room("test:gi_glass_partition_room", {1.0f, 2.9f, 0}, 0.3f, {-0.3f, 1.0f, 1.9f}, {-2.0f, 2.2f, -0.5f});
+    Scene scene = test::spot_room("test:gi_glass_partition_room", {1.0f, 2.9f, 0}, 0.24f, 0.3f, {-0.3f, 1.0f, 1.9f}, {-2.0f, 2.2f, -0.5f});
     scene.materials.push_back(glass_material(0.0f));
     Primitive wall;
     append_box(wall, {-0.01f, 0.0f, -2.0f}, {0.01f, 3.0f, 2.0f});

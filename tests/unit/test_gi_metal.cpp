@@ -15,6 +15,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "reference_fixture.hpp"
+#include "spot_room.hpp"
 #include "scene/generate.hpp"
 #include "scene/mesh_utils.hpp"
 
@@ -28,51 +29,18 @@ constexpr int kSize = 64;
 // on the plate alone. The camera stands in a corner looking up across the room at the far upper
 // corner: it sees the ceiling and the walls the plate lights, and little of the plate.
 Scene metal_plate_room() {
-    Scene scene;
-    scene.source = "test:gi_metal_plate_room";
-    scene.materials.push_back(lambert_material("room", glm::vec3(0.6f)));
+    Scene scene = test::spot_room("test:gi_metal_plate_room", {0, 2.9f, 0}, 0.18f, 0.23f,  // 2.89 tan 0.23 = 0.68 m on the plate
+                                  {1.8f, 1.0f, 1.8f}, {-1.5f, 2.2f, -1.5f});
     Material metal;
     metal.name = "plate";
     metal.base_color = glm::vec4(0.95f, 0.93f, 0.88f, 1.0f);
     metal.metallic = 1.0f;
     metal.roughness = 0.35f;
     scene.materials.push_back(metal);
-    Primitive room;
-    room.material = 0;
-    // Six quads facing into the room (append_quad faces cross(eu, ev)).
-    append_quad(room, {-2, 0, -2}, {0, 0, 4}, {4, 0, 0});  // floor, +y
-    append_quad(room, {-2, 3, -2}, {4, 0, 0}, {0, 0, 4});  // ceiling, -y
-    append_quad(room, {-2, 0, -2}, {4, 0, 0}, {0, 3, 0});  // z = -2, +z
-    append_quad(room, {-2, 0, 2}, {0, 3, 0}, {4, 0, 0});   // z = 2, -z
-    append_quad(room, {-2, 0, -2}, {0, 3, 0}, {0, 0, 4});  // x = -2, +x
-    append_quad(room, {2, 0, -2}, {0, 0, 4}, {0, 3, 0});   // x = 2, -x
-    add_mesh_node(scene, "room", std::move(room));
     Primitive plate;
     plate.material = 1;
     append_quad(plate, {-0.8f, 0.01f, -0.8f}, {0, 0, 1.6f}, {1.6f, 0, 0});  // +y
     add_mesh_node(scene, "plate", std::move(plate));
-    Light spot;
-    spot.name = "spot";
-    spot.type = LightType::spot;
-    spot.intensity = 20.0f;
-    spot.inner_cone = 0.18f;
-    spot.outer_cone = 0.23f;  // 2.89 tan 0.23 = 0.68 m on the plate  // 2.89 tan 0.3 = 0.9 m on the plate
-    scene.lights.push_back(spot);
-    Node light;
-    light.name = "spot";
-    light.light = 0;
-    // A node's -z is where the light points: down (-y).
-    light.local = glm::translate(glm::mat4(1.0f), glm::vec3(0, 2.9f, 0)) *
-                  glm::rotate(glm::mat4(1.0f), -1.5707963f, glm::vec3(1, 0, 0));
-    light.has_matrix = true;
-    scene.nodes.push_back(light);
-    scene.roots.push_back(static_cast<int>(scene.nodes.size()) - 1);
-    Camera cam;
-    cam.name = "corner";
-    cam.yfov = 1.2f;
-    cam.znear = 0.05f;
-    cam.world = glm::inverse(glm::lookAt(glm::vec3(1.8f, 1.0f, 1.8f), glm::vec3(-1.5f, 2.2f, -1.5f), glm::vec3(0, 1, 0)));
-    scene.cameras.push_back(cam);
     scene.update_world_transforms();
     return scene;
 }
