@@ -1,6 +1,6 @@
 // The tracer rung of error-budgeted rendering (engine/accuracy/error_budget_measure.hpp): its
 // noise estimate, read from two independent halves while it traces, is what the promise rests on.
-// - Calibration: against a converged image (a reference of 8x the last round's samples), the rung's block
+// - Calibration: against a converged image (a reference of 4x the last round's samples), the rung's block
 //   error is its noise estimate combined with the reference's own, on a sample scene and on
 //   random scenes nobody wrote, at every round.
 // - The estimate falls as the samples double (as 1/sqrt(spp)), and trace_within stops at the
@@ -29,7 +29,7 @@ protected:
     static Camera camera_of(const Scene& scene) { return scene.select_camera("", static_cast<float>(kW) / kH); }
 };
 
-// After each of three rounds (64, 128, 256 spp) the block error against a 2048-spp reference is
+// After each of three rounds (64, 128, 256 spp) the block error against a 1024-spp reference is
 // sqrt(noise^2 + reference noise^2) up to the estimate's own scatter: mean absolute block
 // differences of independent, roughly normal noises add in quadrature. The bounds (x0.6 to x1.6)
 // are wide against that scatter (some hundred blocks per image) and narrow against the failures
@@ -42,7 +42,7 @@ TEST_P(TraceRungTest, NoiseEstimateIsTheErrorAgainstAConvergedImage) {
     for (const auto& [name, scene] : scenes) {
         SCOPED_TRACE(name);
         const Camera camera = camera_of(scene);
-        const Reference ref = path_reference(scene, lib_, camera, kW, kH, 2048);
+        const Reference ref = path_reference(scene, lib_, camera, kW, kH, 1024);
         ASSERT_EQ(ref.nonfinite_samples, 0u);
         TraceRung rung(scene, lib_, camera, kW, kH);
         double last_noise = 0;
