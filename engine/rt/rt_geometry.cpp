@@ -85,6 +85,10 @@ void append_world_triangles(const Scene& scene, int default_material, std::vecto
                 x.t = glm::vec4(tl > 0.0f ? t / tl : glm::vec3(1, 0, 0), (v.tangent.w < 0.0f ? -1.0f : 1.0f) * handedness);
             }
             const float material = from_int_bits(prim.material >= 0 ? prim.material : default_material);
+            // Seeing rays pass the back of a single-sided opaque triangle (back-face culling, as
+            // the rasterizer draws it); transmissive ones are seen from inside (scene.glsl).
+            const Material& mat = scene.material(prim.material);
+            const float cull_back = !mat.double_sided && mat.transmission <= 0.0f ? 1.0f : 0.0f;
             const float node_bits = from_int_bits(node_index);
             for (size_t t = 0; t + 2 < prim.indices.size(); t += 3) {
                 // Corners 0, 2, 1 under a mirroring transform: counter-clockwise from the front.
@@ -94,7 +98,7 @@ void append_world_triangles(const Scene& scene, int default_material, std::vecto
                 TriangleGpu tri{};
                 tri.p0 = glm::vec4(a.p, material);
                 tri.p1 = glm::vec4(b.p, node_bits);
-                tri.p2 = glm::vec4(c.p, 0.0f);
+                tri.p2 = glm::vec4(c.p, cull_back);
                 tri.n0 = glm::vec4(a.n, 0.0f);
                 tri.n1 = glm::vec4(b.n, 0.0f);
                 tri.n2 = glm::vec4(c.n, 0.0f);
@@ -278,6 +282,7 @@ void pack_traversal(const RtGeometry& g, TraversalLayout& out) {
             out.prims.emplace_back(glm::vec3(t.p0), id_bits);
             out.prims.emplace_back(glm::vec3(t.p1), 0.0f);
             out.prims.emplace_back(glm::vec3(t.p2), 0.0f);
+            out.prims[out.prims.size() - 2].w = t.p2.w;  // 1: culled for seeing rays (scene.glsl's trace)
         } else {
             const SphereGpu& s = g.spheres[id - triangle_count];
             out.prims.emplace_back(s.center, id_bits);

@@ -17,7 +17,7 @@
 namespace candela::rt {
 
 struct TriangleGpu {
-    glm::vec4 p0, p1, p2;  // p0.w material (int bits), p1.w node (int bits)
+    glm::vec4 p0, p1, p2;  // p0.w material (int bits), p1.w node (int bits), p2.w 1: single-sided opaque
     glm::vec4 n0, n1, n2;  // n0.w: probability that emitter sampling picks this triangle
     glm::vec4 uv_a;        // uv0 of p0, uv0 of p1
     glm::vec4 uv_b;        // uv0 of p2, uv1 of p0

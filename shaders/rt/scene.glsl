@@ -139,7 +139,14 @@ uint traversal_slots() {
 }
 #endif
 
-Hit trace(Ray ray, float tmax, bool any_hit) {
+// `seen`: the ray looks for what it sees (camera, reflection, refraction and bounce rays). glTF's
+// doubleSided false means back-face culling, so such a ray passes through the back of a
+// single-sided opaque triangle, as the rasterizer (forward, deferred, reflection probes) never
+// draws it; pack_traversal marks those triangles (the w of their second texel). Occlusion rays
+// (shadow, AO, next-event estimation) are blocked by both sides, as shadow maps draw casters with
+// no face culling. Transmissive surfaces are never culled: a ray inside a solid sees its interface
+// from behind.
+Hit trace(Ray ray, float tmax, bool any_hit, bool seen) {
     Hit hit;
     hit.t = tmax;
     hit.prim = -1;
@@ -195,7 +202,9 @@ Hit trace(Ray ray, float tmax, bool any_hit) {
 #ifndef RT_NO_SPHERES
                 if (prim < rt.triangle_count) {
 #endif
-                    t = intersect_triangle(w, a.xyz, texelFetch(t_bvh_prims, r + 1).xyz, texelFetch(t_bvh_prims, r + 2).xyz, hit.t, bary);
+                    vec4 b1 = texelFetch(t_bvh_prims, r + 1), b2 = texelFetch(t_bvh_prims, r + 2);
+                    t = intersect_triangle(w, a.xyz, b1.xyz, b2.xyz, hit.t, bary);
+                    if (seen && b1.w > 0.5 && t > 0.0 && dot(cross(b1.xyz - a.xyz, b2.xyz - a.xyz), ray.dir) >= 0.0) t = -1.0;
 #ifdef HAS_MASK
                     // alphaMode MASK: texels below the cutoff are holes, for every kind of ray.
                     if (t > 0.0 && t < hit.t) {
@@ -252,9 +261,12 @@ Hit trace(Ray ray, float tmax, bool any_hit) {
     return hit;
 }
 
-Hit trace_closest(Ray ray, float tmax) { return trace(ray, tmax, false); }
-// True if anything lies on the ray within (0, tmax).
-bool trace_any(Ray ray, float tmax) { return trace(ray, tmax, true).prim >= 0; }
+// The closest surface that the ray sees (back faces of single-sided opaque triangles culled).
+Hit trace_seen(Ray ray, float tmax) { return trace(ray, tmax, false, true); }
+// The closest surface on the ray, either side.
+Hit trace_closest(Ray ray, float tmax) { return trace(ray, tmax, false, false); }
+// True if anything lies on the ray within (0, tmax), either side.
+bool trace_any(Ray ray, float tmax) { return trace(ray, tmax, true, false).prim >= 0; }
 
 // Surface data at a hit.
 struct SurfaceHit {

@@ -4,7 +4,7 @@
 #include "../trace_common.glsl"
 
 vec3 radiance(Ray ray, inout Rng rng) {
-    Hit hit = trace_closest(ray, 3.0e38);
+    Hit hit = trace_seen(ray, 3.0e38);
     if (hit.prim < 0) return vec3(1.0);
     SurfaceHit s = surface_at(ray, hit);
     vec3 dir = to_world(sample_cosine_hemisphere(vec2(rng_next(rng), rng_next(rng))), s.ng);

@@ -9,7 +9,7 @@
 #include "../materials.glsl"
 
 vec3 radiance(Ray ray, inout Rng rng) {
-    Hit hit = trace_closest(ray, 3.0e38);
+    Hit hit = trace_seen(ray, 3.0e38);
     if (hit.prim < 0) return vec3(0.0);
     SurfaceHit s = surface_at(ray, hit);
     vec3 e = emitted(s);

@@ -11,7 +11,7 @@ vec3 shadow_visibility(Ray ray, float tmax) { return opaque_visibility(ray, tmax
 // One diffuse bounce: light that reached the first visible point x after exactly one reflection
 // off another surface y (Lambertian at both ends, as RSM models it). The ground truth for RSM.
 vec3 radiance(Ray ray, inout Rng rng) {
-    Hit hit = trace_closest(ray, 3.0e38);
+    Hit hit = trace_seen(ray, 3.0e38);
     if (hit.prim < 0) return vec3(0.0);
     SurfaceHit x = surface_at(ray, hit);
     BrdfInput mx = brdf_input(x);
@@ -21,7 +21,7 @@ vec3 radiance(Ray ray, inout Rng rng) {
         vec3 dir = to_world(sample_cosine_hemisphere(vec2(rng_next(rng), rng_next(rng))), x.ns);
         if (dot(dir, x.ng) <= 0.0) return vec3(0.0);
         Ray bounce = make_ray(offset_ray(x.p, x.ng, rt.ray_offset), dir);
-        Hit hy = trace_closest(bounce, 3.0e38);
+        Hit hy = trace_seen(bounce, 3.0e38);
         if (hy.prim < 0) return vec3(0.0);
         // Cosine sampling: f_x * cos / pdf = albedo_x.
         return albedo_x * lambert_direct_light(surface_at(bounce, hy), -dir, rng);

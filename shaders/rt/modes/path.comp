@@ -49,7 +49,7 @@ PathState path_start(ivec2 pixel, uint index, uint sample_index) {
 // direction. Returns true when the path has ended (p.sum is then the sample's radiance).
 bool path_step(inout PathState p) {
     int max_depth = rt.max_depth;
-    Hit hit = trace_closest(p.ray, 3.0e38);
+    Hit hit = trace_seen(p.ray, 3.0e38);
     // rt.camera_hides_emission: camera rays do not see emission or the environment; the image is then the
     // light that surfaces reflect (the planner's view measurements).
     bool seen = p.depth > 0 || rt.camera_hides_emission == 0.0;

@@ -9,7 +9,7 @@
 // the punctual count: that punctual light; otherwise all emissive triangles (a point drawn by
 // power per sample, so the mean is the power-weighted visible fraction).
 vec3 radiance(Ray ray, inout Rng rng) {
-    Hit hit = trace_closest(ray, 3.0e38);
+    Hit hit = trace_seen(ray, 3.0e38);
     if (hit.prim < 0) return vec3(0.0);
     SurfaceHit s = surface_at(ray, hit);
     int li = int(rt.visibility_light);

@@ -49,7 +49,7 @@ vec3 radiance(Ray primary, inout Rng rng) {
         Ray ray = rays[n];
         vec3 w = weights[n];
         int depth = depths[n];
-        Hit hit = trace_closest(ray, 3.0e38);
+        Hit hit = trace_seen(ray, 3.0e38);
         if (hit.prim < 0) {
             sum += w * environment(ray.dir);
             continue;
