@@ -66,11 +66,14 @@ constexpr double kIndirectMargin = 0.05;
 
 double luminance(const float* p) { return 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2]; }
 
+// The seeds of one shard: CANDELA_RANDOM_FIRST (0 unless set) and the CANDELA_RANDOM_SEEDS
+// (kSeeds unless set) after it, every kShards-th.
 std::vector<std::uint32_t> seeds_of_shard(int shard) {
-    int n = kSeeds;
-    if (const char* e = std::getenv("CANDELA_RANDOM_SEEDS")) n = std::max(1, std::atoi(e));
+    long long n = kSeeds, first = 0;
+    if (const char* e = std::getenv("CANDELA_RANDOM_SEEDS")) n = std::max(1LL, std::atoll(e));
+    if (const char* e = std::getenv("CANDELA_RANDOM_FIRST")) first = std::max(0LL, std::atoll(e));
     std::vector<std::uint32_t> seeds;
-    for (int s = shard; s < n; s += kShards) seeds.push_back(static_cast<std::uint32_t>(s));
+    for (long long s = first + shard; s < first + n; s += kShards) seeds.push_back(static_cast<std::uint32_t>(s));
     return seeds;
 }
 
@@ -228,6 +231,30 @@ TEST(RandomSceneGenerator, EverySceneIsValid) {
     }
 }
 
+// What a generated scene holds, as tags: rooms, shapes, materials, lights, sky and camera. The
+// coverage test counts them; the large run's report gives each seed's tags, so that failures can
+// be read by what the scenes had.
+std::set<std::string> feature_tags(const Scene& scene) {
+    std::set<std::string> here;
+    for (const Node& n : scene.nodes) {
+        for (const char* p : {"closed_room", "open_room", "box_", "sphere_", "thin_wall_"})
+            if (named(n.name, p)) here.insert(p);
+        if (n.sphere_radius) here.insert("exact sphere");
+    }
+    if (!here.count("closed_room") && !here.count("open_room")) here.insert("no room");
+    for (const Material& m : scene.materials) {
+        for (const char* p : {"diffuse_", "glossy_", "metal_", "rough_metal_", "glass_"})
+            if (named(m.name, p)) here.insert(p);
+        if (m.transmission > 0.0f) here.insert(m.thickness > 0.0f ? "solid glass" : "thin glass");
+        if (m.is_emissive()) here.insert("quad emitter");
+    }
+    for (const Light& l : scene.lights)
+        here.insert(l.type == LightType::point ? "point" : l.type == LightType::spot ? "spot" : "directional");
+    if (scene.environment.present()) here.insert("environment");
+    if (!scene.cameras.empty()) here.insert("camera " + scene.cameras[0].name);
+    return here;
+}
+
 // The default seeds cover what the generator promises: every room, shape, material and light
 // kind, cameras inside and outside, scales from small to large.
 TEST(RandomSceneGenerator, DefaultSeedsCoverEveryFeature) {
@@ -235,23 +262,7 @@ TEST(RandomSceneGenerator, DefaultSeedsCoverEveryFeature) {
     float smallest = 1e30f, largest = 0.0f;
     for (std::uint32_t seed = 0; seed < kSeeds; ++seed) {
         const Scene scene = make_random_scene(seed);
-        std::set<std::string> here;
-        for (const Node& n : scene.nodes) {
-            for (const char* p : {"closed_room", "open_room", "box_", "sphere_", "thin_wall_"})
-                if (named(n.name, p)) here.insert(p);
-            if (n.sphere_radius) here.insert("exact sphere");
-        }
-        if (!here.count("closed_room") && !here.count("open_room")) here.insert("no room");
-        for (const Material& m : scene.materials) {
-            for (const char* p : {"diffuse_", "glossy_", "metal_", "rough_metal_", "glass_"})
-                if (named(m.name, p)) here.insert(p);
-            if (m.transmission > 0.0f) here.insert(m.thickness > 0.0f ? "solid glass" : "thin glass");
-            if (m.is_emissive()) here.insert("quad emitter");
-        }
-        for (const Light& l : scene.lights)
-            here.insert(l.type == LightType::point ? "point" : l.type == LightType::spot ? "spot" : "directional");
-        if (scene.environment.present()) here.insert("environment");
-        here.insert("camera " + scene.cameras[0].name);
+        const std::set<std::string> here = feature_tags(scene);
         for (const std::string& f : here) ++seen[f];
         const Bounds b = scene.world_bounds();
         const float size = glm::length(b.extent());
@@ -325,6 +336,8 @@ struct Outcome {
     std::map<std::string, std::string> failed;  // rule -> numbers
     std::string summary;
     double seconds = 0.0;
+    std::set<std::string> tags;  // feature_tags() of the scene as the user sees it
+    double mean_error = 0.0;     // (raster - path) / path of the image means
 };
 
 class RandomSceneCheck {
@@ -336,6 +349,7 @@ public:
         Outcome out;
         out.label = label;
         const Scene scene = as_user(original, lib_);
+        out.tags = feature_tags(scene);
         const Camera camera = scene.select_camera("", static_cast<float>(kW) / kH);
         auto fail = [&](const std::string& rule, const std::string& numbers) { out.failed[rule] += numbers; };
         char buf[512];
@@ -429,6 +443,7 @@ public:
         // Mean within kMeanTolerance of path plus kT standard errors of path's mean.
         const double r_mean = mean_luminance(raster.radiance), p_mean = mean_of(path.means), p_se = stderr_of(path.means);
         const double rel = p_mean > 0 ? (r_mean - p_mean) / p_mean : 0.0;
+        out.mean_error = rel;
         std::snprintf(buf, sizeof buf, "raster %.4g path %.4g +- %.2g (%+.1f %%)", r_mean, p_mean, p_se, 100.0 * rel);
         out.summary += buf;
         if (std::abs(r_mean - p_mean) > kMeanTolerance * p_mean + kT * p_se) fail("mean", buf);
@@ -656,6 +671,30 @@ std::string report(const Outcome& o) {
     return s + t + o.summary;
 }
 
+// CANDELA_RANDOM_REPORT=PREFIX: each shard appends one line per seed to PREFIX.shardK.tsv (label,
+// the rules that failed before the known-limits list, the rules that still count after it, the
+// mean error, the scene's tags, seconds), read by tests/tools/random_rate.py.
+void append_report(int shard, const Outcome& before_limits, const Outcome& after_limits) {
+    const char* prefix = std::getenv("CANDELA_RANDOM_REPORT");
+    if (!prefix || !*prefix) return;
+    const std::string file = std::string(prefix) + ".shard" + std::to_string(shard) + ".tsv";
+    std::FILE* f = std::fopen(file.c_str(), "a");
+    if (!f) {
+        ADD_FAILURE() << "cannot append to " << file;
+        return;
+    }
+    auto rules = [](const Outcome& o) {
+        std::string r;
+        for (const auto& [rule, numbers] : o.failed) r += (r.empty() ? "" : ",") + rule;
+        return r.empty() ? std::string("-") : r;
+    };
+    std::string tags;
+    for (const std::string& t : before_limits.tags) tags += (tags.empty() ? "" : ",") + t;
+    std::fprintf(f, "%s\t%s\t%s\t%.5f\t%s\t%.2f\n", before_limits.label.c_str(), rules(before_limits).c_str(), rules(after_limits).c_str(),
+                 before_limits.mean_error, tags.c_str(), before_limits.seconds);
+    std::fclose(f);
+}
+
 Backend egl_for_shard(const int&) { return Backend::egl; }
 
 class RandomSceneTest : public test::GlContextTestOf<int, egl_for_shard> {
@@ -673,7 +712,9 @@ TEST_P(RandomSceneTest, RasterAgreesWithTheTracerOnRandomScenes) {
         const Scene scene = make_random_scene(seed);
         Outcome o = check.run(scene, label);
         std::printf("%s\n", report(o).c_str());
+        const Outcome before_limits = o;
         set_aside_known_limits(o);
+        append_report(GetParam(), before_limits, o);
         std::fflush(stdout);
         if (!o.failed.empty()) {
             ++failed;
