@@ -24,12 +24,13 @@ std::string ViewLight::text() const {
 }
 
 ViewLight measure_view_light(const ShaderLibrary& shaders, const Scene& scene, GpuScene& gpu, const Camera& camera, float aspect,
-                             int spp) {
+                             int spp, int pixels) {
     const auto t0 = std::chrono::steady_clock::now();
     ViewLight v;
     const double a = std::isfinite(aspect) && aspect > 0.0f ? std::clamp(static_cast<double>(aspect), 1.0 / 16.0, 16.0) : 1.0;
-    v.width = std::max(4, static_cast<int>(std::lround(std::sqrt(kViewLightPixels * a))));
-    v.height = std::max(4, static_cast<int>(std::lround(kViewLightPixels / static_cast<double>(v.width))));
+    const double target = std::max(16, pixels);
+    v.width = std::max(4, static_cast<int>(std::lround(std::sqrt(target * a))));
+    v.height = std::max(4, static_cast<int>(std::lround(target / static_cast<double>(v.width))));
     v.spp = spp;
     rt::Options o;
     o.mode = rt::Mode::direct;

@@ -55,12 +55,12 @@ struct ViewLight {
 // A pixel whose light is below this fraction of the typical directly lit pixel's looks black
 // beside it (about 38/255 in sRGB where the lit level is display white).
 constexpr double kUnlitLevel = 0.02;
-// About this many pixels at the given aspect, `spp` samples each.
+// About this many pixels at the given aspect (`pixels`, by default), `spp` samples each.
 constexpr int kViewLightPixels = 1536;
 
 // Throws candela::Error if the tracer cannot be built (internal) or the scene has no triangles
 // (bad_input: nothing to trace).
 ViewLight measure_view_light(const ShaderLibrary& shaders, const Scene& scene, GpuScene& gpu, const Camera& camera, float aspect,
-                             int spp = 8);
+                             int spp = 8, int pixels = kViewLightPixels);
 
 }  // namespace candela

@@ -15,6 +15,8 @@
 #include "reference_fixture.hpp"
 #include "scene/gltf_loader.hpp"
 #include "rt/shard_merge.hpp"
+#include "rt/view_light.hpp"
+#include "rt/view_lighting.hpp"
 #include "scene/lighting.hpp"
 
 namespace candela {
@@ -124,6 +126,31 @@ TEST_P(GiTest, SmallIndirectLightPlansNoProbes) {
         renderer.set_settings(always);
         EXPECT_TRUE(renderer.features().decision("gi").planned);
     }
+}
+
+// A few small objects against the sky (generated:random:10120, saved as a regression scene): at
+// the estimate's first size only 29 of its pixels are directly lit, too few to trust, and the
+// probes used to run by default for a scene with no indirect light at all. The estimate now
+// measures such a view again at more pixels and plans from the measurement.
+TEST_P(GiTest, AViewOfSmallObjectsIsMeasuredAtMorePixelsNotPlannedOnTheUntrustedDefault) {
+    Scene scene = load_gltf(fs::path(CANDELA_SOURCE_DIR) / "tests" / "data" / "random_regressions" / "gi_untrusted_estimate_small_view_seed10120.gltf");
+    const float aspect = 64.0f / 48.0f;
+    // As `candela render` lights it: the file's lights leave the view unlit, so the sky is added.
+    LightingChoice choice = apply_lighting(scene, LightingMode::auto_select, scene.select_camera("", aspect));
+    complete_lighting(scene, choice, lib_, scene.select_camera("", aspect), aspect);
+    ASSERT_TRUE(scene.environment.present());
+    GpuScene gpu(scene);
+    Renderer renderer(lib_, scene, gpu, RenderSettings{});
+    renderer.set_view(scene.select_camera("", aspect), 64, 48);
+    const IndirectEstimate* e = indirect_estimate(renderer.features());
+    ASSERT_NE(e, nullptr);
+    std::printf("estimate: %s\n", e->text().c_str());
+    EXPECT_TRUE(e->trusted) << e->text();
+    EXPECT_GE(e->lit_pixels, kMinLitPixels);
+    EXPECT_GT(e->width * e->height, kViewLightPixels) << "measured again at more pixels";
+    EXPECT_LT(e->fraction, 0.07);
+    const EffectDecision& d = renderer.features().decision("gi");
+    EXPECT_FALSE(d.planned) << d.reason;
 }
 
 // The viewer's mode: gi.budget rays per frame. The first frame has done part of an update, the

@@ -20,8 +20,19 @@ std::string IndirectEstimate::text() const {
 IndirectEstimate estimate_indirect(const ShaderLibrary& shaders, const Scene& scene, GpuScene& gpu, const Camera& camera,
                                    float aspect) {
     // About 1536 pixels x 8 samples: each mean's standard error is a few tenths of a percent of
-    // the image; the cost is the BVH and the programs.
-    const ViewLight v = measure_view_light(shaders, scene, gpu, camera, aspect, 8);
+    // the image; the cost is the BVH and the programs. Where the lit surfaces in view are too
+    // small at that size to hold kMinLitPixels pixels (a few objects against the sky), the view is
+    // measured again at 4x and then 16x the pixels, so that the decision rests on a measurement
+    // instead of the untrusted default. A view with no lit pixel at all is not measured again:
+    // its light is all indirect (a room lit by what the camera does not see), and the probes run.
+    ViewLight v = measure_view_light(shaders, scene, gpu, camera, aspect, 8);
+    double ms = v.ms;
+    for (int pixels = 4 * kViewLightPixels, round = 0; round < 2 && v.lit_pixels > 0 && v.lit_pixels < kMinLitPixels;
+         pixels *= 4, ++round) {
+        v = measure_view_light(shaders, scene, gpu, camera, aspect, 8, pixels);
+        ms += v.ms;
+    }
+    v.ms = ms;
     IndirectEstimate e;
     e.fraction = std::clamp(v.indirect_share, 0.0, 0.99);
     e.fraction_se = v.ratio_stderr;
