@@ -1,7 +1,7 @@
 // Transmissive surfaces (KHR_materials_transmission) as the tracer's paths cross them, shared by
 // path mode's camera paths and the GI probes' rays (engine/effects/gi/probe_trace.comp): one
-// dielectric interface that reflects or refracts the path, smooth or rough. docs/raytracing.md,
-// "Transmission".
+// dielectric interface that reflects or refracts the path, smooth or rough, and the absorption
+// inside a solid transmissive object (KHR_materials_volume). docs/raytracing.md, "Transmission".
 #include "brdf_sampling.glsl"
 
 // Below this alpha (brdf_alpha's own floor: a lobe narrower than a tenth of a degree) the interface
@@ -84,4 +84,18 @@ bool dielectric_scatter(SurfaceHit s, BrdfInput m, vec3 v, inout Rng rng, out ve
     if (nl <= 0.0) return false;  // refracted back above the surface: lost
     weight = m.base_color / ggx_one_plus_lambda(nl, alpha);  // G1(l)
     return true;
+}
+
+// KHR_materials_volume, Beer-Lambert: the fraction of light left after a segment of length d
+// that ends on s. A segment that ends on a back face of a solid (not thin-walled) transmissive
+// material ran inside its volume (the path entered it through a front face, or was reflected
+// inside): transmittance attenuation_color^(d / attenuation_distance). Every other segment ran
+// in air. The medium is known from where the segment ends, so a volume is assumed closed and not
+// to overlap another (an opaque object inside glass: the segment to its front face is not
+// attenuated).
+vec3 volume_transmittance(SurfaceHit s, float d) {
+    if (s.front) return vec3(1.0);
+    MaterialData m = materials[s.material];
+    if (m.transmission <= 0.0 || m.thickness <= 0.0 || m.attenuation_distance <= 0.0) return vec3(1.0);
+    return pow(m.attenuation_color, vec3(d / m.attenuation_distance));
 }

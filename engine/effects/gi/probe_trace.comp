@@ -9,8 +9,9 @@
 // tracer's camera paths make of it (path.comp, the same dielectric_scatter): with probability
 // `transmission` a dielectric, smooth or rough, that reflects or refracts the ray, with no direct
 // light of its own (next-event estimation cannot connect a punctual light through it), and the
-// ray goes on to what lies beyond; otherwise the opaque BRDF. Emission is left out: the raster
-// shades emitters as direct light. One ray per invocation; work group y: the probe.
+// ray goes on to what lies beyond, absorbed inside solid glass as in path mode; otherwise the
+// opaque BRDF. Emission is left out: the raster shades emitters as direct light. One ray per
+// invocation; work group y: the probe.
 #define RT_NO_CAMERA
 #include "rt/trace_common.glsl"
 #include "rt/materials.glsl"
@@ -54,6 +55,7 @@ vec3 probe_ray_radiance(Ray ray, SurfaceHit y, inout Rng rng) {
             Hit hit = trace_closest(ray, 3.0e38);
             if (hit.prim < 0) return vec3(0.0);  // as a probe ray that misses: no light
             y = surface_at(ray, hit);
+            throughput *= volume_transmittance(y, hit.t * length(ray.dir));
             // Inside glass every hit is a back face of the glass; a one-sided opaque back face
             // beyond it sends nothing.
             if (!y.front && !material_double_sided(y.material) && material_transmission(y) <= 0.0) return vec3(0.0);

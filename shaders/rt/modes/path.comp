@@ -66,6 +66,10 @@ bool path_step(inout PathState p) {
         return true;
     }
     SurfaceHit s = surface_at(p.ray, hit);
+#ifdef HAS_TRANSMISSION
+    // Absorption along the segment just travelled, if it ran inside a solid transmissive volume.
+    p.throughput *= volume_transmittance(s, hit.t * length(p.ray.dir));
+#endif
 #ifdef HAS_BLEND
     // Camera rays pass a blended layer with probability 1 - alpha: in expectation
     // alpha * (the layer) + (1 - alpha) * (what is behind it), the OVER operator.
