@@ -6,16 +6,18 @@
 // tracer's next-event estimation, as in path mode: shadow rays, its own light sampling), so that
 // light a metal or glossy surface sends towards the probe is counted, plus the previous
 // iteration's probes for the bounces before (diffuse only). A transmissive surface is what the
-// tracer's camera paths make of it (path.comp): with probability `transmission` a smooth
-// dielectric that reflects or refracts the ray by the exact Fresnel term, with no direct light of
-// its own (next-event estimation cannot connect a punctual light through it), and the ray goes on
-// to what lies beyond; otherwise the opaque BRDF. Emission is left out: the raster shades emitters
-// as direct light. One ray per invocation; work group y: the probe.
+// tracer's camera paths make of it (path.comp, the same dielectric_scatter): with probability
+// `transmission` a dielectric, smooth or rough, that reflects or refracts the ray, with no direct
+// light of its own (next-event estimation cannot connect a punctual light through it), and the
+// ray goes on to what lies beyond, absorbed inside solid glass as in path mode; otherwise the
+// opaque BRDF. Emission is left out: the raster shades emitters as direct light. One ray per
+// invocation; work group y: the probe.
 #define RT_NO_CAMERA
 #include "rt/trace_common.glsl"
 #include "rt/materials.glsl"
 #include "rt/brdf_sampling.glsl"
 #include "rt/direct_light.glsl"
+#include "rt/dielectric.glsl"
 #include "effects/gi/gi_sample.glsl"
 
 layout(std430, binding = GI_RAYS_BINDING) writeonly buffer GiRays { vec4 gi_rays[]; };  // per ray two entries: rgb radiance, a distance (< 0: a back face); the direction
@@ -31,7 +33,7 @@ vec3 gi_ray_direction(int i, int n) {
     return normalize(mat3(gi.rotation) * vec3(cos(phi) * r, sin(phi) * r, z));
 }
 
-// Smooth-dielectric vertices a probe ray passes before it counts as lost (a solid glass object
+// Dielectric vertices a probe ray passes before it counts as lost (a solid glass object
 // takes two; total internal reflection a few more).
 const int GI_MAX_DIELECTRIC_VERTICES = 8;
 
@@ -45,19 +47,15 @@ vec3 probe_ray_radiance(Ray ray, SurfaceHit y, inout Rng rng) {
         float transmission = material_transmission(y);
         if (transmission > 0.0 && rng_next(rng) < transmission) {
             if (k == GI_MAX_DIELECTRIC_VERTICES) return vec3(0.0);
-            BrdfInput m = brdf_input(y);
-            bool thin = material_thin(y.material);
-            float eta = thin ? 1.0 : (y.front ? 1.0 / m.ior : m.ior);
-            float F = fresnel_dielectric(dot(v, y.ng), thin ? 1.0 / m.ior : eta);
-            if (rng_next(rng) < F) {
-                ray = make_ray(offset_ray(y.p, y.ng, rt.ray_offset), reflect(-v, y.ng));
-            } else {
-                ray = make_ray(offset_ray(y.p, -y.ng, rt.ray_offset), thin ? -v : refract(-v, y.ng, eta));
-                throughput *= m.base_color;
-            }
+            vec3 l, w;
+            bool below;
+            if (!dielectric_scatter(y, brdf_input(y), v, rng, l, w, below)) return vec3(0.0);
+            ray = make_ray(offset_ray(y.p, below ? -y.ng : y.ng, rt.ray_offset), l);
+            throughput *= w;
             Hit hit = trace_closest(ray, 3.0e38);
             if (hit.prim < 0) return vec3(0.0);  // as a probe ray that misses: no light
             y = surface_at(ray, hit);
+            throughput *= volume_transmittance(y, hit.t * length(ray.dir));
             // Inside glass every hit is a back face of the glass; a one-sided opaque back face
             // beyond it sends nothing.
             if (!y.front && !material_double_sided(y.material) && material_transmission(y) <= 0.0) return vec3(0.0);

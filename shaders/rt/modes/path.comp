@@ -6,6 +6,9 @@
 #include "../brdf_sampling.glsl"
 #include "../env_sampling.glsl"
 #include "../direct_light.glsl"
+#ifdef HAS_TRANSMISSION
+#include "../dielectric.glsl"
+#endif
 
 // Shadow rays: every surface blocks the light (transmissive ones too; refraction is sampled).
 vec3 shadow_visibility(Ray ray, float tmax) { return opaque_visibility(ray, tmax); }
@@ -63,6 +66,10 @@ bool path_step(inout PathState p) {
         return true;
     }
     SurfaceHit s = surface_at(p.ray, hit);
+#ifdef HAS_TRANSMISSION
+    // Absorption along the segment just travelled, if it ran inside a solid transmissive volume.
+    p.throughput *= volume_transmittance(s, hit.t * length(p.ray.dir));
+#endif
 #ifdef HAS_BLEND
     // Camera rays pass a blended layer with probability 1 - alpha: in expectation
     // alpha * (the layer) + (1 - alpha) * (what is behind it), the OVER operator.
@@ -91,19 +98,14 @@ bool path_step(inout PathState p) {
 #ifdef HAS_TRANSMISSION
     float transmission = material_transmission(s);
     if (transmission > 0.0 && rng_next(p.rng) < transmission) {
-        // Smooth dielectric: reflect or refract by the exact Fresnel term.
-        BrdfInput m = brdf_input(s);
-        bool thin = material_thin(s.material);
-        float eta = thin ? 1.0 : (s.front ? 1.0 / m.ior : m.ior);
-        float cos_i = dot(v, s.ng);
-        // A thin wall reflects like the interface it stands for but does not bend the ray.
-        float F = fresnel_dielectric(cos_i, thin ? 1.0 / m.ior : eta);
-        if (rng_next(p.rng) < F) {
-            p.ray = make_ray(offset_ray(s.p, s.ng, rt.ray_offset), reflect(-v, s.ng));
-        } else {
-            p.ray = make_ray(offset_ray(s.p, -s.ng, rt.ray_offset), thin ? -v : refract(-v, s.ng, eta));
-            p.throughput *= m.base_color;
-        }
+        // A dielectric interface, smooth or rough (dielectric_scatter). No next-event estimation
+        // here (light is not connected through the interface), so the next hit's emission counts
+        // in full (last_brdf_pdf 0) and the sampled direction alone carries the transmitted light.
+        vec3 l, w;
+        bool below;
+        if (!dielectric_scatter(s, brdf_input(s), v, p.rng, l, w, below)) return true;
+        p.ray = make_ray(offset_ray(s.p, below ? -s.ng : s.ng, rt.ray_offset), l);
+        p.throughput *= w;
         p.last_brdf_pdf = 0.0;
         return ++p.depth > max_depth;
     }

@@ -4,6 +4,9 @@
 #include "../materials.glsl"
 #include "../brdf_sampling.glsl"
 #include "../direct_light.glsl"
+#ifdef HAS_TRANSMISSION
+#include "../dielectric.glsl"
+#endif
 
 // Shadow rays: Whitted's transparent shadows. Each crossing of a transmissive surface passes
 // (1 - F) * transmission * base colour along a straight line (exact for IOR 1; refraction's
@@ -21,7 +24,7 @@ vec3 shadow_visibility(Ray ray, float tmax) {
         bool thin = materials[s.material].thickness <= 0.0;
         float eta = thin ? 1.0 / m.ior : (s.front ? 1.0 / m.ior : m.ior);
         float F = fresnel_dielectric(abs(dot(normalize(ray.dir), s.ng)), eta);
-        T *= (1.0 - F) * transmission * m.base_color;
+        T *= (1.0 - F) * transmission * m.base_color * volume_transmittance(s, h.t * length(ray.dir));
         if (max(T.r, max(T.g, T.b)) <= 0.0) return vec3(0.0);
         ray.origin = offset_ray(s.p, -s.ng, rt.ray_offset);
         tmax -= h.t;
@@ -34,6 +37,9 @@ vec3 shadow_visibility(Ray ray, float tmax) {
 
 // Whitted (1980): local shading with shadow rays, plus mirror reflection and refraction with the
 // exact Fresnel equations, to `max depth`. The branches are kept on a small explicit stack.
+// Mirror-only by definition: a rough transmissive surface reflects and refracts here as a smooth
+// one (path mode has the rough lobe, dielectric_scatter). Absorption inside solid glass
+// (KHR_materials_volume) is applied along refracted rays and transparent shadows, as in path mode.
 vec3 radiance(Ray primary, inout Rng rng) {
     const int kMaxStack = 16;
     Ray rays[kMaxStack];
@@ -56,6 +62,9 @@ vec3 radiance(Ray primary, inout Rng rng) {
         }
         SurfaceHit s = surface_at(ray, hit);
         vec3 v = -normalize(ray.dir);
+#ifdef HAS_TRANSMISSION
+        w *= volume_transmittance(s, hit.t * length(ray.dir));  // inside solid glass: Beer-Lambert
+#endif
 #ifdef HAS_BLEND
         // A blended layer on the camera ray: alpha of it, 1 - alpha of what is behind (OVER).
         if (depth == 0) {
