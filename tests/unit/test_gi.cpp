@@ -12,6 +12,7 @@
 
 #include "effects/gi/estimate.hpp"
 #include "effects/gi/gi.hpp"
+#include "gltf_builder.hpp"
 #include "reference_fixture.hpp"
 #include "scene/gltf_loader.hpp"
 #include "rt/shard_merge.hpp"
@@ -128,26 +129,66 @@ TEST_P(GiTest, SmallIndirectLightPlansNoProbes) {
     }
 }
 
-// A few small objects against the sky (generated:random:10120, saved as a regression scene): at
-// the estimate's first size only 29 of its pixels are directly lit, too few to trust, and the
-// probes used to run by default for a scene with no indirect light at all. The estimate now
-// measures such a view again at more pixels and plans from the measurement.
+// A closed white room whose walls are slabs (generated:random:27, a regression scene): the grid's
+// outer probes lie inside the walls, see back faces and used to be switched off, so the walls,
+// floor and ceiling took their light from probes a cell into the room: the probes' first bounce
+// came out 25 % brighter than the tracer's, and the converged image +9 to +11 %. Relocated out of
+// the walls, the first bounce is within 15 % (about +9 % at 8 probes along the longest axis;
+// what remains is the grid's interpolation, +2 % at 32).
+TEST_P(GiTest, ProbesInsideWallsAreMovedOutAndTheFirstBounceMatchesTheTracer) {
+    const Scene scene = load_gltf(fs::path(CANDELA_SOURCE_DIR) / "tests" / "data" / "random_regressions" / "gi_too_bright_in_white_room_seed27.gltf");
+    const int w = 64, h = 48;
+    const ImageF direct_raster = raster(scene, w, h, settings("shadows", {}));
+    const ImageF one_bounce_raster = raster(scene, w, h, settings("shadows,gi", {"gi.threshold=0", "gi.bounces=1", "gi.iterations=1"}));
+    auto path_mean = [&](int depth) {
+        rt::Options o;
+        o.mode = rt::Mode::path;
+        o.spp = 256;
+        o.jitter = 0;
+        o.max_depth = depth;
+        const rt::Result r = traced(scene, w, h, o);
+        EXPECT_EQ(r.nonfinite_samples, 0u);
+        return mean_luminance(r.image);
+    };
+    const double path_direct = path_mean(1), path_one_bounce = path_mean(2);
+    const double raster_bounce = mean_luminance(one_bounce_raster) - mean_luminance(direct_raster), path_bounce = path_one_bounce - path_direct;
+    std::printf("direct: raster %.5f path %.5f; first bounce: raster %.5f path %.5f (%+.1f %%)\n", mean_luminance(direct_raster), path_direct,
+                raster_bounce, path_bounce, 100.0 * (raster_bounce / path_bounce - 1.0));
+    ASSERT_GT(path_bounce, 0.0);
+    EXPECT_NEAR(mean_luminance(direct_raster) / path_direct, 1.0, 0.02) << "the direct light is not what this test measures";
+    EXPECT_LT(std::abs(raster_bounce / path_bounce - 1.0), 0.15);
+}
+
+// A small object against the sky (as generated:random:10120, a regression scene, whose few
+// small objects held 29 directly lit pixels at the estimate's first size): too few lit pixels to
+// trust a ratio, and the probes used to run by default for a scene with no indirect light at all.
+// The estimate now measures such a view again at more pixels and plans from the measurement.
 TEST_P(GiTest, AViewOfSmallObjectsIsMeasuredAtMorePixelsNotPlannedOnTheUntrustedDefault) {
-    Scene scene = load_gltf(fs::path(CANDELA_SOURCE_DIR) / "tests" / "data" / "random_regressions" / "gi_untrusted_estimate_small_view_seed10120.gltf");
+    test::GltfBuilder b;
+    b.json()["materials"] = {{{"pbrMetallicRoughness", {{"baseColorFactor", {0.8, 0.8, 0.8, 1}}, {"metallicFactor", 0}}}}};
+    // A 1 m quad 10 m in front of the camera: about 4 x 4 of the estimate's 45 x 34 pixels.
+    b.add_node({{"mesh", b.add_quad_mesh(0)}, {"translation", {0, 0, -10}}, {"scale", {0.5, 0.5, 1}}});
+    b.json()["extensions"]["KHR_lights_punctual"]["lights"] = {{{"type", "directional"}, {"intensity", 2.0}}};
+    b.json()["extensionsUsed"] = {"KHR_lights_punctual"};
+    b.add_node({{"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}});
+    b.json()["scenes"][0]["extras"]["environment_radiance"] = {0.2, 0.2, 0.25};
+    b.json()["cameras"] = {{{"type", "perspective"}, {"perspective", {{"yfov", 0.8}, {"znear", 0.1}}}}};
+    b.add_node({{"camera", 0}});
+    const Scene scene = load_gltf(b.write(test::test_dir("gi_small_view"), "small_view"));
     const float aspect = 64.0f / 48.0f;
-    // As `candela render` lights it: the file's lights leave the view unlit, so the sky is added.
-    LightingChoice choice = apply_lighting(scene, LightingMode::auto_select, scene.select_camera("", aspect));
-    complete_lighting(scene, choice, lib_, scene.select_camera("", aspect), aspect);
-    ASSERT_TRUE(scene.environment.present());
     GpuScene gpu(scene);
+    // The precondition: at the first size too few pixels are lit to trust.
+    const ViewLight first = measure_view_light(lib_, scene, gpu, scene.select_camera("", aspect), aspect);
+    ASSERT_GT(first.lit_pixels, 0);
+    ASSERT_LT(first.lit_pixels, kMinLitPixels);
     Renderer renderer(lib_, scene, gpu, RenderSettings{});
     renderer.set_view(scene.select_camera("", aspect), 64, 48);
     const IndirectEstimate* e = indirect_estimate(renderer.features());
     ASSERT_NE(e, nullptr);
-    std::printf("estimate: %s\n", e->text().c_str());
+    std::printf("first size: %d lit pixels of %dx%d; estimate: %s\n", first.lit_pixels, first.width, first.height, e->text().c_str());
     EXPECT_TRUE(e->trusted) << e->text();
     EXPECT_GE(e->lit_pixels, kMinLitPixels);
-    EXPECT_GT(e->width * e->height, kViewLightPixels) << "measured again at more pixels";
+    EXPECT_GT(e->width * e->height, 2 * kViewLightPixels) << "measured again at more pixels";
     EXPECT_LT(e->fraction, 0.07);
     const EffectDecision& d = renderer.features().decision("gi");
     EXPECT_FALSE(d.planned) << d.reason;

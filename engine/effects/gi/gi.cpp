@@ -138,6 +138,8 @@ public:
             glBindSampler(GI_IRRADIANCE_UNIT, sampler_.id());
             glBindTextureUnit(GI_DEPTH_UNIT, depth_.id());
             glBindSampler(GI_DEPTH_UNIT, sampler_.id());
+            glBindTextureUnit(GI_OFFSETS_UNIT, offsets_.id());
+            glBindSampler(GI_OFFSETS_UNIT, sampler_.id());
         }
     }
 
@@ -184,6 +186,9 @@ private:
         const float zero[4] = {0, 0, 0, 0};
         glClearTexImage(irradiance_.id(), 0, GL_RGBA, GL_FLOAT, zero);
         glClearTexImage(depth_.id(), 0, GL_RG, GL_FLOAT, zero);
+        offsets_ = gl::Texture::create_2d(GL_RGBA32F, tiles_x, tiles_y, 1);
+        glClearTexImage(offsets_.id(), 0, GL_RGBA, GL_FLOAT, zero);
+        relocation_rounds_ = 0;
         rays_buffer_ = gl::Buffer(static_cast<GLsizeiptr>(probe_count()) * rays_ * 32, nullptr, GL_DYNAMIC_STORAGE_BIT);
         GLuint view = 0;
         glCreateTextures(GL_TEXTURE_BUFFER, 1, &view);
@@ -236,7 +241,7 @@ private:
         const int total = probe_count();
         const long long budget = options_.budget;
         // Probes this frame: all remaining iterations (a still), or what gi.budget rays buy.
-        long long probes_left = budget <= 0 ? static_cast<long long>(iterations_ - iteration_) * total - cursor_
+        long long probes_left = budget <= 0 ? static_cast<long long>(iterations_ - iteration_ + kRelocationRounds - relocation_rounds_) * total - cursor_
                                             : std::max<long long>(1, budget / rays_);
         const GLuint trace = env.programs.get("gi_trace").id();
         const GLuint update = env.programs.get("gi_update").id();
@@ -253,10 +258,44 @@ private:
         glBindTextureUnit(GI_DEPTH_UNIT, depth_.id());
         glBindSampler(GI_DEPTH_UNIT, sampler_.id());
         glBindTextureUnit(GI_RAYS_UNIT, rays_view_.id());
-        glBindImageTexture(GI_IRRADIANCE_IMAGE, irradiance_.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
-        glBindImageTexture(GI_DEPTH_IMAGE, depth_.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RG32F);
+        glBindTextureUnit(GI_OFFSETS_UNIT, offsets_.id());
+        glBindSampler(GI_OFFSETS_UNIT, sampler_.id());
         // Batches of at most 64 probes: short dispatches (no GPU watchdog trips on big grids).
         const int batch_max = 64;
+        // Before the first update: probes inside geometry are moved out of it (probe_relocate.comp),
+        // each round from a trace of every probe's hit distances alone (gi.on = -1: no shading),
+        // in batches that count against the frame's budget like the updates' (the viewer).
+        if (relocation_rounds_ < kRelocationRounds) {
+            const GLuint relocate = env.programs.get("gi_relocate").id();
+            while (probes_left > 0 && relocation_rounds_ < kRelocationRounds) {
+                const int batch = static_cast<int>(std::min<long long>({probes_left, batch_max, total - cursor_}));
+                gpu::GiData d = shading_block();
+                d.on = -1.0f;
+                d.first_probe = cursor_;
+                d.seed = glm::uintBitsToFloat(0x2545F491u);
+                d.rotation = random_rotation(static_cast<std::uint32_t>(relocation_rounds_), 2u);
+                upload(d);
+                ctx.state.use_program(trace);
+                glDispatchCompute(static_cast<GLuint>(rays_ / 64), static_cast<GLuint>(batch), 1);
+                ctx.counters.draw_calls += 1;
+                probes_left -= batch;
+                rays_last_frame_ += static_cast<long long>(batch) * rays_;
+                cursor_ += batch;
+                if (cursor_ >= total) {
+                    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
+                    glBindImageTexture(GI_OFFSETS_IMAGE, offsets_.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
+                    ctx.state.use_program(relocate);
+                    glDispatchCompute(static_cast<GLuint>((total + 63) / 64), 1, 1);
+                    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
+                    glBindImageTexture(GI_OFFSETS_IMAGE, 0, 0, GL_FALSE, 0, GL_READ_ONLY, GL_RGBA32F);
+                    ctx.counters.draw_calls += 1;
+                    cursor_ = 0;
+                    ++relocation_rounds_;
+                }
+            }
+        }
+        glBindImageTexture(GI_IRRADIANCE_IMAGE, irradiance_.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
+        glBindImageTexture(GI_DEPTH_IMAGE, depth_.id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RG32F);
         while (probes_left > 0 && iteration_ < iterations_) {
             const int batch = static_cast<int>(std::min<long long>({probes_left, batch_max, total - cursor_}));
             gpu::GiData d = shading_block();
@@ -303,9 +342,12 @@ private:
     int rays_ = 0, bounces_ = 0, iterations_ = 0;
     float bias_ = -1.0f, inset_ = -1.0f, max_distance_ = 1.0f, shading_bias_ = 0.0f;
     int iteration_ = 0, cursor_ = 0;
+    // Rounds of probe relocation done since the grid was allocated (probe_relocate.comp).
+    static constexpr int kRelocationRounds = 2;
+    int relocation_rounds_ = 0;
     unsigned nonfinite_ = 0;
     long long rays_last_frame_ = 0;
-    gl::Texture irradiance_, depth_, rays_view_;
+    gl::Texture irradiance_, depth_, rays_view_, offsets_;
     gl::Buffer rays_buffer_, diagnostics_, block_, frame_ubo_;
     gl::Sampler sampler_;
     FrameGraph::ResourceId irr_id_ = -1, depth_id_ = -1;
@@ -385,7 +427,8 @@ public:
     std::vector<ProgramDesc> programs() const override {
         using S = ShaderStage;
         return {{"gi_trace", {{S::compute, "effects/gi/probe_trace.comp"}}, {"HAS_EMITTERS", "HAS_MASK"}},
-                {"gi_update", {{S::compute, "effects/gi/probe_update.comp"}}, {}}};
+                {"gi_update", {{S::compute, "effects/gi/probe_update.comp"}}, {}},
+                {"gi_relocate", {{S::compute, "effects/gi/probe_relocate.comp"}}, {}}};
     }
     std::vector<GpuBlockInfo> gpu_blocks() const override { return {{"GiData", GI_BINDING, sizeof(gpu::GiData), "forward"}}; }
     const char* shading_include() const override { return "effects/gi/gi_shading.glsl"; }

@@ -8,13 +8,15 @@
 #define GI_DEPTH_UNIT 22       // RG32F atlas: mean distance and mean squared distance
 #define GI_RAYS_BINDING 13     // SSBO: per probe and ray, rgb radiance and the hit distance, then the direction
 #define GI_RAYS_UNIT 23        // the same buffer as a buffer texture (probe_update.comp reads it)
+#define GI_OFFSETS_UNIT 27     // RGBA32F, one texel per probe (its tile): xyz the probe's offset from its grid point
 #define GI_IRRADIANCE_IMAGE 0  // probe_update.comp writes the atlases through these image units
 #define GI_DEPTH_IMAGE 1
+#define GI_OFFSETS_IMAGE 2     // probe_relocate.comp writes the offsets
 
 GPU_NAMESPACE_BEGIN
 GPU_BLOCK(GiData, GI_BINDING) {
     vec3 origin;             // the first probe's position
-    float on;                // 1 when the probes are bound for shading
+    float on;                // 1 when the probes are bound for shading; -1 in relocation's trace
     vec3 spacing;            // distance between probes per axis
     float shading_bias;      // world units
     ivec3 probe_counts;      // probes per axis

@@ -9,6 +9,9 @@
 
 layout(binding = GI_IRRADIANCE_UNIT) uniform sampler2D t_gi_irradiance;
 layout(binding = GI_DEPTH_UNIT) uniform sampler2D t_gi_depth;
+// Each probe's offset from its grid point (probe_relocate.comp: a probe inside geometry is moved
+// out of it); the trilinear weights stay those of the grid.
+layout(binding = GI_OFFSETS_UNIT) uniform sampler2D t_gi_offsets;
 
 // Octahedral map of the unit sphere onto [-1, 1]^2 (Cigolle et al. 2014, JCGT 3(2)).
 vec2 gi_oct_encode(vec3 n) {
@@ -27,7 +30,10 @@ ivec3 gi_probe_coord(int index) {
     return ivec3(index % gi.probe_counts.x, (index / gi.probe_counts.x) % gi.probe_counts.y, index / (gi.probe_counts.x * gi.probe_counts.y));
 }
 
-vec3 gi_probe_position(ivec3 c) { return gi.origin + vec3(c) * gi.spacing; }
+vec3 gi_probe_grid_position(ivec3 c) { return gi.origin + vec3(c) * gi.spacing; }
+vec3 gi_probe_position(ivec3 c) {
+    return gi_probe_grid_position(c) + texelFetch(t_gi_offsets, ivec2(c.x + c.z * gi.probe_counts.x, c.y), 0).xyz;
+}
 
 // A probe's tile in an atlas: tiles side by side, x = i + k * nx, y = j; each tile has a one-texel
 // border that repeats the octahedral map across its edges, so bilinear filtering stays on the sphere.

@@ -90,7 +90,11 @@ void main() {
     Rng rng = rng_init(floatBitsToUint(gi.seed), uint(probe * rays + ray_index), uint(gi.iteration));
     Hit hit = trace_closest(ray, 3.0e38);
     vec4 result = vec4(0.0, 0.0, 0.0, gi.miss_distance);
-    if (hit.prim >= 0) {
+    if (hit.prim >= 0 && gi.on < -0.5) {
+        // Relocation's trace (gi.cpp): only where the ray met a back face, and how far.
+        SurfaceHit y = surface_at(ray, hit);
+        if (!y.front && !material_double_sided(y.material)) result.a = -0.2 * hit.t;
+    } else if (hit.prim >= 0) {
         SurfaceHit y = surface_at(ray, hit);
         if (!y.front && !material_double_sided(y.material)) {
             // Inside geometry (or behind a one-sided wall): no light, and a short negative distance
