@@ -471,7 +471,9 @@ TEST(RtGeometry, TrianglesAreTheScenesWorldTrianglesBitForBit) {
             rt::TriangleGpu w{};
             w.p0 = glm::vec4(t.p[0], std::bit_cast<float>(t.material >= 0 ? t.material : fallback));
             w.p1 = glm::vec4(t.p[1], std::bit_cast<float>(t.node));
-            w.p2 = glm::vec4(t.p[2], 0.0f);
+            // p2.w: 1 where seeing rays cull the back face (a single-sided opaque material).
+            const Material& m = scene.material(t.material);
+            w.p2 = glm::vec4(t.p[2], !m.double_sided && m.transmission <= 0.0f ? 1.0f : 0.0f);
             w.n0 = glm::vec4(t.n[0], g.triangles[i].n0.w);  // n0.w: the emitter pdf, set afterwards
             w.n1 = glm::vec4(t.n[1], 0.0f);
             w.n2 = glm::vec4(t.n[2], 0.0f);

@@ -18,6 +18,7 @@
 #include <functional>
 #include <vector>
 
+#include "closed_form_judge.hpp"
 #include "gl_fixture.hpp"
 #include "gltf_builder.hpp"
 #include "image/batch_stats.hpp"
@@ -30,9 +31,10 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 
 constexpr int kBatches = 16;
-constexpr double kPixelZ = 5.0;
-constexpr double kMeanZ = 4.0;
-constexpr double kPassRate = 0.9975;
+using test::kMeanZ;
+using test::kPassRate;
+using test::kPixelZ;
+using test::worst_mean_z;
 constexpr double kPi = glm::pi<double>();
 
 // --- closed forms ---------------------------------------------------------------------------
@@ -132,20 +134,7 @@ protected:
         }
         return out;
     }
-    // The closed form's own standard error: its float storage and quadrature, 1e-6 of the image's
-    // mean value. Without it a pixel whose samples all agree (se 0), e.g. a pixel that a spot's
-    // cone edge grazes by 1e-9 of its area, would have to equal the closed form to the last bit.
-    static BatchCompareResult judge(const std::vector<ImageF>& b, const ImageF& reference) {
-        double mean = 0.0;
-        for (size_t i = 0; i < reference.pixels.size(); ++i)
-            if (i % 4 != 3) mean += std::fabs(reference.pixels[i]) / (3.0 * reference.width * reference.height);
-        ImageF se(reference.width, reference.height, 4);
-        for (size_t i = 0; i < se.pixels.size(); ++i) se.pixels[i] = static_cast<float>(1e-6 * mean);
-        return compare_batches_to_reference(b, reference, &se, kPixelZ);
-    }
-    static double worst_mean_z(const BatchCompareResult& r) {
-        return std::max({std::fabs(r.z_of_mean_rgb.x), std::fabs(r.z_of_mean_rgb.y), std::fabs(r.z_of_mean_rgb.z)});
-    }
+    static BatchCompareResult judge(const std::vector<ImageF>& b, const ImageF& reference) { return test::judge_against_closed_form(b, reference); }
     static std::string describe(const BatchCompareResult& r) {
         char s[256];
         std::snprintf(s, sizeof(s), "pixels passing %.3f %% (|z| < %.0f), z of the mean %+.2f (rgb %+.2f %+.2f %+.2f), relative %+.5f %%",
