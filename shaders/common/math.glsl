@@ -1,6 +1,8 @@
 // Constants and small helpers shared by raster and ray-tracing shaders.
 const float PI = 3.14159265358979323846;
 const float INV_PI = 0.31830988618379067154;
+// Rec. 709 luminance of linear RGB.
+const vec3 LUMINANCE_WEIGHTS = vec3(0.2126, 0.7152, 0.0722);
 
 float saturate(float x) { return clamp(x, 0.0, 1.0); }
 vec3 saturate(vec3 x) { return clamp(x, vec3(0.0), vec3(1.0)); }

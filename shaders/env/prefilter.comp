@@ -2,7 +2,8 @@
 // One mip level of a GGX-prefiltered cube map (the split sum's first factor, Karis 2013): with
 // n = v = r, the NdotL-weighted mean of the radiance over GGX-sampled directions at this level's
 // roughness. Filtered importance sampling (Krivanek & Colbert 2008) reads each sample at the mip
-// whose texel solid angle matches the sample's, so few samples give a smooth result.
+// whose texel solid angle matches the sample's, so few samples give a smooth result. Alpha is
+// filtered as the colour is (a reflection probe's share of area-light emission: forward.frag).
 #include "gpu/bindings.h"
 #include "../common/brdf.glsl"
 #include "cube.glsl"
@@ -22,7 +23,7 @@ void main() {
     float layer = float(id.z / 6);
     vec3 n = cube_texel_direction(face, id.xy, u_size);
     if (u_roughness <= 0.0) {
-        imageStore(dst, id, vec4(textureLod(t_source, vec4(n, layer), 0.0).rgb, 1.0));
+        imageStore(dst, id, textureLod(t_source, vec4(n, layer), 0.0));
         return;
     }
     float alpha = brdf_alpha(u_roughness);
@@ -31,7 +32,7 @@ void main() {
     b = cross(n, t);
     float texel_solid_angle = 4.0 * PI / (6.0 * float(u_source_size * u_source_size));
     float max_lod = float(textureQueryLevels(t_source) - 1);
-    vec3 sum = vec3(0.0);
+    vec4 sum = vec4(0.0);
     float weight = 0.0;
     for (int i = 0; i < u_samples; ++i) {
         vec3 hl = sample_ggx_half(hammersley(uint(i), uint(u_samples)), alpha);
@@ -43,8 +44,8 @@ void main() {
         float pdf = D_GGX(hl.z, alpha) * 0.25;
         float sample_solid_angle = 1.0 / (float(u_samples) * pdf + 1e-6);
         float lod = clamp(0.5 * log2(sample_solid_angle / texel_solid_angle) + 1.0, 0.0, max_lod);
-        sum += textureLod(t_source, vec4(l, layer), lod).rgb * NdotL;
+        sum += textureLod(t_source, vec4(l, layer), lod) * NdotL;
         weight += NdotL;
     }
-    imageStore(dst, id, vec4(weight > 0.0 ? sum / weight : vec3(0.0), 1.0));
+    imageStore(dst, id, weight > 0.0 ? sum / weight : vec4(0.0));
 }

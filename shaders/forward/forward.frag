@@ -55,6 +55,7 @@ void main() {
 #ifdef MATERIAL_LAYERS
     if (s.unlit) {
         float a = s.alpha_mode == 2 || (s.alpha_mode == 1 && g_alpha_to_coverage) ? s.alpha : 1.0;
+        if (reflections.capture != 0) a = 0.0;  // no area light (see the end of main)
         out_radiance = PEELING ? vec4(s.brdf.base_color * a, a) : vec4(s.brdf.base_color, a);
         return;
     }
@@ -78,6 +79,14 @@ void main() {
 #ifndef FORWARD_NO_GI
     color += shade_gi(s.brdf, s.p, s.n, v, s.occlusion, transmission);
 #endif
+    // Inside a reflection probe's capture the alpha channel carries the luminance of the emission
+    // that the area lights add analytically (every emissive surface is one when the light buffer
+    // holds area-light pieces), so that a reflection read from the probe can leave it out
+    // (probe_radiance): counted once, by the area lights, which also shadow it.
+    if (reflections.capture != 0) {
+        out_radiance = vec4(color, frame.light_count > frame.punctual_light_count ? dot(s.emission, LUMINANCE_WEIGHTS) : 0.0);
+        return;
+    }
     float alpha = s.alpha_mode == 2 || (s.alpha_mode == 1 && g_alpha_to_coverage) ? s.alpha : 1.0;
     out_radiance = PEELING ? vec4(color * alpha, alpha) : vec4(color, alpha);
 }

@@ -21,10 +21,11 @@ vec2 env_brdf(float roughness, float NdotV) {
 }
 
 // Radiance arriving at p from direction r, prefiltered for `roughness`: probe k (probe_at), or
-// the static environment when k < 0.
-vec3 environment_specular(vec3 p, vec3 r, float roughness, int k) {
+// the static environment when k < 0. `reflected`: r is a reflection, whose area-light emitters
+// the area lights add (probe_radiance).
+vec3 environment_specular(vec3 p, vec3 r, float roughness, int k, bool reflected) {
     if (k >= 0)
-        return probe_radiance(k, p, r, roughness);
+        return probe_radiance(k, p, r, roughness, reflected);
     if (frame.env_map_bound < 0.5) return frame.env_radiance.rgb;
     return frame.env_radiance.rgb * textureLod(t_env_cube, vec4(r, 0.0), roughness * float(max(frame.env_mips - 1, 0))).rgb;
 }
@@ -75,12 +76,12 @@ vec3 shade_ambient(BrdfInput bi, vec3 p, vec3 n, vec3 v, float occlusion, float 
         if (dot(bent, v) > 0.0) r = reflect(-v, bent);
     }
 #endif
-    vec3 specular = environment_specular(p, r, bi.roughness, probe);
+    vec3 specular = environment_specular(p, r, bi.roughness, probe, true);
     vec3 transmitted = vec3(0.0);
     if (transmission > 0.0) {
         vec3 t = thin ? -v : refract(-v, n, 1.0 / max(bi.ior, 1.0));
         if (dot(t, t) < 1e-12) t = -v;
-        transmitted = environment_specular(p, normalize(t), bi.roughness, probe);
+        transmitted = environment_specular(p, normalize(t), bi.roughness, probe, false);
     }
 #ifdef MATERIAL_LAYERS
     g_ambient_NdotV = NdotV;
@@ -91,7 +92,7 @@ vec3 shade_ambient(BrdfInput bi, vec3 p, vec3 n, vec3 v, float occlusion, float 
     if (bi.clearcoat > 0.0) {
         float NcV = saturate(dot(bi.coat_n, v));
         coat_ab = env_brdf(bi.clearcoat_roughness, NcV);
-        coat = environment_specular(p, reflect(-v, bi.coat_n), bi.clearcoat_roughness, probe);
+        coat = environment_specular(p, reflect(-v, bi.coat_n), bi.clearcoat_roughness, probe, false);
     }
     return occlusion * layers_ambient(bi, n, v, below, irradiance, coat, coat_ab);
 #else

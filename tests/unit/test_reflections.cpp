@@ -301,6 +301,40 @@ TEST_P(ReflectionsTest, ProbePassRunsOnlyWhenCalledForAndWhenStale) {
     for (const ProbePlacement& p : probes(r)) EXPECT_EQ(p.excluded_draws.size(), 1u) << p.origin;
 }
 
+// A smooth metal sphere under a small emitter, and nothing else. The emitter's reflection is the
+// area lights' work (LTC, with the emitter's shadow) and must not come a second time from the
+// reflection probe, which sees the same emitter: the probe reflects what it captured less the
+// area lights' emitters. With the emitter in the probe's reflection, the sphere was twice as
+// bright as the tracer's (a random scene's image +137 %).
+TEST_P(ReflectionsTest, ProbeReflectionLeavesTheEmittersToTheAreaLights) {
+    test::GltfBuilder b;
+    b.json()["materials"] = {
+        {{"pbrMetallicRoughness", {{"baseColorFactor", {0.9, 0.9, 0.9, 1}}, {"metallicFactor", 1}, {"roughnessFactor", 0.15}}}},
+        {{"pbrMetallicRoughness", {{"baseColorFactor", {0, 0, 0, 1}}}},
+         {"emissiveFactor", {1.0, 0.9, 0.8}},
+         {"extensions", {{"KHR_materials_emissive_strength", {{"emissiveStrength", 20.0}}}}}}};
+    b.json()["extensionsUsed"] = {"KHR_materials_emissive_strength"};
+    b.add_node({{"mesh", add_sphere_mesh(b, 0)}});
+    // The unit quad turned to face down, above the sphere and towards the camera.
+    b.add_node({{"mesh", b.add_quad_mesh(1)},
+                {"translation", {0.0, 2.0, 1.2}},
+                {"rotation", {0.70710678, 0.0, 0.0, 0.70710678}},
+                {"scale", {0.3, 0.3, 0.3}}});
+    b.json()["cameras"] = {{{"type", "perspective"}, {"perspective", {{"yfov", 0.6}, {"znear", 0.05}}}}};
+    b.add_node({{"camera", 0}, {"translation", {0, 0, 4}}});
+    const Scene scene = load_gltf(b.write(test::test_dir("probe_emitter"), "probe_emitter"));
+    const int w = 48;
+    const double with_probe = mean_luminance(raster(scene, w, w, settings("shadows,reflections", {})));
+    const double without = mean_luminance(raster(scene, w, w, settings("shadows", {})));
+    double se = 0.0;
+    const double traced = path_mean_luminance(scene, w, w, 256, se);
+    std::printf("mean luminance: probe %.5f, no probe %.5f, path %.5f +- %.5f\n", with_probe, without, traced, se);
+    ASSERT_GT(without, 0.0);
+    // The probe sees the emitter and black: what it adds to the reflection is nothing.
+    EXPECT_NEAR(with_probe / without, 1.0, 0.03);
+    EXPECT_NEAR(with_probe / traced, 1.0, 0.08 + 3.0 * se / traced);
+}
+
 INSTANTIATE_TEST_SUITE_P(Backends, ReflectionsTest, ::testing::Values(Backend::egl), test::backend_name);
 
 TEST(ReflectionProbeLoading, BadProbeIsNamed) {

@@ -73,6 +73,7 @@ void ReflectionsRuntime::prepare(const FramePrep& p) {
     if (d.probes <= 0) defines_.push_back("FORWARD_NO_PROBES");
     gpu::ReflectionsData capture = d;
     capture.probes = 0;  // shading inside a probe reads the static environment
+    capture.capture = 1;
     capture_block_.update(0, sizeof capture, &capture);
     if (on_) prepare_faces(p);
 }
@@ -235,7 +236,7 @@ void ReflectionsRuntime::add_capture(FrameGraph& graph, const PassEnv& env) {
                         ctx.state.apply(ps);
                         ctx.state.bind_framebuffer(pr.face_fbos[static_cast<size_t>(layer)].id());
                         ctx.state.viewport(0, 0, pr.size, pr.size);
-                        const float clear_color[4] = {0, 0, 0, 1};
+                        const float clear_color[4] = {0, 0, 0, 0};
                         glClearBufferfv(GL_COLOR, 0, clear_color);
                         const float clear_depth = 0.0f;
                         glClearBufferfv(GL_DEPTH, 0, &clear_depth);
@@ -243,6 +244,8 @@ void ReflectionsRuntime::add_capture(FrameGraph& graph, const PassEnv& env) {
                         ctx.state.bind_vertex_array(env.scene.vertex_array().id());
                         for (size_t i : visible) draw_item(env, ctx, draws[i], !draws[i].double_sided, GL_BACK);
                         if (pr.sky) {
+                            // The sky's alpha stays the clear value 0: it adds no area light.
+                            glColorMaski(0, GL_TRUE, GL_TRUE, GL_TRUE, GL_FALSE);
                             gl::PipelineState sky;
                             sky.depth_test = true;
                             sky.depth_func = GL_GEQUAL;
@@ -251,6 +254,7 @@ void ReflectionsRuntime::add_capture(FrameGraph& graph, const PassEnv& env) {
                             ctx.state.use_program(env.programs.get("sky").id());
                             ctx.state.bind_vertex_array(env.empty_vao.id());
                             glDrawArrays(GL_TRIANGLES, 0, 3);
+                            glColorMaski(0, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
                             ++ctx.counters.draw_calls;
                             ++ctx.counters.triangles;
                         }

@@ -12,7 +12,8 @@ GPU_BLOCK(ReflectionsData, REFLECTIONS_BINDING) {
     int probes;      // reflection probes bound (0: none, and inside a probe's own faces)
     int levels;      // mip levels of their prefiltered cubes
     int refraction;  // 1: transmissive surfaces refract (the effect is planned)
-    int pad;
+    int capture;     // 1 inside a probe's capture: the forward pass writes in alpha the luminance
+                     // of the emission that the area lights also add (see probe_radiance)
 } GPU_BLOCK_INSTANCE(reflections);
 GPU_BLOCK_CHECK(ReflectionsData, 16)
 

@@ -36,8 +36,15 @@ vec3 probe_direction(ProbeData pr, vec3 p, vec3 r) {
     return dot(d, d) > 1e-12 ? d : r;
 }
 
-// Radiance from probe k arriving at p from direction r, prefiltered for `roughness`.
-vec3 probe_radiance(int k, vec3 p, vec3 r, float roughness) {
-    return textureLod(t_probes, vec4(probe_direction(probes[k], p, r), float(k)),
-                      roughness * float(max(reflections.levels - 1, 0))).rgb;
+// Radiance from probe k arriving at p from direction r, prefiltered for `roughness`. A reflection
+// (`reflected`) leaves out the emitters that the area lights shade analytically: the capture
+// stored their luminance in alpha, filtered as the colour was, and the colour is scaled to
+// take it away. Light seen through a transmissive surface keeps them (the area lights only
+// reflect).
+vec3 probe_radiance(int k, vec3 p, vec3 r, float roughness, bool reflected) {
+    vec4 c = textureLod(t_probes, vec4(probe_direction(probes[k], p, r), float(k)),
+                        roughness * float(max(reflections.levels - 1, 0)));
+    if (!reflected || c.a <= 0.0) return c.rgb;
+    float lum = dot(c.rgb, LUMINANCE_WEIGHTS);
+    return lum > c.a ? c.rgb * (1.0 - c.a / lum) : vec3(0.0);
 }
