@@ -16,7 +16,7 @@ std::string ViewLight::text() const {
     char buf[480];
     std::snprintf(buf, sizeof buf,
                   "%dx%d px x %d spp: %.0f %% passive surface, %.0f %% emitter, %.0f %% background; %d surface px, %d lit, "
-                  "%.0f %% unlit, %.0f %% open to the sky; first bounce / direct %.3f +- %.3f, second / first %.3f, indirect "
+                  "%.0f %% unlit, %.0f %% open to the sky; first bounce / direct %.3f +- %.3f, each later bounce x %.3f, indirect "
                   "%.0f %%; %.0f ms",
                   width, height, spp, passive_share * 100.0, emitter_share * 100.0, background_share * 100.0, surface_pixels,
                   lit_pixels, unlit_share * 100.0, sky_visibility * 100.0, ratio, ratio_stderr, per_bounce, indirect_share * 100.0, ms);
@@ -54,7 +54,7 @@ ViewLight measure_view_light(const ShaderLibrary& shaders, const Scene& scene, G
         return out;
     };
     auto luminance = [&] { return channel(tracer.render(camera, v.width, v.height).image, -1); };
-    // `path` truncated after 1, 2 and 3 vertices (no Russian roulette before the fourth): the
+    // `path` truncated after 1, 2, 3 and 4 vertices (no Russian roulette before the fourth): the
     // same random numbers trace the same paths, so the differences are exactly the first and
     // second bounce of light, every BRDF lobe (metals and glossy surfaces pass light on too).
     const std::vector<double> direct = luminance();
@@ -63,12 +63,14 @@ ViewLight measure_view_light(const ShaderLibrary& shaders, const Scene& scene, G
     const std::vector<double> depth2 = luminance();
     tracer.set_max_depth(3);
     const std::vector<double> depth3 = luminance();
+    tracer.set_max_depth(4);
+    const std::vector<double> depth4 = luminance();
     tracer.set_mode(rt::Mode::hits);
     const ImageF hits = tracer.render(camera, v.width, v.height).image;
     const std::vector<double> passive = channel(hits, 0), emitter = channel(hits, 1), diffuse = channel(hits, 2);
     tracer.set_mode(rt::Mode::ao);
     const std::vector<double> open = channel(tracer.render(camera, v.width, v.height).image, 0);
-    double d = 0.0, b1 = 0.0, b2 = 0.0, wsum = 0.0, esum = 0.0, sky = 0.0;
+    double d = 0.0, b1 = 0.0, b2 = 0.0, b3 = 0.0, wsum = 0.0, esum = 0.0, sky = 0.0;
     std::vector<double> bounce(n), diffuse_direct(n), diffuse_bounce(n);
     std::vector<double> surface_light, lit_direct;
     for (size_t k = 0; k < n; ++k) {
@@ -86,6 +88,7 @@ ViewLight measure_view_light(const ShaderLibrary& shaders, const Scene& scene, G
         d += diffuse_direct[k];
         b1 += diffuse_bounce[k];
         b2 += wd * std::max(0.0, depth3[k] - depth2[k]);
+        b3 += wd * std::max(0.0, depth4[k] - depth3[k]);
         if (w >= 0.5) {
             surface_light.push_back(direct[k] + bounce[k]);
             if (direct[k] > 0.0) lit_direct.push_back(direct[k]);
@@ -110,8 +113,13 @@ ViewLight measure_view_light(const ShaderLibrary& shaders, const Scene& scene, G
         }
         v.ratio_stderr = std::sqrt(nd / std::max(nd - 1.0, 1.0) * r2) / d;
     }
-    // Later bounces return about what the second returned of the first.
-    v.per_bounce = b1 > 0.0 ? std::clamp(b2 / b1, 0.0, 0.95) : 0.0;
+    v.third_bounce_mean = b3 / nd;
+    // Later bounces return about what the third returned of the second. Not the second of the
+    // first: the first bounce leaves from where the lights shine, the later ones from the whole
+    // room, so in a closed bright room lit where the camera does not look B2 / B1 is a fraction of
+    // B3 / B2 (0.18 against 0.84 measured on one) and the bounces after the second were mostly
+    // left out. Without a third bounce, the second's ratio.
+    v.per_bounce = b2 > 0.0 && b3 > 0.0 ? std::clamp(b3 / b2, 0.0, 0.95) : b1 > 0.0 ? std::clamp(b2 / b1, 0.0, 0.95) : 0.0;
     const double indirect = b1 + b2 / (1.0 - v.per_bounce);
     v.indirect_share = d + indirect > 0.0 ? indirect / (d + indirect) : 0.0;
     if (!surface_light.empty()) {

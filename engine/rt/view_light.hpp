@@ -31,12 +31,14 @@ struct ViewLight {
     double passive_share = 0.0, emitter_share = 0.0, background_share = 0.0;
     // Means over the image of the light the seen surfaces reflect, each pixel weighted by the
     // diffuse part of its surface ((1 - metallic)(1 - transmission): a mirror or glass shows its
-    // surroundings, the reflection effect's work): D direct, B1 its first bounce, B2 its second.
-    double direct_mean = 0.0, bounce_mean = 0.0, second_bounce_mean = 0.0;
+    // surroundings, the reflection effect's work): D direct, B1 its first bounce, B2 its second,
+    // B3 its third.
+    double direct_mean = 0.0, bounce_mean = 0.0, second_bounce_mean = 0.0, third_bounce_mean = 0.0;
     // B1 / D and its standard error (a ratio estimator over the pixels; it counts the spread of
     // the light across the image as well as the sampling noise, so it errs large). 0 when D is 0.
     double ratio = 0.0, ratio_stderr = 0.0;
-    // r = B2 / B1 (at most 0.95): what each later bounce returns of the one before.
+    // r = B3 / B2 (B2 / B1 without a third bounce; at most 0.95): what each bounce after the
+    // second returns of the one before.
     double per_bounce = 0.0;
     // The indirect share of the seen surfaces' light, I / (D + I) with I = B1 + B2 / (1 - r).
     double indirect_share = 0.0;

@@ -39,6 +39,7 @@ IndirectEstimate estimate_indirect(const ShaderLibrary& shaders, const Scene& sc
     e.per_bounce = v.per_bounce;
     e.direct_mean = v.direct_mean;
     e.one_bounce_mean = v.bounce_mean;
+    e.two_bounce_mean = v.second_bounce_mean;
     e.width = v.width;
     e.height = v.height;
     e.spp = v.spp;

@@ -1,8 +1,8 @@
 #pragma once
 // The planner's estimate of how much of the image is indirect light: the view measurement of
 // rt/view_light.hpp (tiny renders of the direct light on the surfaces the camera sees and of its
-// first two bounces, from the render's own camera at its aspect), the bounces after the second
-// extrapolated as a geometric series with the ratio the second had to the first. The GI effect
+// first three bounces, from the render's own camera at its aspect), the bounces after the second
+// extrapolated as a geometric series with the ratio the third had to the second. The GI effect
 // plans its probes from it (engine/effects/gi/gi.cpp).
 #include <string>
 
@@ -20,9 +20,10 @@ constexpr int kMinLitPixels = 32;
 struct IndirectEstimate {
     double fraction = 0.0;         // I / (D + I): the indirect share of the seen surfaces' light
     double fraction_se = 0.0;      // standard error of B1 / D, the first bounce's ratio (errs large)
-    double per_bounce = 0.0;       // r = B2 / B1: what each later bounce returns of the one before
+    double per_bounce = 0.0;       // r = B3 / B2: what each bounce after the second returns of the one before
     double direct_mean = 0.0;      // D: direct light the seen surfaces reflect (no emitter or sky in view)
     double one_bounce_mean = 0.0;  // B1: its first bounce on the same surfaces
+    double two_bounce_mean = 0.0;  // B2: its second bounce
     int width = 0, height = 0, spp = 0;
     int surface_pixels = 0, lit_pixels = 0;
     bool trusted = false;          // lit_pixels >= kMinLitPixels
