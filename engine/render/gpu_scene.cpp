@@ -196,6 +196,15 @@ GpuScene::GpuScene(const Scene& scene, GlWorker* mips, const ShaderLibrary* shad
             d.normal_matrix = glm::inverseTranspose(glm::mat3(node.world));
             d.mirrored = node.mirrored();
             set_material(d, p);
+            {
+                const Material& m = scene.material(p.material);
+                if (m.transmission > 0.0f && m.thickness > 0.0f) {
+                    d.solid_transmissive = true;
+                    d.volume_shape = volume_shape(p);
+                    d.volume_lo = p.bounds.min;
+                    d.volume_hi = p.bounds.max;
+                }
+            }
             for (int corner = 0; corner < 8; ++corner)
                 d.world_bounds.extend(glm::vec3(node.world * glm::vec4(corner & 1 ? p.bounds.max.x : p.bounds.min.x,
                                                                         corner & 2 ? p.bounds.max.y : p.bounds.min.y,
@@ -260,6 +269,32 @@ void GpuScene::set_material(Draw& d, const Primitive& p) const {
         d.srgb[static_cast<size_t>(s)] = s == 0 || s == 4;
         d.samplers[static_cast<size_t>(s)] = slots[s]->sampler;
     }
+}
+
+int GpuScene::volume_shape(const Primitive& p) {
+    if (p.deformable() || p.vertices.size() < 4 || p.bounds.empty()) return 0;
+    const glm::vec3 lo = p.bounds.min, hi = p.bounds.max, ext = hi - lo;
+    if (!(std::min({ext.x, ext.y, ext.z}) > 0.0f)) return 0;
+    const float eps = 1e-4f * std::max({ext.x, ext.y, ext.z});
+    bool box = true;
+    for (size_t t = 0; box && t + 2 < p.indices.size(); t += 3) {
+        bool on_face = false;
+        for (int a = 0; a < 3 && !on_face; ++a) {
+            bool at_lo = true, at_hi = true;
+            for (int c = 0; c < 3; ++c) {
+                const float x = p.vertices[p.indices[t + static_cast<size_t>(c)]].position[a];
+                at_lo = at_lo && std::abs(x - lo[a]) <= eps;
+                at_hi = at_hi && std::abs(x - hi[a]) <= eps;
+            }
+            on_face = at_lo || at_hi;
+        }
+        box = on_face;
+    }
+    if (box) return 1;
+    const glm::vec3 c = 0.5f * (lo + hi), r = 0.5f * ext;
+    for (const Vertex& v : p.vertices)
+        if (std::abs(glm::length((v.position - c) / r) - 1.0f) > 0.02f) return 0;
+    return 2;
 }
 
 void GpuScene::refresh_materials() {

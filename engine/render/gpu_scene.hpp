@@ -77,6 +77,12 @@ public:
         AlphaMode alpha_mode;
         bool double_sided;
         Bounds world_bounds;
+        // The solid a transmitted ray crosses, for the raster's refraction through a solid
+        // (not thin-walled) transmissive primitive: its box (1) or the ellipsoid inscribed in
+        // its box (2) in mesh space, where the mesh is one (volume_shape); 0: neither.
+        bool solid_transmissive = false;
+        int volume_shape = 0;
+        glm::vec3 volume_lo{0.0f}, volume_hi{0.0f};
         std::array<int, 5> textures;  // scene image per slot, -1 none
         std::array<bool, 5> srgb;
         std::array<SamplerDesc, 5> samplers;
@@ -85,6 +91,11 @@ public:
         glm::mat4 model_open{1.0f}, model_close{1.0f};
         bool moves = false;
     };
+
+    // 1 when every triangle of `p` lies on a face of its bounds (a box), 2 when every vertex lies on
+    // the ellipsoid inscribed in them (within 2 % of its radii: a sphere or ellipsoid), else 0.
+    // Deformable primitives: 0.
+    static int volume_shape(const Primitive& p);
 
     // Throws candela::Error (bad_input) if the environment map cannot be read.
     // With a running `mips` worker (it must outlive this GpuScene), every texture the draws use

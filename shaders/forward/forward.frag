@@ -67,6 +67,11 @@ void main() {
     float transmission = 0.0;
 #else
     float transmission = reflections.refraction != 0 ? s.transmission : 0.0;
+    if (transmission > 0.0 && !s.thin) {
+        MaterialData mat = materials[u_material];
+        if (mat.attenuation_distance > 0.0)
+            g_volume_sigma = -log(max(mat.attenuation_color, vec3(1e-6))) / mat.attenuation_distance;
+    }
 #endif
     for (int i = 0; i < shaded_light_count(); ++i) color += shade_light(i, s.brdf, s.p, s.n, v, pixel, transmission);
 #ifndef FORWARD_NO_AREA_LIGHTS

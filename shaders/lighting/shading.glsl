@@ -48,9 +48,61 @@ vec3 shade_light(int i, BrdfInput bi, vec3 p, vec3 n, vec3 v, vec2 pixel, float 
 }
 vec3 shade_light(int i, BrdfInput bi, vec3 p, vec3 n, vec3 v, vec2 pixel) { return shade_light(i, bi, p, n, v, pixel, 0.0); }
 
+// The solid a transmitted ray crosses (set per draw by the forward pass, render/passes/pass_env.cpp:
+// u_volume_shape 1 the box [u_volume_lo, u_volume_hi] in mesh space, 2 the ellipsoid inscribed
+// in it, 0 unknown) and its Beer-Lambert coefficient (KHR_materials_volume; forward.frag).
+uniform int u_volume_shape;
+uniform vec3 u_volume_lo;
+uniform vec3 u_volume_hi;
+uniform mat4 u_volume_to_object;
+vec3 g_volume_sigma = vec3(0.0);
+
+// A ray refracted into the solid at p along t (unit) is followed to where it leaves: the exit
+// point q, the direction t after the second interface (a totally internally reflected ray is
+// followed to the next face, at most three times), and in `weight` what the exit's Fresnel
+// and the volume's absorption leave. Unknown shape: unchanged (one interface).
+void volume_exit(vec3 p, float ior, inout vec3 t, out vec3 q, inout vec3 weight) {
+    q = p;
+    if (u_volume_shape == 0) return;
+    mat3 to_object = mat3(u_volume_to_object);
+    vec3 o = (u_volume_to_object * vec4(p, 1.0)).xyz;
+    float f0 = (ior - 1.0) / (ior + 1.0);
+    f0 *= f0;
+    for (int event = 0; event < 3; ++event) {
+        vec3 d = to_object * t;
+        float t_exit;
+        vec3 n_object;
+        if (u_volume_shape == 1) {
+            vec3 ds = mix(d, mix(vec3(1e-8), vec3(-1e-8), lessThan(d, vec3(0.0))), lessThan(abs(d), vec3(1e-8)));
+            vec3 far_t = max((u_volume_lo - o) / ds, (u_volume_hi - o) / ds);
+            t_exit = min(far_t.x, min(far_t.y, far_t.z));
+            n_object = far_t.x == t_exit ? vec3(sign(ds.x), 0.0, 0.0) : far_t.y == t_exit ? vec3(0.0, sign(ds.y), 0.0) : vec3(0.0, 0.0, sign(ds.z));
+        } else {
+            vec3 c = 0.5 * (u_volume_lo + u_volume_hi), r = max(0.5 * (u_volume_hi - u_volume_lo), vec3(1e-8));
+            vec3 oo = (o - c) / r, dd = d / r;
+            float a = dot(dd, dd), b = dot(oo, dd), cc = dot(oo, oo) - 1.0;
+            t_exit = (-b + sqrt(max(b * b - a * cc, 0.0))) / max(a, 1e-20);
+            n_object = (oo + t_exit * dd) / r;  // the ellipsoid's gradient
+        }
+        t_exit = max(t_exit, 0.0);
+        q += t * t_exit;  // world and mesh space share the ray parameter
+        o += d * t_exit;
+        weight *= exp(-g_volume_sigma * t_exit);
+        vec3 n_out = normalize(transpose(to_object) * n_object);
+        vec3 out_t = refract(t, -n_out, ior);
+        if (dot(out_t, out_t) > 1e-12) {
+            // Schlick on the outer side of the interface.
+            weight *= 1.0 - (f0 + (1.0 - f0) * pow5(1.0 - saturate(dot(out_t, n_out))));
+            t = normalize(out_t);
+            return;
+        }
+        t = reflect(t, -n_out);
+    }
+}
+
 // Environment light reflected towards v (split sum), and for a transmissive surface the light
-// refracted through it: one lookup along the direction after the first interface (a thin wall
-// does not bend it), the seeds' "first direction change only".
+// refracted through it: one lookup along the direction after the last interface (a thin wall
+// does not bend it; a solid of known shape bends it twice, volume_exit).
 vec3 shade_ambient(BrdfInput bi, vec3 p, vec3 n, vec3 v, float occlusion, float transmission, bool thin) {
     float NdotV = saturate(dot(n, v));
     vec2 ab = env_brdf(bi.roughness, NdotV);
@@ -81,7 +133,10 @@ vec3 shade_ambient(BrdfInput bi, vec3 p, vec3 n, vec3 v, float occlusion, float 
     if (transmission > 0.0) {
         vec3 t = thin ? -v : refract(-v, n, 1.0 / max(bi.ior, 1.0));
         if (dot(t, t) < 1e-12) t = -v;
-        transmitted = environment_specular(p, normalize(t), bi.roughness, probe, false);
+        t = normalize(t);
+        vec3 q = p, weight = vec3(1.0);
+        if (!thin) volume_exit(p, max(bi.ior, 1.0), t, q, weight);
+        transmitted = weight * environment_specular(q, t, bi.roughness, probe, false);
     }
 #ifdef MATERIAL_LAYERS
     g_ambient_NdotV = NdotV;

@@ -86,9 +86,10 @@ constexpr Bound kBounds[] = {
     // Refraction: the raster looks the refracted direction up in a probe or the environment
     // once, the tracer follows the light through both surfaces of each sphere (measured 0.0578 / 0.232).
     {"TransmissionTest", 0.09, 0.38},
-    // Absorption inside the tinted slabs (KHR_materials_volume): the tracer applies Beer-Lambert,
-    // the raster draws the slabs as clear glass (measured 0.0191 / 0.526).
-    {"AttenuationTest", 0.029, 0.79},
+    // The tinted slabs (KHR_materials_volume): both apply Beer-Lambert along the path through each
+    // slab, but the raster looks up what is behind in a probe (measured 0.0110 / 0.302; as clear
+    // glass, before the raster followed rays through boxes, 0.0191 / 0.526).
+    {"AttenuationTest", 0.017, 0.45},
     // The velvet's sheen: the tracer's 16 spp leave sparkles on the fabric (its sheen lobe is
     // reached by the cosine lobe's samples), the raster's split sum is smooth (measured 0.0067 / 0.208).
     {"SheenChair", kDefaultBound.mean_abs, 0.31},

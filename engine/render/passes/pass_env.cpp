@@ -119,6 +119,19 @@ void draw_item(const PassEnv& env, FrameGraph::Context& ctx, const GpuScene::Dra
     if (!depth_only) glProgramUniformMatrix3fv(program, 1, 1, GL_FALSE, glm::value_ptr(d.normal_matrix));
     glProgramUniform1i(program, 2, d.primitive_material);
     if (!depth_only) glProgramUniform1i(program, 3, d.mirrored ? 1 : 0);
+    // The solid a transmitted ray crosses (forward.frag; the programs that refract have it).
+    if (!depth_only && d.solid_transmissive) {
+        const GLint at = glGetUniformLocation(program, "u_volume_shape");
+        if (at >= 0 && d.volume_shape == 0) {
+            glProgramUniform1i(program, at, 0);
+        } else if (at >= 0) {
+            const glm::mat4 to_object = glm::inverse(d.model);
+            glProgramUniform1i(program, at, d.volume_shape);
+            glProgramUniform3fv(program, glGetUniformLocation(program, "u_volume_lo"), 1, glm::value_ptr(d.volume_lo));
+            glProgramUniform3fv(program, glGetUniformLocation(program, "u_volume_hi"), 1, glm::value_ptr(d.volume_hi));
+            glProgramUniformMatrix4fv(program, glGetUniformLocation(program, "u_volume_to_object"), 1, GL_FALSE, glm::value_ptr(to_object));
+        }
+    }
     for (int s = 0; s < (depth_only ? 1 : MATERIAL_UNIT_COUNT); ++s) {
         const auto su = static_cast<size_t>(s);
         const gl::Texture& t = d.textures[su] >= 0 ? env.scene.texture(d.textures[su], d.srgb[su]) : env.scene.white_texture();
