@@ -68,6 +68,22 @@ int add_sphere_mesh(test::GltfBuilder& b, int material) {
 
 const glm::vec3 kEnv(0.3f, 0.5f, 0.7f);
 
+// An equirect map of kEnv, or (`gradient`) of a colour that changes with direction,
+// 0.2 + 0.3 (d + 1), so that a lookup in a wrong direction shows.
+void write_environment_map(const fs::path& path, bool gradient) {
+    ImageF img(256, 128, 4);
+    for (int y = 0; y < img.height; ++y)
+        for (int x = 0; x < img.width; ++x) {
+            // The inverse of direction_to_equirect (shaders/common/math.glsl).
+            const double theta = kPi * (y + 0.5) / img.height, phi = 2.0 * kPi * ((x + 0.5) / img.width - 0.5);
+            const glm::vec3 d(std::sin(theta) * std::sin(phi), std::cos(theta), -std::sin(theta) * std::cos(phi));
+            const glm::vec3 c = gradient ? 0.2f + 0.3f * (d + 1.0f) : kEnv;
+            for (int ch = 0; ch < 3; ++ch) img.at(x, y)[ch] = c[ch];
+            img.at(x, y)[3] = 1.0f;
+        }
+    write_image(path, img);
+}
+
 // A perfect mirror (white metal, roughness 0) in a constant environment, seen head-on; with
 // `map`, an equirect map of the constant, or (`gradient`) of a colour that changes with
 // direction, so that a wrongly oriented cube face shows.
@@ -78,17 +94,7 @@ Scene mirror_sphere_scene(const std::string& map, bool gradient = false) {
     b.json()["scenes"][0]["extras"]["environment_radiance"] = {kEnv.r, kEnv.g, kEnv.b};
     const fs::path dir = test::test_dir("mirror_env");
     if (!map.empty()) {
-        ImageF img(256, 128, 4);
-        for (int y = 0; y < img.height; ++y)
-            for (int x = 0; x < img.width; ++x) {
-                // The inverse of direction_to_equirect (shaders/common/math.glsl).
-                const double theta = kPi * (y + 0.5) / img.height, phi = 2.0 * kPi * ((x + 0.5) / img.width - 0.5);
-                const glm::vec3 d(std::sin(theta) * std::sin(phi), std::cos(theta), -std::sin(theta) * std::cos(phi));
-                const glm::vec3 c = gradient ? 0.2f + 0.3f * (d + 1.0f) : kEnv;
-                for (int ch = 0; ch < 3; ++ch) img.at(x, y)[ch] = c[ch];
-                img.at(x, y)[3] = 1.0f;
-            }
-        write_image(dir / map, img);
+        write_environment_map(dir / map, gradient);
         b.json()["scenes"][0]["extras"]["environment_map"] = map;
     }
     b.json()["cameras"] = {{{"type", "perspective"}, {"perspective", {{"yfov", 0.5}, {"znear", 0.05}}}}};
@@ -97,6 +103,16 @@ Scene mirror_sphere_scene(const std::string& map, bool gradient = false) {
 }
 
 class ReflectionsTest : public test::ReferenceTest {};
+
+// `whitted` with one ray through each pixel's centre (as the raster samples), to max_depth.
+rt::Options whitted_at_centres(int max_depth) {
+    rt::Options o;
+    o.mode = rt::Mode::whitted;
+    o.max_depth = max_depth;
+    o.spp = 1;
+    o.jitter = 0;
+    return o;
+}
 
 TEST_P(ReflectionsTest, BrdfLutMatchesAnIndependentQuadrature) {
     ImageBasedLighting ibl(lib_);
@@ -156,12 +172,7 @@ double rmse_over(const ImageF& a, const ImageF& b, const std::vector<std::pair<i
 TEST_P(ReflectionsTest, MirrorSphereReflectsAMapWhereTheTracerDoes) {
     const Scene scene = mirror_sphere_scene("gradient.exr", true);
     const int w = 64;
-    rt::Options o;
-    o.mode = rt::Mode::whitted;
-    o.max_depth = 1;
-    o.spp = 1;
-    o.jitter = 0;
-    const ImageF reference = traced(scene, w, w, o).image;
+    const ImageF reference = traced(scene, w, w, whitted_at_centres(1)).image;
     std::vector<std::pair<int, int>> inner;
     for (int y = 0; y < w; ++y)
         for (int x = 0; x < w; ++x) {
@@ -290,16 +301,7 @@ Scene glass_cube_scene(float yaw, glm::vec3 attenuation_color, float attenuation
     const int mesh = b.add_mesh({{"POSITION", b.add_positions(p)}, {"NORMAL", b.add_vec3(n)}}, b.add_indices(idx), 0);
     b.add_node({{"mesh", mesh}, {"rotation", {0.0, std::sin(0.5 * yaw), 0.0, std::cos(0.5 * yaw)}}});
     const fs::path dir = test::test_dir("glass_cube");
-    ImageF img(256, 128, 4);
-    for (int y = 0; y < img.height; ++y)
-        for (int x = 0; x < img.width; ++x) {
-            const double theta = kPi * (y + 0.5) / img.height, phi = 2.0 * kPi * ((x + 0.5) / img.width - 0.5);
-            const glm::vec3 d(std::sin(theta) * std::sin(phi), std::cos(theta), -std::sin(theta) * std::cos(phi));
-            const glm::vec3 c = 0.2f + 0.3f * (d + 1.0f);
-            for (int ch = 0; ch < 3; ++ch) img.at(x, y)[ch] = c[ch];
-            img.at(x, y)[3] = 1.0f;
-        }
-    write_image(dir / "gradient.exr", img);
+    write_environment_map(dir / "gradient.exr", true);
     b.json()["scenes"][0]["extras"]["environment_map"] = "gradient.exr";
     b.json()["scenes"][0]["extras"]["environment_radiance"] = {1.0, 1.0, 1.0};
     b.json()["cameras"] = {{{"type", "perspective"}, {"perspective", {{"yfov", 0.5}, {"znear", 0.05}}}}};
@@ -322,12 +324,7 @@ std::vector<std::pair<int, int>> central_pixels(int w, double half) {
 TEST_P(ReflectionsTest, GlassCubeBendsTheViewTwice) {
     const Scene scene = glass_cube_scene(0.6f, glm::vec3(1.0f), 0.0f);
     const int w = 64;
-    rt::Options o;
-    o.mode = rt::Mode::whitted;
-    o.max_depth = 6;
-    o.spp = 1;
-    o.jitter = 0;
-    const ImageF reference = traced(scene, w, w, o).image;
+    const ImageF reference = traced(scene, w, w, whitted_at_centres(6)).image;
     const auto inner = central_pixels(w, 0.3);
     const double e = rmse_over(raster(scene, w, w, settings("reflections", {})), reference, inner);
     std::printf("glass cube turned 0.6 rad in a direction-coloured map: RMSE %.5f vs whitted\n", e);
