@@ -51,10 +51,10 @@ vec3 shade_light(int i, BrdfInput bi, vec3 p, vec3 n, vec3 v, vec2 pixel) { retu
 // The solid a transmitted ray crosses (set per draw by the forward pass, render/passes/pass_env.cpp:
 // u_volume_shape 1 the box [u_volume_lo, u_volume_hi] in mesh space, 2 the ellipsoid inscribed
 // in it, 0 unknown) and its Beer-Lambert coefficient (KHR_materials_volume; forward.frag).
-uniform int u_volume_shape;
-uniform vec3 u_volume_lo;
-uniform vec3 u_volume_hi;
-uniform mat4 u_volume_to_object;
+layout(location = 20) uniform int u_volume_shape;
+layout(location = 21) uniform vec3 u_volume_lo;
+layout(location = 22) uniform vec3 u_volume_hi;
+layout(location = 23) uniform mat4 u_volume_to_object;
 vec3 g_volume_sigma = vec3(0.0);
 
 // A ray refracted into the solid at p along t (unit) is followed to where it leaves: the exit
