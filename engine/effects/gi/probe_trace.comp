@@ -5,7 +5,7 @@
 // and its distance: the direct light the hit reflects back along the ray with its full BRDF (the
 // tracer's next-event estimation, as in path mode: shadow rays, its own light sampling), so that
 // light a metal or glossy surface sends towards the probe is counted, plus the previous
-// iteration's probes for the bounces before (diffuse only). A transmissive surface is what the
+// iteration's probes for the bounces before (both lobes, split sum). A transmissive surface is what the
 // tracer's camera paths make of it (path.comp, the same dielectric_scatter): with probability
 // `transmission` a dielectric, smooth or rough, that reflects or refracts the ray, with no direct
 // light of its own (next-event estimation cannot connect a punctual light through it), and the
@@ -31,6 +31,15 @@ vec3 gi_ray_direction(int i, int n) {
     float r = sqrt(max(1.0 - z * z, 0.0));
     float phi = float(i) * golden_angle;
     return normalize(mat3(gi.rotation) * vec3(cos(phi) * r, sin(phi) * r, z));
+}
+
+// The split sum's scale and bias (A, B) of the specular lobe's directional albedo F0 A + B, by
+// the analytic fit of Karis 2014 ("Physically Based Shading on Mobile", after Lazarov 2013): the
+// probes have no BRDF table bound, and a later bounce needs only its energy.
+vec2 gi_env_brdf(float roughness, float NdotV) {
+    vec4 r = roughness * vec4(-1.0, -0.0275, -0.572, 0.022) + vec4(1.0, 0.0425, 1.04, -0.04);
+    float a004 = min(r.x * r.x, exp2(-9.28 * NdotV)) * r.x + r.y;
+    return vec2(-1.04, 1.04) * a004 + r.zw;
 }
 
 // Dielectric vertices a probe ray passes before it counts as lost (a solid glass object
@@ -69,11 +78,24 @@ vec3 probe_ray_radiance(Ray ray, SurfaceHit y, inout Rng rng) {
 #ifdef HAS_EMITTERS
         if (rt.emitter_count > 0) L += direct_emitters(y, m, v, rng, false);
 #endif
-        // The bounces before: the previous iteration's probes give irradiance, so this part
-        // stays diffuse (the diffuse albedo times E / pi); light a metal reflects from the
-        // lit room, rather than from the lights, is not in it.
-        if (gi.on > 0.5)
-            L += m.base_color * (1.0 - m.metallic) * INV_PI * gi_irradiance(y.p, y.ns, v);
+        // The bounces before: the previous iteration's probes, reflected as the raster's
+        // ambient term reflects its surroundings (split sum): the irradiance E(n) for the
+        // diffuse lobe, and for the specular lobe the radiance around the mirror direction r,
+        // approximated by E(r) / pi (the cosine-weighted mean radiance about r). A metal thus
+        // passes on light from the lit room, not only from the lights.
+        if (gi.on > 0.5) {
+            float NdotV = saturate(dot(y.ns, v));
+            vec3 E = gi_irradiance(y.p, y.ns, v);
+            vec3 Er = E;
+            if (m.metallic > 0.0) {
+                vec3 r = reflect(-v, y.ns);
+                // The lobe's dominant direction (Lagarde & de Rousiers 2014, "Moving Frostbite
+                // to PBR"): towards the normal the rougher the surface.
+                float a = m.roughness * m.roughness, smooth_ = 1.0 - a;
+                Er = gi_irradiance(y.p, normalize(mix(y.ns, r, smooth_ * (sqrt(smooth_) + a))), v);
+            }
+            L += brdf_ambient(m, gi_env_brdf(m.roughness, NdotV), E, Er * INV_PI, 0.0, vec3(0.0));
+        }
         return throughput * L;
     }
     return vec3(0.0);
