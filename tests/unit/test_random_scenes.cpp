@@ -645,16 +645,11 @@ struct KnownLimit {
     const char* rule;
     const char* why;
 };
-constexpr const char* kMirrorParallax =
-    "a smooth metal wall beside the camera reflects the room through one probe at its centre (parallax of the reflection probes)";
-constexpr const char* kMetalBounce =
-    "the GI probes see the direct light a metal reflects, but carry later bounces as diffuse only: light a metal object "
-    "reflects from the lit room onto it is missing (seed 12: -25 %)";
+constexpr const char* kMetalCaustic =
+    "three spots on smooth metal boxes (roughness 0.11 and 0.2) in a closed room: much of the room's light is what the "
+    "metal reflects from the spots, a caustic; the raster's blocks differ where it falls (the cause is not found yet)";
 const KnownLimit kKnownLimits[] = {
-    {"random_12", "mean", kMetalBounce},
-    {"random_12", "blocks", kMetalBounce},
-    {"random_33", "mean", kMirrorParallax},
-    {"mirror_wall_seed33", "mean", kMirrorParallax},
+    {"random_12", "blocks", kMetalCaustic},
 };
 const KnownLimit* known_limit(const std::string& label, const std::string& rule) {
     for (const KnownLimit& k : kKnownLimits)
@@ -729,6 +724,8 @@ TEST_P(RandomSceneTest, RasterAgreesWithTheTracerOnRandomScenes) {
         set_aside_known_limits(o);
         append_report(GetParam(), before_limits, o);
         std::fflush(stdout);
+        // CANDELA_RANDOM_WRITE_ALL=1: every seed's scene, passing or not (to look at a seed).
+        if (o.failed.empty() && std::getenv("CANDELA_RANDOM_WRITE_ALL")) write_gltf(scene, out_dir() / (label + ".gltf"));
         if (!o.failed.empty()) {
             ++failed;
             const fs::path file = out_dir() / (label + ".gltf");

@@ -60,6 +60,7 @@ void ReflectionsRuntime::prepare(const FramePrep& p) {
     if (on_) {
         d.probes = static_cast<int>(res_.placements.size());
         d.levels = prefiltered_levels(options_.probe_resolution);
+        d.parallax = options_.parallax ? 1 : 0;
     }
     if (!block_) {
         block_ = gl::Buffer(sizeof d, nullptr, GL_DYNAMIC_STORAGE_BIT);
@@ -89,6 +90,17 @@ void ReflectionsRuntime::prepare_faces(const FramePrep& prep) {
             pr.capture = ImageBasedLighting::create_cube_array(size, cubes, 0);
             pr.filtered = ImageBasedLighting::create_cube_array(size, cubes, pr.levels);
             pr.depth = gl::Texture::create_2d(GL_DEPTH_COMPONENT32F, size, size, 1);
+            {
+                GLuint id = 0;
+                glCreateTextures(GL_TEXTURE_CUBE_MAP_ARRAY, 1, &id);
+                glTextureStorage3D(id, 1, GL_R32F, size, size, 6 * cubes);
+                // Nearest: a linear blend across a silhouette would invent a surface between.
+                glTextureParameteri(id, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+                glTextureParameteri(id, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+                glTextureParameteri(id, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+                glTextureParameteri(id, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+                pr.distance = gl::Texture::adopt(id, size, size, GL_R32F);
+            }
             pr.face_fbos.clear();
             for (int layer = 0; layer < 6 * cubes; ++layer) {
                 gl::Framebuffer fbo = gl::Framebuffer::create();
@@ -121,6 +133,7 @@ void ReflectionsRuntime::prepare_faces(const FramePrep& prep) {
         cam.aspect_ratio = 1.0f;
         // Near plane: a small fraction of the scene, so that nearby walls are not clipped.
         cam.znear = std::max(1e-4f, 1e-3f * glm::length(scene_bounds.extent()));
+        pr.znear = cam.znear;
         for (int k = 0; k < cubes; ++k) {
             const glm::vec3 p = pr.placements[static_cast<size_t>(k)].position;
             for (int face = 0; face < 6; ++face) {
@@ -168,6 +181,8 @@ void ReflectionsRuntime::bind_shading_inputs(const PassEnv&, FrameGraph::Context
     if (on_) {
         glBindTextureUnit(REFLECTIONS_PROBES_UNIT, res_.filtered.id());
         glBindSampler(REFLECTIONS_PROBES_UNIT, 0);
+        glBindTextureUnit(REFLECTIONS_DISTANCE_UNIT, res_.distance.id());
+        glBindSampler(REFLECTIONS_DISTANCE_UNIT, 0);
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, REFLECTIONS_PROBES_BINDING, res_.data.id());
     }
 }
@@ -216,6 +231,7 @@ void ReflectionsRuntime::add_capture(FrameGraph& graph, const PassEnv& env) {
                 glBindBufferBase(GL_UNIFORM_BUFFER, REFLECTIONS_BINDING, capture_block_.id());
                 const auto& draws = env.scene.draws();
                 const GLuint forward = env.programs.get("forward").id();
+                const GLuint distance = env.programs.get("probe_distance").id();
                 std::vector<size_t> visible;
                 for (int k = 0; k < pr.cubes; ++k) {
                     const ProbePlacement& placement = pr.placements[static_cast<size_t>(k)];
@@ -258,9 +274,21 @@ void ReflectionsRuntime::add_capture(FrameGraph& graph, const PassEnv& env) {
                             ++ctx.counters.draw_calls;
                             ++ctx.counters.triangles;
                         }
+                        // The face's distances, before the next face reuses the depth buffer.
+                        ctx.state.use_program(distance);
+                        glBindTextureUnit(REFLECTIONS_FACE_DEPTH_UNIT, pr.depth.id());
+                        glBindSampler(REFLECTIONS_FACE_DEPTH_UNIT, 0);
+                        glBindImageTexture(REFLECTIONS_DISTANCE_IMAGE, pr.distance.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_R32F);
+                        glProgramUniform1i(distance, 0, layer);
+                        glProgramUniform1f(distance, 1, pr.znear);
+                        glDispatchCompute(static_cast<GLuint>((pr.size + 7) / 8), static_cast<GLuint>((pr.size + 7) / 8), 1);
+                        ++ctx.counters.dispatches;
+                        glBindTextureUnit(REFLECTIONS_FACE_DEPTH_UNIT, 0);
                     }
                 }
                 glBindBufferBase(GL_UNIFORM_BUFFER, FRAME_BINDING, env.frame_ubo.id());
+                glBindImageTexture(REFLECTIONS_DISTANCE_IMAGE, 0, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
+                glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
                 glTextureBarrier();
                 env.ibl.float_mipmaps().generate(pr.capture, GL_TEXTURE_CUBE_MAP_ARRAY, pr.size, pr.size, 6 * pr.cubes, 0);
                 env.ibl.prefilter(pr.capture, pr.filtered, pr.size, pr.levels, pr.cubes, options_.probe_samples);
@@ -325,6 +353,9 @@ public:
                       "stays below this")
                 .integer("samples", &ReflectionsOptions::probe_samples, 1, 1024,
                          "GGX samples per texel when prefiltering probes for rough reflections")
+                .boolean("parallax", &ReflectionsOptions::parallax,
+                         "lookups of probes without a box find where the ray meets what the probe saw (its distance cube); "
+                         "off: an infinitely distant lookup")
                 .rows;
         rows.insert(rows.end(), probe.begin(), probe.end());
         return rows;
@@ -340,10 +371,14 @@ public:
             out.push_back({"env_probe",
                            f.decision(name()).reason.substr(4) + "; probe.update=" + choice_name(kProbeUpdates, o.update) +
                                (o.update == ProbeUpdate::once ? " (captured when the scene or settings change)" : ""),
-                           this, f.environment ? std::vector<std::string>{"forward", "sky"} : std::vector<std::string>{"forward"}});
+                           this, f.environment ? std::vector<std::string>{"forward", "sky", "probe_distance"}
+                                               : std::vector<std::string>{"forward", "probe_distance"}});
         if (stage == Stage::after_lighting && f.deferred && f.scene.transmission.needed)
             out.push_back({"transmissive", "transmissive surfaces refract through the probes (forward shading, depth EQUAL)", this,
                            {"forward"}});
+    }
+    std::vector<ProgramDesc> programs() const override {
+        return {{"probe_distance", {{ShaderStage::compute, "effects/reflections/probe_distance.comp"}}, {}}};
     }
     std::vector<GpuBlockInfo> gpu_blocks() const override {
         return {{"ReflectionsData", REFLECTIONS_BINDING, sizeof(gpu::ReflectionsData), "forward"}};

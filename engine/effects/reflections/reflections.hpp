@@ -24,6 +24,7 @@ struct ReflectionsOptions {
     int probe_budget = 8;       // [1, 64] at most this many automatic probes (probe.budget)
     float probe_merge = 0.25f;  // [0, 4] parallax error under which objects share a probe (probe.merge)
     int probe_samples = 32;  // [1, 1024] GGX samples per texel of the prefiltered levels (probe.samples)
+    bool parallax = true;    // probes without a box march their distance cube (probe.parallax)
 };
 
 const Effect& reflections_effect();
@@ -59,10 +60,12 @@ private:
         gl::Texture capture;   // cube-map array, full mip chain
         gl::Texture filtered;  // cube-map array, prefiltered_levels(size) levels
         gl::Texture depth;     // size x size, shared by every face
+        gl::Texture distance;  // R32F cube-map array: distance to what each texel saw (parallax)
         std::vector<gl::Framebuffer> face_fbos;  // per cube face (layer 6 probe + face)
         gl::Buffer frames;     // FrameData per face at `frame_stride` bytes
         std::vector<glm::mat4> face_view_proj;  // per face (layer): what it sees (culling)
         GLsizeiptr frame_stride = 0;
+        float znear = 0.0f;    // the faces' near plane
         gl::Buffer data;       // ProbeData per probe
         int size = 0, cubes = 0, levels = 0;
         bool valid = false;    // captured for the current scene and settings
