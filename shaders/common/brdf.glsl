@@ -118,11 +118,29 @@ vec3 brdf_eval_weighted(BrdfInput m, vec3 n, vec3 l, vec3 v, float diffuse_weigh
 }
 vec3 brdf_eval(BrdfInput m, vec3 n, vec3 l, vec3 v) { return brdf_eval_weighted(m, n, l, v, 1.0); }
 
+// The share of light the dielectric's diffuse lobe keeps after its Fresnel, as brdf_eval_base
+// weights it (the tracer's BRDF): (1 / pi) times the integral of (1 - F(v.h)) cos over the
+// hemisphere of l, = 1 - f0 - (f90 - f0) S(n.v) with S(mu) = (1 / pi) int (1 - v.h)^5 cos dl,
+// which depends on n.v alone (h is the half vector of l and v at any roughness); S is fitted by
+// 0.028 (1 - mu)^2.5 (within 7e-4 of a quadrature; S(0) = 0.028). The split sum's usual
+// 1 - (f0 A + f90 B) keeps for the diffuse lobe the part of F that a rough specular lobe loses
+// to masking: a few per cent more light at each bounce, which a bright closed room compounds
+// (+8.5 % in a white box of albedo 0.8).
+vec3 dielectric_diffuse_weight(BrdfInput m, float NdotV) {
+    vec3 f0 = dielectric_f0(m);
+    float f90 = dielectric_f90(m);
+    vec3 w = vec3(1.0) - f0 - (f90 - f0) * (0.028 * pow(1.0 - clamp(NdotV, 0.0, 1.0), 2.5));
+#ifdef MATERIAL_LAYERS
+    if (m.iridescence > 0.0) w = mix(w, vec3(1.0) - iridescent_fresnel(m, NdotV, f0) * f90, m.iridescence);
+#endif
+    return w;
+}
+
 // Light reflected towards v from environment light (split sum, Karis 2013): `ab` the BRDF LUT's
 // (A, B) at this roughness and NdotV, `irradiance` for the Lambert lobe, `specular_radiance`
 // prefiltered along the reflection vector; a transmissive dielectric replaces `transmission` of
 // its Lambert lobe by `transmitted_radiance` tinted by the base colour (KHR_materials_transmission).
-vec3 brdf_ambient(BrdfInput m, vec2 ab, vec3 irradiance, vec3 specular_radiance, float transmission,
+vec3 brdf_ambient(BrdfInput m, float NdotV, vec2 ab, vec3 irradiance, vec3 specular_radiance, float transmission,
                   vec3 transmitted_radiance) {
     vec3 spec_dielectric = dielectric_f0(m) * ab.x + dielectric_f90(m) * ab.y;
     vec3 spec_metal = m.base_color * ab.x + ab.y;
@@ -134,7 +152,7 @@ vec3 brdf_ambient(BrdfInput m, vec2 ab, vec3 irradiance, vec3 specular_radiance,
     }
 #endif
     vec3 base = mix(m.base_color * INV_PI * irradiance, m.base_color * transmitted_radiance, transmission);
-    vec3 dielectric = (1.0 - spec_dielectric) * base + spec_dielectric * specular_radiance;
+    vec3 dielectric = dielectric_diffuse_weight(m, NdotV) * base + spec_dielectric * specular_radiance;
     vec3 metal = spec_metal * specular_radiance;
     return mix(dielectric, metal, m.metallic);
 }

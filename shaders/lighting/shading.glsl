@@ -141,7 +141,7 @@ vec3 shade_ambient(BrdfInput bi, vec3 p, vec3 n, vec3 v, float occlusion, float 
 #ifdef MATERIAL_LAYERS
     g_ambient_NdotV = NdotV;
     vec3 irradiance = environment_irradiance(n);
-    vec3 below = brdf_ambient(bi, ab, irradiance, specular, transmission, transmitted);
+    vec3 below = brdf_ambient(bi, NdotV, ab, irradiance, specular, transmission, transmitted);
     vec3 coat = vec3(0.0);
     vec2 coat_ab = vec2(0.0);
     if (bi.clearcoat > 0.0) {
@@ -151,7 +151,7 @@ vec3 shade_ambient(BrdfInput bi, vec3 p, vec3 n, vec3 v, float occlusion, float 
     }
     return occlusion * layers_ambient(bi, n, v, below, irradiance, coat, coat_ab);
 #else
-    return occlusion * brdf_ambient(bi, ab, environment_irradiance(n), specular, transmission, transmitted);
+    return occlusion * brdf_ambient(bi, NdotV, ab, environment_irradiance(n), specular, transmission, transmitted);
 #endif
 }
 vec3 shade_ambient(BrdfInput bi, vec3 p, vec3 n, vec3 v, float occlusion) {
@@ -165,9 +165,10 @@ vec3 shade_ambient(BrdfInput bi, vec3 p, vec3 n, vec3 v, float occlusion) {
 vec3 shade_gi(BrdfInput bi, vec3 p, vec3 n, vec3 v, float occlusion, float transmission) {
     if (gi.on < 0.5) return vec3(0.0);
     vec3 E = gi_irradiance(p, n, v);
-    vec2 ab = env_brdf(bi.roughness, saturate(dot(n, v)));
+    float NdotV = saturate(dot(n, v));
+    vec2 ab = env_brdf(bi.roughness, NdotV);
     vec3 specular = probe_at(p, bi, transmission) >= 0 ? vec3(0.0) : E * INV_PI;
-    return occlusion * brdf_ambient(bi, ab, E, specular, transmission, vec3(0.0));
+    return occlusion * brdf_ambient(bi, NdotV, ab, E, specular, transmission, vec3(0.0));
 }
 
 // The debug view `visibility` (debug.view): the fraction of light frame.debug_light that reaches p

@@ -94,7 +94,7 @@ vec3 probe_ray_radiance(Ray ray, SurfaceHit y, inout Rng rng) {
                 float a = m.roughness * m.roughness, smooth_ = 1.0 - a;
                 Er = gi_irradiance(y.p, normalize(mix(y.ns, r, smooth_ * (sqrt(smooth_) + a))), v);
             }
-            L += brdf_ambient(m, gi_env_brdf(m.roughness, NdotV), E, Er * INV_PI, 0.0, vec3(0.0));
+            L += brdf_ambient(m, NdotV, gi_env_brdf(m.roughness, NdotV), E, Er * INV_PI, 0.0, vec3(0.0));
         }
         return throughput * L;
     }
