@@ -26,11 +26,17 @@ vec2 env_brdf(float roughness, float NdotV) {
 vec3 environment_specular(vec3 p, vec3 r, float roughness, int k, bool reflected) {
     if (k >= 0)
         return probe_radiance(k, p, r, roughness, reflected);
+    // Where the GI probes run, a reflection that no reflection probe serves sees their E / pi
+    // (shade_gi), which holds the sky as the scene lets it in.
+    if (reflected && gi.on > 0.5) return vec3(0.0);
     if (frame.env_map_bound < 0.5) return frame.env_radiance.rgb;
     return frame.env_radiance.rgb * textureLod(t_env_cube, vec4(r, 0.0), roughness * float(max(frame.env_mips - 1, 0))).rgb;
 }
 
+// The sky's irradiance for the diffuse lobe. Where the GI probes run they carry it (their rays
+// that miss bring the sky), occluded by the scene and bounced: the probes' irradiance replaces it.
 vec3 environment_irradiance(vec3 n) {
+    if (gi.on > 0.5) return vec3(0.0);
     if (frame.env_map_bound < 0.5) return PI * frame.env_radiance.rgb;
     return max(sh_irradiance(n), vec3(0.0));
 }

@@ -101,6 +101,35 @@ TEST_P(MetalGiTest, ABrightClosedRoomGainsNoLightAtEachBounce) {
     expect_within(scene, "white room", 0.03, false);
 }
 
+// The sky through the probes: a 4 m x 3 m x 4 m room (albedo 0.6) whose front wall is missing,
+// under a constant sky and nothing else, seen from inside near the opening. The raster used to
+// light every surface with the whole sky's irradiance (occluded by SSAO's few centimetres
+// only): the room's back half, which sees the sky through the opening alone, was far too
+// bright. The probes' rays that miss now bring the sky, and their irradiance replaces the
+// environment's for the diffuse lobe.
+TEST_P(MetalGiTest, ProbesLetTheSkyInOnlyWhereTheRoomIsOpen) {
+    Scene scene;
+    scene.source = "test:gi_open_room";
+    scene.materials.push_back(lambert_material("room", glm::vec3(0.6f)));
+    Primitive room;
+    room.material = 0;
+    append_quad(room, {-2, 0, -2}, {0, 0, 4}, {4, 0, 0});  // floor, +y
+    append_quad(room, {-2, 3, -2}, {4, 0, 0}, {0, 0, 4});  // ceiling, -y
+    append_quad(room, {-2, 0, -2}, {4, 0, 0}, {0, 3, 0});  // z = -2, +z (the front, z = 2, is open)
+    append_quad(room, {-2, 0, -2}, {0, 3, 0}, {0, 0, 4});  // x = -2, +x
+    append_quad(room, {2, 0, -2}, {0, 0, 4}, {0, 3, 0});   // x = 2, -x
+    add_mesh_node(scene, "room", std::move(room));
+    scene.environment.radiance = glm::vec3(0.5f);
+    Camera cam;
+    cam.name = "view";
+    cam.yfov = 1.0f;
+    cam.znear = 0.05f;
+    cam.world = glm::inverse(glm::lookAt(glm::vec3(0.3f, 1.4f, 1.6f), glm::vec3(-0.4f, 1.1f, -2.0f), glm::vec3(0, 1, 0)));
+    scene.cameras.push_back(cam);
+    scene.update_world_transforms();
+    expect_within(scene, "room open to the sky", 0.03, false);
+}
+
 INSTANTIATE_TEST_SUITE_P(Backends, MetalGiTest, ::testing::Values(Backend::egl), test::backend_name);
 
 }  // namespace

@@ -62,7 +62,7 @@ vec3 probe_ray_radiance(Ray ray, SurfaceHit y, inout Rng rng) {
             ray = make_ray(offset_ray(y.p, below ? -y.ng : y.ng, rt.ray_offset), l);
             throughput *= w;
             Hit hit = trace_closest(ray, 3.0e38);
-            if (hit.prim < 0) return vec3(0.0);  // as a probe ray that misses: no light
+            if (hit.prim < 0) return throughput * environment(ray.dir);  // as a probe ray that misses: the sky
             y = surface_at(ray, hit);
             throughput *= volume_transmittance(y, hit.t * length(ray.dir));
             // Inside glass every hit is a back face of the glass; a one-sided opaque back face
@@ -111,7 +111,8 @@ void main() {
     Ray ray = make_ray(gi_probe_position(gi_probe_coord(probe)), dir);
     Rng rng = rng_init(floatBitsToUint(gi.seed), uint(probe * rays + ray_index), uint(gi.iteration));
     Hit hit = trace_closest(ray, 3.0e38);
-    vec4 result = vec4(0.0, 0.0, 0.0, gi.miss_distance);
+    // A ray that misses brings the sky (the raster takes the sky's diffuse light from the probes).
+    vec4 result = vec4(gi.on > 0.5 ? environment(dir) : vec3(0.0), gi.miss_distance);
     if (hit.prim >= 0 && gi.on < -0.5) {
         // Relocation's trace (gi.cpp): only where the ray met a back face, and how far.
         SurfaceHit y = surface_at(ray, hit);
