@@ -23,7 +23,7 @@ GPU_BLOCK(FrameData, FRAME_BINDING) {
     int light_count;           // lights in the light buffer (punctual first, then area-light pieces)
     int env_mips;              // mip count of the environment (map, or the cube when bound)
     int punctual_light_count;
-    int pad0;
+    float specular_filter;     // variance of the pixel filter specular lobes are widened by (0: none)
     int debug_view;            // 0 radiance, 1 light visibility, 2 ssao, 3 indirect
     int debug_light;           // the light of the visibility view
     int camera_view;           // 1 in the camera's view (screen-space effect buffers are valid), 0 in

@@ -78,6 +78,10 @@ struct FrameSampling {
     std::vector<glm::vec2> offsets{glm::vec2(0.0f)};
     // Multisampled: MASK materials cover samples in proportion to their alpha (alpha to coverage).
     bool coverage = false;
+    // The variance (pixels^2) of the pixel filter the shading widens specular lobes by (the
+    // normal's screen-space derivatives times it add to the NDF's alpha^2); 0: none, the pixel
+    // centre's value is the estimate.
+    float specular_filter_variance = 0.0f;
 };
 
 // What an effect measures of the view before the planner decides (Effect::view_estimate): traced

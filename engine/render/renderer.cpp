@@ -197,6 +197,7 @@ void Renderer::render_subframe(const Camera& camera, FrameOutput output, float e
                                1.0f / static_cast<float>(height));
     if (settings_.debug.view == DebugView::indirect) frame.debug_view = 3;
     frame.camera_view = 1;
+    frame.specular_filter = sampling.specular_filter_variance;
     frame.env_cube_bound = env_cube_ ? 1 : 0;
     frame.env_mips = env_cube_ ? env_cube_levels_ : 1;
     for (size_t i = 0; i < effects_.size(); ++i)

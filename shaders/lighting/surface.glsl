@@ -92,6 +92,19 @@ void alpha_test() {
 // anti-aliased like a triangle edge, within a pixel of it (Golus 2017, "Anti-aliased alpha test").
 bool g_alpha_to_coverage = false;
 
+// NDF filtering (multisampled frames, aa.specular_filter): a lobe much narrower than the normal's
+// turn over a pixel gives a highlight smaller than the pixel, which the few shading points of
+// MSAA hit or miss (a single hit weighs a quarter of the pixel with a peak hundreds of times the
+// pixel's mean). The normals over the pixel's filter (variance frame.specular_filter, pixels^2)
+// spread like a lobe of alpha^2 = 2 variance |dn|^2, which adds to the material's alpha^2, capped
+// at 0.18 so that silhouettes of coarse meshes do not turn matte (Tokuyoshi and Kaplanyan 2021,
+// "Stable geometric specular antialiasing with projected-space NDF filtering", JCGT 10(2)).
+float filtered_roughness(float roughness, float normal_turn2) {
+    float a2 = roughness * roughness * roughness * roughness;
+    a2 = min(a2 + min(2.0 * frame.specular_filter * normal_turn2, 0.18), 1.0);
+    return sqrt(sqrt(a2));
+}
+
 // Evaluates the material; discards masked-out fragments.
 Surface fragment_surface() {
     vec4 tex_base = slot_textured(0) ? texture(t_base_color, in_slot_uv01().xy) : vec4(1.0);
@@ -99,6 +112,9 @@ Surface fragment_surface() {
     vec3 tex_normal = slot_textured(2) ? texture(t_normal, in_slot_uv23().xy).xyz : vec3(0.5, 0.5, 1.0);
     float tex_occlusion = slot_textured(3) ? texture(t_occlusion, in_slot_uv23().zw).r : 1.0;
     vec3 tex_emission = slot_textured(4) ? texture(t_emissive, in_slot_uv4()).rgb : vec3(1.0);
+    // How much the interpolated normal turns over the pixel (derivatives: uniform control flow).
+    vec3 n_interp = normalize(in_normal());
+    float normal_turn2 = dot(dFdx(n_interp), dFdx(n_interp)) + dot(dFdy(n_interp), dFdy(n_interp));
 
     MaterialData m = materials[u_material];
     Surface s;
@@ -162,6 +178,13 @@ Surface fragment_surface() {
     material_layers(m, in_uv01().xy, in_uv01().zw, ni, ti, bi_, s.brdf, s.transmission);
     s.unlit = material_unlit(m);
 #endif
+
+    if (frame.specular_filter > 0.0) {
+        s.brdf.roughness = filtered_roughness(s.brdf.roughness, normal_turn2);
+#ifdef MATERIAL_LAYERS
+        s.brdf.clearcoat_roughness = filtered_roughness(s.brdf.clearcoat_roughness, normal_turn2);
+#endif
+    }
 
     s.p = in_world_pos();
     // Shading normals facing away from the viewer are bent back to the horizon.

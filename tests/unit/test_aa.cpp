@@ -21,6 +21,7 @@
 #include "render/settings.hpp"
 #include "render/still.hpp"
 #include "rt/ray_tracer.hpp"
+#include "scene/generate.hpp"
 #include "scene/mesh_utils.hpp"
 
 namespace candela {
@@ -276,6 +277,81 @@ TEST_P(AaTest, AlphaToCoverageAntiAliasesMaskContours) {
                 to_string(c.backend), err1, err4_off, err4_on);
     EXPECT_LT(err4_on, 0.75 * err4_off);
     EXPECT_LT(err4_on, 0.6 * err1);
+}
+
+// A highlight smaller than a pixel: a smooth metal sphere (roughness 0.06, alpha^2 1.3e-5) under a
+// point light, about 40 pixels across, seen through 4 samples. A pixel's shading points hit or miss
+// a peak hundreds of times the pixel's mean, so one sample or four are about equally wrong where
+// the peak falls, and four can be much worse than one (a hit at a triangle's centroid weighs a
+// quarter of the pixel). With NDF filtering (aa.specular_filter, the default) the pixels near the
+// peak approach the tracer's box-filtered pixels. The peak is moved over sub-pixel positions (the
+// light in small steps) and the errors summed, so that no lucky position decides.
+TEST_P(AaTest, SpecularFilterGivesSubPixelHighlightsThePixelsMean) {
+    const AaCase c = GetParam();
+    if (c.backend == Backend::osmesa) GTEST_SKIP() << "shading only, the same shaders on both backends: the egl cases cover it";
+    double e_one = 0.0, e_off = 0.0, e_on = 0.0;
+    for (int k = 0; k < 5; ++k) {
+        Scene scene;
+        scene.source = "test:sub_pixel_highlight";
+        Material metal = lambert_material("metal", glm::vec3(1.0f));
+        metal.metallic = 1.0f;
+        metal.roughness = 0.06f;
+        scene.materials.push_back(metal);
+        Primitive sphere = uv_sphere(0.5f, 24);
+        sphere.material = 0;
+        add_mesh_node(scene, "sphere", std::move(sphere));
+        Light bulb;
+        bulb.name = "bulb";
+        bulb.intensity = 20.0f;
+        const float t = static_cast<float>(k);
+        add_light_node(scene, bulb, glm::translate(glm::mat4(1.0f), glm::vec3(1.3f + 0.031f * t, 1.1f + 0.017f * t, 1.9f)));
+        add_look_at_camera(scene, {0.2f, 0.15f, 3.0f}, {0.03f, -0.02f, 0.0f}, 0.45f);
+        scene.update_world_transforms();
+
+        const Reference ref = test::trace_box_reference(lib_, scene, kSize, kSize, 8, 64, 300u + 10u * static_cast<std::uint32_t>(k));
+        auto render = [&](int samples, bool filter) {
+            StillOptions so;
+            so.width = so.height = kSize;
+            so.settings.path = c.path;
+            apply_effects(so.settings, "none");
+            if (samples > 1) {
+                apply_knob(so.settings, "aa.mode=msaa");
+                apply_knob(so.settings, "aa.samples=" + std::to_string(samples));
+            }
+            apply_knob(so.settings, std::string("aa.specular_filter=") + (filter ? "1" : "0"));
+            StillResult r = render_still(scene, lib_, so);
+            EXPECT_EQ(count_nonfinite(r.radiance), 0u);
+            return std::move(r.radiance);
+        };
+        // The highlight: pixels within 3 of one where the reference is over 10x the sphere's median.
+        std::vector<double> lit;
+        for (double v : ref.mean)
+            if (v > 0.0) lit.push_back(v);
+        ASSERT_GT(lit.size(), 600u) << "the sphere should cover a good part of the image";
+        std::nth_element(lit.begin(), lit.begin() + static_cast<long>(lit.size() / 2), lit.end());
+        const double median = lit[lit.size() / 2];
+        std::vector<double> mask(ref.mean.size(), 0.0);
+        int peak_pixels = 0;
+        for (int y = 0; y < kSize; ++y)
+            for (int x = 0; x < kSize; ++x)
+                if (ref.mean[static_cast<size_t>(y * kSize + x)] > 10.0 * median) {
+                    ++peak_pixels;
+                    for (int j = std::max(0, y - 3); j <= std::min(kSize - 1, y + 3); ++j)
+                        for (int i = std::max(0, x - 3); i <= std::min(kSize - 1, x + 3); ++i) mask[static_cast<size_t>(j * kSize + i)] = 0.5;
+                }
+        ASSERT_GT(peak_pixels, 0) << "no highlight in the reference";
+        const double one = edge_error(render(1, true), ref, mask), off = edge_error(render(4, false), ref, mask),
+                     on = edge_error(render(4, true), ref, mask);
+        std::printf("  light position %d: highlight RMSE 1 sample %.3f, 4 samples %.3f, with the specular filter %.3f\n", k, one, off, on);
+        e_one += one * one;
+        e_off += off * off;
+        e_on += on * on;
+    }
+    e_one = std::sqrt(e_one / 5.0), e_off = std::sqrt(e_off / 5.0), e_on = std::sqrt(e_on / 5.0);
+    std::printf("%s %s: highlight RMSE against the box-filtered tracer: 1 sample %.3f, 4 samples %.3f, with the specular filter %.3f\n",
+                to_string(c.backend), c.path == RenderPath::forward ? "forward" : "deferred", e_one, e_off, e_on);
+    EXPECT_LT(e_on, 0.9 * e_off) << "the filter must bring 4 samples closer to the box-filtered pixels";
+    EXPECT_LT(e_on, 0.9 * e_one) << "with the filter, 4 samples must beat one";
 }
 
 INSTANTIATE_TEST_SUITE_P(BackendsAndPaths, AaTest,

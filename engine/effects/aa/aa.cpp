@@ -114,6 +114,9 @@ public:
                     "of sub-frames (projection shifted per sub-frame)")
             .boolean("alpha_to_coverage", &AaOptions::alpha_to_coverage,
                      "forward with msaa: MASK materials cover samples in proportion to their alpha near the cutoff")
+            .boolean("specular_filter", &AaOptions::specular_filter,
+                     "with msaa: the specular lobe widened by the normal's turn over the pixel (NDF filtering), so that a "
+                     "highlight smaller than a pixel gives the pixel's mean instead of what a few samples hit")
             .rows;
     }
     // Asking for samples is asking for multisampling, unless aa.mode is given too.
@@ -159,6 +162,11 @@ public:
         out.offsets = p.offsets;
         // MASK materials' coverage from their alpha (forward.frag, gbuffer.frag: u_alpha_to_coverage).
         out.coverage = s.get<AaOptions>().alpha_to_coverage;
+        // The pixel filter's variance as Tokuyoshi and Kaplanyan (2021, JCGT 10(2)) take it:
+        // 1/(2 pi) pixel^2, the Gaussian with the unit box's peak. (The box's own second moment,
+        // 1/12, does better on AaTest's sub-pixel highlight and worse on the random scenes'
+        // highlights: docs/effects/aa.md.)
+        if (p.on && s.get<AaOptions>().specular_filter) out.specular_filter_variance = 0.15915494f;
     }
     // The plan takes the device's sample counts.
     bool plans_with_device(const RenderSettings& s) const override { return s.get<AaOptions>().mode != AaMode::off; }

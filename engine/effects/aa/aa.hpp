@@ -32,6 +32,9 @@ struct AaOptions {
                                 // effect's accuracy sweep compare pixel-centre samples)
     AaSamples samples = AaSamples::x4;  // samples per pixel
     bool alpha_to_coverage = true;  // forward: MASK materials' coverage from their alpha
+    // The specular lobe widened by how much the normal turns over the pixel (docs/effects/aa.md):
+    // the box-filtered pixel of a highlight smaller than a pixel, which a few samples miss or hit.
+    bool specular_filter = true;
 };
 
 // How this frame's samples are taken.

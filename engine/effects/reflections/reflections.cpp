@@ -150,6 +150,7 @@ void ReflectionsRuntime::prepare_faces(const FramePrep& prep) {
                 f.camera_view = 0;  // no screen-space effect buffers in a probe's faces
                 f.debug_view = 0;
                 f.debug_light = 0;
+                f.specular_filter = 0.0f;  // a face's texel is its centre's value (filtered later)
                 std::memcpy(bytes.data() + pr.frame_stride * (6 * k + face), &f, sizeof(FrameData));
                 pr.face_view_proj[static_cast<size_t>(6 * k + face)] = f.view_proj;
             }
