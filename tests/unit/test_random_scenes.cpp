@@ -93,18 +93,19 @@ Scene as_user(Scene scene, const ShaderLibrary& lib) {
     return scene;
 }
 
-// The pixels whose first surface is diffuse (not metal, glass or an emitter) as the tracer's
-// `direct` image of a copy of the scene in which those surfaces emit 1 and reflect nothing and
-// everything else is black, with no lights and no sky: 1 there, 0 elsewhere (at pixel centres).
-Scene diffuse_mask_scene(const Scene& scene) {
+// The pixels whose first surface passes `keep`, as the tracer's `direct` image of a copy of the
+// scene in which those surfaces emit 1 and reflect nothing and everything else is black, with no
+// lights and no sky: 1 there, 0 elsewhere (at pixel centres).
+template <typename Keep>
+Scene mask_scene(const Scene& scene, Keep keep) {
     Scene e = scene;
     for (Material& m : e.materials) {
-        const bool diffuse = m.metallic < 0.5f && m.transmission == 0.0f && !m.is_emissive() && m.alpha_mode != AlphaMode::blend;
+        const bool kept = keep(m);
         m.base_color = glm::vec4(0.0f, 0.0f, 0.0f, 1.0f);
         m.metallic = 0.0f;
         m.specular_factor = 0.0f;
         m.transmission = 0.0f;
-        m.emissive = glm::vec3(diffuse ? 1.0f : 0.0f);
+        m.emissive = glm::vec3(kept ? 1.0f : 0.0f);
         m.emissive_strength = 1.0f;
         m.alpha_mode = AlphaMode::opaque;
     }
@@ -112,6 +113,16 @@ Scene diffuse_mask_scene(const Scene& scene) {
     for (Node& n : e.nodes) n.light = -1;
     e.environment = Environment{};
     return e;
+}
+// Diffuse surfaces: not metal, glass or an emitter.
+Scene diffuse_mask_scene(const Scene& scene) {
+    return mask_scene(scene, [](const Material& m) {
+        return m.metallic < 0.5f && m.transmission == 0.0f && !m.is_emissive() && m.alpha_mode != AlphaMode::blend;
+    });
+}
+// Emitters.
+Scene emitter_mask_scene(const Scene& scene) {
+    return mask_scene(scene, [](const Material& m) { return m.is_emissive(); });
 }
 
 struct Batches {
@@ -583,19 +594,36 @@ public:
             }
         }
 
-        // Energy: lit by emitters and the sky only, no pixel is brighter (per channel) than the
-        // brightest of them (every BRDF reflects at most what arrives; a pixel averages such
-        // values). Punctual lights have no radiance bound: a highlight of a point light can be
-        // brighter than anything.
+        // Energy: lit by emitters and the sky only, no passive pixel is brighter (per channel)
+        // than the brightest of them (every BRDF reflects at most what arrives; a pixel averages
+        // such values). Punctual lights have no radiance bound: a highlight of a point light can
+        // be brighter than anything. An emitter's own surface reflects too (its specular lobe,
+        // emission plus what it reflects): the pixels that see an emitter, and their neighbours
+        // (which a box filter mixes with them), are left out.
         if (scene.placed_lights().empty()) {
             glm::vec3 bound = scene.environment.present() && !scene.environment.has_map() ? scene.environment.radiance * scene.environment.intensity : glm::vec3(0.0f);
             for (const Material& m : scene.materials) bound = glm::max(bound, m.emission());
+            std::vector<char> emitter(static_cast<size_t>(kW * kH), 0);
+            if (std::any_of(scene.materials.begin(), scene.materials.end(), [](const Material& m) { return m.is_emissive(); })) {
+                const Scene es = emitter_mask_scene(scene);
+                GpuScene egpu(es);
+                rt::Options eo = ro;
+                eo.mode = rt::Mode::direct;
+                eo.spp = 1;
+                const ImageF em = rt::RayTracer(lib_, es, egpu, eo).render(camera, kW, kH).image;
+                for (int y = 0; y < kH; ++y)
+                    for (int x = 0; x < kW; ++x)
+                        if (em.at(x, y)[0] > 0.5f)
+                            for (int j = std::max(0, y - 1); j <= std::min(kH - 1, y + 1); ++j)
+                                for (int i = std::max(0, x - 1); i <= std::min(kW - 1, x + 1); ++i) emitter[static_cast<size_t>(j * kW + i)] = 1;
+            }
             auto check = [&](const ImageF& img, const ImageF* se, const char* what) {
                 int over = 0;
                 double worst = 0.0;
                 for (int y = 0; y < kH; ++y)
                     for (int x = 0; x < kW; ++x)
                         for (int c = 0; c < 3; ++c) {
+                            if (emitter[static_cast<size_t>(y * kW + x)]) continue;
                             const double v = img.at(x, y)[c];
                             const double allowed = bound[c] * 1.001 + (se ? kT * se->at(x, y)[c] : 0.0) + 1e-6;
                             if (v > allowed) ++over, worst = std::max(worst, v / std::max<double>(bound[c], 1e-9));
