@@ -151,12 +151,15 @@ vec3 brdf_ambient(BrdfInput m, float NdotV, vec2 ab, vec3 irradiance, vec3 specu
         spec_metal = mix(spec_metal, iridescent_fresnel(m, g_ambient_NdotV, m.base_color) * (ab.x + ab.y), m.iridescence);
     }
 #endif
-    // The diffuse lobe keeps 1 - F averaged over its lights (dielectric_diffuse_weight); light
-    // refracted through the surface keeps what the specular lobe reflects away at this view,
-    // 1 - (f0 A + f90 B) (the tracer's 1 - F(v.h) about the lobe's microfacets): at a grazing
-    // view most of it, so that reflected and transmitted never add up to more than arrives.
+    // The diffuse lobe keeps 1 - F averaged over its lights (dielectric_diffuse_weight). Light
+    // refracted through the surface scatters off the same microfacets as the specular lobe, with
+    // 1 - F(v.h) where the reflection has F(v.h) (the tracer's dielectric): of the lobe's single-
+    // scattering albedo A + B (F = 1), the reflection takes f0 A + f90 B and the refraction the
+    // rest, (1 - f0) A + (1 - f90) B. At a grazing view that is little, so reflected and
+    // transmitted never add up to more than arrives, and a rough interface loses what its
+    // microfacets shadow, as the tracer's single-scattering lobes do.
     vec3 diffuse = dielectric_diffuse_weight(m, NdotV) * m.base_color * INV_PI * irradiance;
-    vec3 through = (vec3(1.0) - spec_dielectric) * m.base_color * transmitted_radiance;
+    vec3 through = max(vec3(ab.x + ab.y) - spec_dielectric, vec3(0.0)) * m.base_color * transmitted_radiance;
     vec3 dielectric = mix(diffuse, through, transmission) + spec_dielectric * specular_radiance;
     vec3 metal = spec_metal * specular_radiance;
     return mix(dielectric, metal, m.metallic);
