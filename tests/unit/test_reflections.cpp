@@ -364,6 +364,65 @@ TEST_P(ReflectionsTest, GlassCubeAbsorbsAsBeerLambert) {
     }
 }
 
+// Two thin glass spheres that share one automatic probe (probe.budget 1: it sits between them, in
+// neither), in front of a red patch (behind the left one) and a green patch (behind the right
+// one) on a backdrop whose floor and wall are one mesh, so that its bounds hold the probe. A
+// sphere's middle shows what lies behind it, as the tracer's straight paths through thin walls
+// do. A probe that captured the spheres it serves showed the left sphere's own outside there,
+// and one that left out every draw whose bounds hold it lost the backdrop with its patches
+// (TransmissionTest's spheres looked opaque for both reasons).
+TEST_P(ReflectionsTest, ThinGlassSharingAProbeShowsWhatIsBehindIt) {
+    test::GltfBuilder b;
+    b.json()["materials"] = {
+        {{"name", "backdrop"}, {"pbrMetallicRoughness", {{"baseColorFactor", {0.7, 0.7, 0.7, 1}}, {"metallicFactor", 0}, {"roughnessFactor", 1}}}},
+        {{"name", "red"}, {"pbrMetallicRoughness", {{"baseColorFactor", {0.9, 0.05, 0.05, 1}}, {"metallicFactor", 0}, {"roughnessFactor", 1}}}},
+        {{"name", "green"}, {"pbrMetallicRoughness", {{"baseColorFactor", {0.05, 0.9, 0.05, 1}}, {"metallicFactor", 0}, {"roughnessFactor", 1}}}},
+        {{"name", "glass"},
+         {"pbrMetallicRoughness", {{"baseColorFactor", {1, 1, 1, 1}}, {"metallicFactor", 0}, {"roughnessFactor", 0}}},
+         {"extensions", {{"KHR_materials_transmission", {{"transmissionFactor", 1.0}}}}}}};
+    // Floor (y = -1, z from -3 to 3) and wall (z = -3, y from -1 to 4): one primitive.
+    const std::vector<glm::vec3> bp = {{-4, -1, 3}, {4, -1, 3}, {4, -1, -3}, {-4, -1, -3}, {-4, -1, -3}, {4, -1, -3}, {4, 4, -3}, {-4, 4, -3}};
+    const std::vector<glm::vec3> bn = {{0, 1, 0}, {0, 1, 0}, {0, 1, 0}, {0, 1, 0}, {0, 0, 1}, {0, 0, 1}, {0, 0, 1}, {0, 0, 1}};
+    const int backdrop = b.add_mesh({{"POSITION", b.add_positions(bp)}, {"NORMAL", b.add_vec3(bn)}}, b.add_indices({0, 1, 2, 0, 2, 3, 4, 5, 6, 4, 6, 7}), 0);
+    b.add_node({{"mesh", backdrop}, {"name", "backdrop"}});
+    b.add_node({{"mesh", b.add_quad_mesh(1)}, {"name", "red"}, {"translation", {-0.8, 0.5, -2.99}}, {"scale", {0.8, 1.2, 1}}});
+    b.add_node({{"mesh", b.add_quad_mesh(2)}, {"name", "green"}, {"translation", {0.8, 0.5, -2.99}}, {"scale", {0.8, 1.2, 1}}});
+    const int sphere = add_sphere_mesh(b, 3);
+    b.add_node({{"mesh", sphere}, {"name", "left"}, {"translation", {-0.8, 0.5, 0}}, {"scale", {0.5, 0.5, 0.5}}});
+    b.add_node({{"mesh", sphere}, {"name", "right"}, {"translation", {0.8, 0.5, 0}}, {"scale", {0.5, 0.5, 0.5}}});
+    b.json()["scenes"][0]["extras"]["environment_radiance"] = {0.6, 0.6, 0.6};
+    b.json()["cameras"] = {{{"type", "perspective"}, {"perspective", {{"yfov", 0.6}, {"znear", 0.1}, {"zfar", 100}}}}};
+    b.add_node({{"camera", 0}, {"translation", {0, 0.5, 4}}});
+    const Scene scene = load_gltf(b.write(test::test_dir("thin_glass_shared_probe"), "thin_glass_shared_probe"));
+
+    const int w = 96;
+    GpuScene gpu(scene);
+    Renderer r(lib_, scene, gpu, settings("reflections", {"probe.budget=1"}));
+    r.render(scene.select_camera("", 1.0f), w, w);
+    const ImageF img = r.read_radiance();
+    EXPECT_EQ(count_nonfinite(img), 0u);
+    const std::vector<ProbePlacement>& probes = r.effect_runtime<ReflectionsRuntime>()->placements();
+    ASSERT_EQ(probes.size(), 1u);
+    EXPECT_EQ(probes[0].excluded_draws.size(), 2u) << "the probe leaves out the two spheres it serves, and only them";
+
+    rt::Options o;
+    o.mode = rt::Mode::whitted;
+    o.max_depth = 4;
+    o.spp = 1;
+    o.jitter = 0;
+    const ImageF reference = traced(scene, w, w, o).image;
+    const auto left = sphere_pixels(scene, w, w, glm::vec3(-0.8f, 0.5f, 0.0f), 0.5f * 0.6f);
+    ASSERT_GT(left.size(), 50u);
+    glm::dvec3 raster_mean(0.0), traced_mean(0.0);
+    for (auto [x, y] : left)
+        for (int c = 0; c < 3; ++c) raster_mean[c] += img.at(x, y)[c] / left.size(), traced_mean[c] += reference.at(x, y)[c] / left.size();
+    std::printf("left sphere's middle: raster %.3f %.3f %.3f, whitted %.3f %.3f %.3f\n", raster_mean.x, raster_mean.y, raster_mean.z, traced_mean.x,
+                traced_mean.y, traced_mean.z);
+    EXPECT_GT(traced_mean.x, 3.0 * traced_mean.y) << "the tracer sees the red patch through the sphere";
+    EXPECT_GT(raster_mean.x, 3.0 * raster_mean.y) << "the raster must see the red patch through the sphere too";
+    EXPECT_LT(rmse_over(img, reference, left), 0.1);
+}
+
 TEST_P(ReflectionsTest, ProbePassRunsOnlyWhenCalledForAndWhenStale) {
     auto probes = [](const Renderer& r) -> const std::vector<ProbePlacement>& {
         return r.effect_runtime<ReflectionsRuntime>()->placements();

@@ -242,12 +242,22 @@ std::vector<ProbePlacement> place_probes(const Scene& scene, const std::vector<G
         out = std::move(plan.probes);
         if (summary) *summary = plan.summary;
     }
+    // A probe does not capture the objects it serves, nor a reflective object it sits in: seen
+    // from its probe an object would reflect or refract itself (a glass sphere sharing a probe
+    // with its neighbour showed its own outside instead of what lies behind it), and from inside
+    // an object would hide everything. Other geometry around the probe stays, even where its
+    // bounds hold the probe: a room, a curved backdrop or a floor is what the probe is for.
+    // (Objects that share a probe do not see each other in it: the lesser error.)
     for (ProbePlacement& p : out)
         for (size_t i = 0; i < draws.size(); ++i) {
+            const bool served = std::find(p.nodes.begin(), p.nodes.end(), draws[i].node) != p.nodes.end();
+            const int mi = draws[i].primitive_material;
+            const bool reflective =
+                mi >= 0 && mi < static_cast<int>(scene.materials.size()) && is_reflective(scene.materials[static_cast<size_t>(mi)], options.max_roughness);
             const Bounds& b = draws[i].world_bounds;
             const glm::vec3 eps(1e-5f * (1.0f + glm::length(b.extent())));
-            if (glm::all(glm::greaterThanEqual(p.position, b.min - eps)) && glm::all(glm::lessThanEqual(p.position, b.max + eps)))
-                p.excluded_draws.push_back(static_cast<int>(i));
+            const bool around = glm::all(glm::greaterThanEqual(p.position, b.min - eps)) && glm::all(glm::lessThanEqual(p.position, b.max + eps));
+            if (served || (reflective && around)) p.excluded_draws.push_back(static_cast<int>(i));
         }
     return out;
 }

@@ -27,7 +27,7 @@ struct ProbePlacement {
     // >= 0: lights only reflective surfaces (metallic rougher than this are not; transmissive
     // are): auto probes, whose sphere of influence also holds parts of other objects. < 0: all.
     float reflective_only = -1.0f;
-    std::vector<int> excluded_draws;  // draws whose bounds contain the position: not captured
+    std::vector<int> excluded_draws;  // not captured: the draws of the nodes it serves, reflective draws around it
     std::vector<int> nodes;           // auto probes: the nodes (reflective objects) it serves
     float weight = 0.0f;              // auto probes: sum of its objects' ProbeObject::weight
 };
