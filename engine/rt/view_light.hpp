@@ -40,6 +40,7 @@ struct ViewLight {
     // r = B3 / B2 (B2 / B1 without a third bounce; at most 0.95): what each bounce after the
     // second returns of the one before.
     double per_bounce = 0.0;
+    double albedo_bound = 1.0;  // scattering_albedo_bound(scene): per_bounce's upper limit
     // The indirect share of the seen surfaces' light, I / (D + I) with I = B1 + B2 / (1 - r).
     double indirect_share = 0.0;
     // Cosine-weighted share of the seen surfaces' hemisphere that no geometry blocks: 0 in a
@@ -62,6 +63,9 @@ constexpr int kViewLightPixels = 1536;
 
 // Throws candela::Error if the tracer cannot be built (internal) or the scene has no triangles
 // (bad_input: nothing to trace).
+// The largest albedo with which a surface of the scene scatters light (every material, and the
+// glTF default material where a primitive has none): the share of a bounce the next can return.
+double scattering_albedo_bound(const Scene& scene);
 ViewLight measure_view_light(const ShaderLibrary& shaders, const Scene& scene, GpuScene& gpu, const Camera& camera, float aspect,
                              int spp = 8, int pixels = kViewLightPixels);
 
