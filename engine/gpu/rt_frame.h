@@ -38,7 +38,8 @@ GPU_BLOCK(RtFrame, RT_FRAME_BINDING) {
                                // 0 counts as 1)
     float camera_hides_emission;  // 1: camera rays do not see emission or the environment
                                   // (path/direct: Options::camera_sees_emission)
-    float pad0;
+    float dielectric_highlights;  // 1: dielectric interfaces reflect the punctual lights
+                                  // (path/direct: Options::dielectric_highlights)
     // The thin lens (depth of field): lens_x / lens_y.xyz the lens disk's axes (the camera's x and
     // y) scaled by its radius, lens_x.w the radius (0: a pinhole), lens_y.w the focus distance
     // along lens_axis.xyz (the view axis, unit length). Zero unless has_thin_lens(camera).

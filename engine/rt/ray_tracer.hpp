@@ -66,6 +66,11 @@ struct Options {
     // path and direct: false leaves out what camera rays see directly (emitters' emission and the
     // environment), so that the image is the light the surfaces reflect alone (view_light.hpp).
     bool camera_sees_emission = true;
+    // path and direct: punctual lights reflected by a dielectric interface's specular lobe (the
+    // highlights on glass). The planner's view measurements leave them out: a surface is lit by
+    // the light that reaches it or by the lit things it shows, and the faint tail of a highlight
+    // over every glass pixel would count the glass as lit.
+    bool dielectric_highlights = true;
     // visibility mode: the light (debug.light); >= the punctual count: all emissive triangles.
     int visibility_light = 0;
     bool progress = false;      // progress bar with ETA on stderr

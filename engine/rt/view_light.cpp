@@ -57,6 +57,7 @@ ViewLight measure_view_light(const ShaderLibrary& shaders, const Scene& scene, G
     o.spp = spp;
     o.tile_rows = v.height;
     o.camera_sees_emission = false;
+    o.dielectric_highlights = false;  // ray_tracer.hpp: a highlight does not light the glass
     // Sky visibility: AO rays that leave the scene's bounds are open to the sky.
     const Bounds bounds = scene.world_bounds();
     o.ao_radius = bounds.empty() ? 1e6f : std::max(1e-3f, 100.0f * glm::length(bounds.extent()));

@@ -28,6 +28,27 @@ vec3 direct_punctual(SurfaceHit s, BrdfInput m, vec3 v) {
     return sum;
 }
 
+// The punctual lights reflected by the specular lobe alone, about the geometric normal: what a
+// dielectric interface (KHR_materials_transmission) reflects of them. A path that meets the
+// interface reflects or refracts by sampling, and a sampled direction never finds a delta light,
+// so without this the tracer showed no highlight of a point, spot or directional light on glass
+// where the raster does (its shade_light keeps the specular lobe of a transmissive surface).
+vec3 direct_punctual_specular(SurfaceHit s, BrdfInput m, vec3 v) {
+    vec3 sum = vec3(0.0);
+    if (dot(s.ng, v) <= 0.0) return sum;
+    for (int i = 0; i < rt.punctual_light_count; ++i) {
+        vec3 l, E;
+        float dist;
+        light_incidence(lights[i], s.p, l, E, dist);
+        float c = dot(s.ng, l);
+        if (c <= 0.0 || max(E.r, max(E.g, E.b)) <= 0.0) continue;
+        vec3 fc = brdf_eval_weighted(m, s.ng, l, v, 0.0) * c;
+        if (max(fc.r, max(fc.g, fc.b)) <= 0.0) continue;
+        sum += fc * E * shadow_visibility(make_ray(offset_ray(s.p, s.ng, rt.ray_offset), l), dist);
+    }
+    return sum;
+}
+
 #ifdef HAS_EMITTERS
 // 1 - cos of the half-angle a sphere of radius r subtends at distance^2 d2 (> r^2), without the
 // cancellation of 1 - sqrt(1 - r^2/d2) for small or distant spheres.

@@ -99,11 +99,16 @@ bool path_step(inout PathState p) {
     float transmission = material_transmission(s);
     if (transmission > 0.0 && rng_next(p.rng) < transmission) {
         // A dielectric interface, smooth or rough (dielectric_scatter). No next-event estimation
-        // here (light is not connected through the interface), so the next hit's emission counts
-        // in full (last_brdf_pdf 0) and the sampled direction alone carries the transmitted light.
+        // of emitters and sky here (light is not connected through the interface), so the next
+        // hit's emission counts in full (last_brdf_pdf 0) and the sampled direction alone carries
+        // the transmitted light. Punctual lights, which no sampled direction finds, are reflected
+        // by the interface's specular lobe (an outside face: a solid's inside sees none).
+        BrdfInput mi = brdf_input(s);
+        if (rt.dielectric_highlights != 0.0 && (s.front || material_thin(s.material)))
+            p.sum += p.throughput * direct_punctual_specular(s, mi, v);
         vec3 l, w;
         bool below;
-        if (!dielectric_scatter(s, brdf_input(s), v, p.rng, l, w, below)) return true;
+        if (!dielectric_scatter(s, mi, v, p.rng, l, w, below)) return true;
         p.ray = make_ray(offset_ray(s.p, below ? -s.ng : s.ng, rt.ray_offset), l);
         p.throughput *= w;
         p.last_brdf_pdf = 0.0;
