@@ -123,7 +123,8 @@ Reference trace_reference(const ShaderLibrary& lib, const Scene& scene, int batc
     return test::trace_box_reference(lib, scene, kSize, kSize, batches, spp, 101u);
 }
 
-ImageF raster(const ShaderLibrary& lib, const Scene& scene, RenderPath path, int samples, bool a2c = true) {
+// `knob`: one more setting (KNOB=VALUE), if given.
+ImageF raster(const ShaderLibrary& lib, const Scene& scene, RenderPath path, int samples, bool a2c = true, const std::string& knob = "") {
     StillOptions so;
     so.width = so.height = kSize;
     so.settings.path = path;
@@ -133,6 +134,7 @@ ImageF raster(const ShaderLibrary& lib, const Scene& scene, RenderPath path, int
         apply_knob(so.settings, "aa.samples=" + std::to_string(samples));
     }
     apply_knob(so.settings, std::string("aa.alpha_to_coverage=") + (a2c ? "1" : "0"));
+    if (!knob.empty()) apply_knob(so.settings, knob);
     StillResult r = render_still(scene, lib, so);
     EXPECT_EQ(count_nonfinite(r.radiance), 0u);
     return std::move(r.radiance);
@@ -310,18 +312,7 @@ TEST_P(AaTest, SpecularFilterGivesSubPixelHighlightsThePixelsMean) {
 
         const Reference ref = test::trace_box_reference(lib_, scene, kSize, kSize, 8, 64, 300u + 10u * static_cast<std::uint32_t>(k));
         auto render = [&](int samples, bool filter) {
-            StillOptions so;
-            so.width = so.height = kSize;
-            so.settings.path = c.path;
-            apply_effects(so.settings, "none");
-            if (samples > 1) {
-                apply_knob(so.settings, "aa.mode=msaa");
-                apply_knob(so.settings, "aa.samples=" + std::to_string(samples));
-            }
-            apply_knob(so.settings, std::string("aa.specular_filter=") + (filter ? "1" : "0"));
-            StillResult r = render_still(scene, lib_, so);
-            EXPECT_EQ(count_nonfinite(r.radiance), 0u);
-            return std::move(r.radiance);
+            return raster(lib_, scene, c.path, samples, true, std::string("aa.specular_filter=") + (filter ? "1" : "0"));
         };
         // The highlight: pixels within 3 of one where the reference is over 10x the sphere's median.
         std::vector<double> lit;

@@ -125,6 +125,15 @@ Scene emitter_mask_scene(const Scene& scene) {
     return mask_scene(scene, [](const Material& m) { return m.is_emissive(); });
 }
 
+// A mask scene's image at pixel centres (1 where its kept surfaces are seen).
+ImageF mask_image(const ShaderLibrary& lib, const Scene& mask, const rt::Options& base, const Camera& camera) {
+    GpuScene gpu(mask);
+    rt::Options o = base;
+    o.mode = rt::Mode::direct;
+    o.spp = 1;
+    return rt::RayTracer(lib, mask, gpu, o).render(camera, kW, kH).image;
+}
+
 struct Batches {
     std::vector<ImageF> images;
     ImageF mean, se;
@@ -439,12 +448,7 @@ public:
         rt::RayTracer box_tracer(lib_, scene, gpu, bo);
         const Batches path_box = trace_batches(box_tracer, camera, kBatches);
         lap(times, "box");
-        const Scene mask_scene = diffuse_mask_scene(scene);
-        GpuScene mask_gpu(mask_scene);
-        rt::Options mo = ro;
-        mo.mode = rt::Mode::direct;
-        mo.spp = 1;
-        const ImageF mask = rt::RayTracer(lib_, mask_scene, mask_gpu, mo).render(camera, kW, kH).image;
+        const ImageF mask = mask_image(lib_, diffuse_mask_scene(scene), ro, camera);
         lap(times, "mask");
 
         // NaN / Inf.
@@ -605,12 +609,7 @@ public:
             for (const Material& m : scene.materials) bound = glm::max(bound, m.emission());
             std::vector<char> emitter(static_cast<size_t>(kW * kH), 0);
             if (std::any_of(scene.materials.begin(), scene.materials.end(), [](const Material& m) { return m.is_emissive(); })) {
-                const Scene es = emitter_mask_scene(scene);
-                GpuScene egpu(es);
-                rt::Options eo = ro;
-                eo.mode = rt::Mode::direct;
-                eo.spp = 1;
-                const ImageF em = rt::RayTracer(lib_, es, egpu, eo).render(camera, kW, kH).image;
+                const ImageF em = mask_image(lib_, emitter_mask_scene(scene), ro, camera);
                 for (int y = 0; y < kH; ++y)
                     for (int x = 0; x < kW; ++x)
                         if (em.at(x, y)[0] > 0.5f)

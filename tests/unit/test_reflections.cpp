@@ -259,12 +259,7 @@ TEST_P(ReflectionsTest, GlassRefractsTheRoomCloserThanAnOpaqueDielectric) {
     // Single-interface refraction against the exact two-interface path (whitted depth 2).
     const Scene scene = load_gltf(sample("reflections.gltf"));
     const int w = 128;
-    rt::Options o;
-    o.mode = rt::Mode::whitted;
-    o.max_depth = 2;
-    o.spp = 1;
-    o.jitter = 0;
-    const ImageF reference = traced(scene, w, w, o).image;
+    const ImageF reference = traced(scene, w, w, whitted_at_centres(2)).image;
     const auto glass = sphere_pixels(scene, w, w, glm::vec3(0.55f, 0.4f, 0.35f), 0.4f * 0.9f);
     ASSERT_GT(glass.size(), 300u);
     const double e_opaque = rmse_over(raster(scene, w, w, settings("shadows", {})), reference, glass);
@@ -405,12 +400,7 @@ TEST_P(ReflectionsTest, ThinGlassSharingAProbeShowsWhatIsBehindIt) {
     ASSERT_EQ(probes.size(), 1u);
     EXPECT_EQ(probes[0].excluded_draws.size(), 2u) << "the probe leaves out the two spheres it serves, and only them";
 
-    rt::Options o;
-    o.mode = rt::Mode::whitted;
-    o.max_depth = 4;
-    o.spp = 1;
-    o.jitter = 0;
-    const ImageF reference = traced(scene, w, w, o).image;
+    const ImageF reference = traced(scene, w, w, whitted_at_centres(4)).image;
     const auto left = sphere_pixels(scene, w, w, glm::vec3(-0.8f, 0.5f, 0.0f), 0.5f * 0.6f);
     ASSERT_GT(left.size(), 50u);
     glm::dvec3 raster_mean(0.0), traced_mean(0.0);
