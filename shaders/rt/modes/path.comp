@@ -102,9 +102,14 @@ bool path_step(inout PathState p) {
         // of emitters and sky here (light is not connected through the interface), so the next
         // hit's emission counts in full (last_brdf_pdf 0) and the sampled direction alone carries
         // the transmitted light. Punctual lights, which no sampled direction finds, are reflected
-        // by the interface's specular lobe (an outside face: a solid's inside sees none).
+        // by the interface's specular lobe (an outside face: a solid's inside sees none) where the
+        // camera sees the interface, directly or through other interfaces (last_brdf_pdf 0). After
+        // a diffuse or glossy bounce that light would be a caustic: the light a glass block
+        // reflects onto the ceiling, which for smooth glass only a path hitting the highlight's
+        // 1e-3 lobe finds (noise, not a reference), and which the raster does not model; it is
+        // left out like the caustic through the glass.
         BrdfInput mi = brdf_input(s);
-        if (rt.dielectric_highlights != 0.0 && (s.front || material_thin(s.material)))
+        if (rt.dielectric_highlights != 0.0 && p.last_brdf_pdf == 0.0 && (s.front || material_thin(s.material)))
             p.sum += p.throughput * direct_punctual_specular(s, mi, v);
         vec3 l, w;
         bool below;
