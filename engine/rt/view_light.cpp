@@ -26,8 +26,9 @@ std::string ViewLight::text() const {
 double scattering_albedo_bound(const Scene& scene) {
     // A material's albedo bound: a metal's base colour; a dielectric's diffuse (its base colour,
     // less what it transmits) plus its specular lobe's hemispherical mean (Fresnel of ior 1.5:
-    // about 0.09; 0.1, times KHR_materials_specular's factor and its colour where that exceeds 1: a bound, so never less). What glass transmits passes light on
-    // without scattering it, and is not counted.
+    // about 0.09; 0.1, times KHR_materials_specular's factor, and its colour where that exceeds
+    // 1: a bound, so never less). What glass transmits passes light on without scattering it,
+    // and is not counted.
     double bound = 0.0;
     for (const Material& m : scene.materials) {
         const glm::vec3 c = glm::vec3(m.base_color);
