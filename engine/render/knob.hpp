@@ -125,7 +125,8 @@ public:
         std::vector<ChoiceName<E>> table(std::begin(names), std::end(names));
         KnobInfo info{full(name), "choice", "", help, 0.0, double(N - 1), {}};
         for (const auto& c : table) {
-            info.range += (info.range.empty() ? "" : "|") + std::string(c.name);
+            if (!info.range.empty()) info.range += '|';
+            info.range += c.name;
             info.choices.push_back(c.name);
         }
         const Access access = access_;

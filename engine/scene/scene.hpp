@@ -187,7 +187,7 @@ struct Primitive {
 struct Mesh {
     std::string name;
     std::vector<Primitive> primitives;
-    std::vector<float> weights;  // default morph weights (one per target; zeros if the file has none)
+    std::vector<float> weights = {};  // default morph weights (one per target; zeros if the file has none)
 };
 
 // glTF skin (section 3.7.3): joint nodes and their inverse bind matrices (identity if absent).

@@ -78,7 +78,10 @@ int budget_measure(const Parsed& p) {
             for (const budget::SceneMeasurement::TraceResult& t : m.traces) row(trace_row_name(t.budget), t.error, t.ms, t.nonfinite);
             out.flush();
             std::string line;
-            for (const budget::CandidateResult& c : m.candidates) line += " " + format_number("%.4f", c.error);
+            for (const budget::CandidateResult& c : m.candidates) {
+                line += ' ';
+                line += format_number("%.4f", c.error);
+            }
             for (const budget::SceneMeasurement::TraceResult& t : m.traces)
                 line += "; trace@" + format_number("%g", t.budget) + " " + format_number("%.4f", t.error) + " (" + std::to_string(t.spp) + " spp, noise " +
                         format_number("%.4f", t.noise) + ")";

@@ -48,7 +48,7 @@ StillResult raster(const ShaderLibrary& lib, const Scene& scene, RenderPath path
         apply_knob(so.settings, "aa.mode=msaa");
         apply_knob(so.settings, "aa.samples=" + std::to_string(samples));
     }
-    apply_knob(so.settings, std::string("aa.alpha_to_coverage=") + (a2c ? "1" : "0"));
+    apply_knob(so.settings, a2c ? "aa.alpha_to_coverage=1" : "aa.alpha_to_coverage=0");
     StillResult r = render_still(scene, lib, so);
     EXPECT_EQ(count_nonfinite(r.radiance), 0u) << samples << " samples";
     return r;
