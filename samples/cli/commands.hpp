@@ -22,5 +22,8 @@ int cmd_farm(const Args& args);   // tasks for a batch scheduler: Slurm, GNU par
 int cmd_version(const Args& args);  // `candela --version`: version, git hash, shader directory, GL device
 // The --help text (options.cpp).
 void print_usage();
+// `candela COMMAND --help`: that command's usage lines, its description and the exit codes;
+// false for a command the usage does not know.
+bool print_command_usage(const std::string& command);
 
 }  // namespace candela::cli

@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <cstdio>
 #include <exception>
 
@@ -13,6 +14,12 @@ int main(int argc, char** argv) {
     }
     const std::string command = args[0];
     args.erase(args.begin());
+    // `candela COMMAND --help` (anywhere after the command): that command's usage, exit 0.
+    if (command != "--version" && std::any_of(args.begin(), args.end(), [](const std::string& a) { return a == "--help" || a == "-h"; })) {
+        if (cli::print_command_usage(command)) return 0;
+        std::fprintf(stderr, "candela: unknown command '%s' (try 'candela --help')\n", command.c_str());
+        return static_cast<int>(ExitCode::bad_input);
+    }
     try {
         if (command == "--version") return cli::cmd_version(args);
         if (command == "render") return cli::cmd_render(args);

@@ -21,7 +21,8 @@
 namespace candela::cli {
 namespace fs = std::filesystem;
 
-void print_usage() {
+namespace {
+std::string usage_text() {
     // The effect names come from the engine's registry: the CLI names no effect.
     std::string effect_list;
     for (const std::string& name : effect_names()) effect_list += (effect_list.empty() ? "" : ",") + name;
@@ -165,7 +166,50 @@ void print_usage() {
         "\n"
         "exit codes: 0 ok, 1 internal error, 2 bad input (file, option), 3 no usable OpenGL 4.5,\n"
         "            4 compare --check: images differ beyond the tolerance.\n";
-    std::fputs(text.c_str(), stdout);
+    return text;
+}
+}  // namespace
+
+void print_usage() { std::fputs(usage_text().c_str(), stdout); }
+
+bool print_command_usage(const std::string& command) {
+    // The command's part of the whole text: its usage lines ("  candela COMMAND ..." and their
+    // continuations), the paragraphs that start with its name, and the exit codes.
+    const std::string text = usage_text();
+    std::vector<std::string> lines;
+    for (size_t a = 0; a < text.size();) {
+        const size_t b = text.find('\n', a);
+        lines.push_back(text.substr(a, b - a));
+        a = b == std::string::npos ? text.size() : b + 1;
+    }
+    const auto starts = [](const std::string& line, const std::string& prefix) { return line.compare(0, prefix.size(), prefix) == 0; };
+    const std::string usage_prefix = "  candela " + command;
+    std::string usage, about, exit_codes;
+    bool in_usage = false, in_about = false, in_exit = false;
+    for (const std::string& line : lines) {
+        if (starts(line, "  candela ")) {
+            in_usage = starts(line, usage_prefix) &&
+                       (line.size() == usage_prefix.size() || line[usage_prefix.size()] == ' ' || line[usage_prefix.size()] == '|');
+            if (!in_usage && starts(line, "  candela render|info|view|bench frame") &&
+                (command == "render" || command == "info" || command == "view" || command == "bench"))
+                in_usage = true;
+        } else if (!starts(line, "   ")) {
+            in_usage = false;
+        }
+        if (!line.empty() && line[0] != ' ') {
+            in_about = starts(line, command + " ") ||
+                       (starts(line, "error budget:") && (command == "render" || command == "info" || command == "view" || command == "bench"));
+            in_exit = starts(line, "exit codes:");
+        } else if (line.empty()) {
+            in_about = in_exit = false;
+        }
+        if (in_usage) usage += line + "\n";
+        if (in_about) about += line + "\n";
+        if (in_exit) exit_codes += line + "\n";
+    }
+    if (usage.empty()) return false;
+    std::fputs(("usage:\n" + usage + (about.empty() ? "" : "\n" + about) + "\n" + exit_codes).c_str(), stdout);
+    return true;
 }
 
 Parsed parse(const Args& args, const std::vector<std::string>& with_value, const std::vector<std::string>& flags) {

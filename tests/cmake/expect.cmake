@@ -1,5 +1,5 @@
 # Runs COMMAND (a ;-list) and checks its exit code and that its stderr+stdout match REGEX.
-#   cmake -DCOMMAND="a;b" -DEXPECT_EXIT=2 -DREGEX="..." [-DENV="K=V;..."] [-DTIMEOUT=s] -P expect.cmake
+#   cmake -DCOMMAND="a;b" -DEXPECT_EXIT=2 -DREGEX="..." [-DNOT_REGEX="..."] [-DENV="K=V;..."] [-DTIMEOUT=s] -P expect.cmake
 if(ENV)
   foreach(kv IN LISTS ENV)
     string(REGEX MATCH "^([^=]+)=(.*)$" _ "${kv}")
@@ -42,4 +42,7 @@ if(_o GREATER -1 AND EXPECT_EXIT EQUAL 0)
     endif()
     message("checked ${_image}: no non-finite values")
   endif()
+endif()
+if(NOT_REGEX AND "${out}${err}" MATCHES "${NOT_REGEX}")
+  message(FATAL_ERROR "output matches what it must not: ${NOT_REGEX}")
 endif()
