@@ -15,6 +15,7 @@
 #include "gltf_builder.hpp"
 #include "reference_fixture.hpp"
 #include "scene/gltf_loader.hpp"
+#include "render/settings.hpp"
 #include "rt/shard_merge.hpp"
 #include "rt/view_light.hpp"
 #include "rt/view_lighting.hpp"
@@ -286,6 +287,47 @@ TEST(GiPlan, ScenesThatNeedMoreThanOneBounceGetThemAll) {
             // Two or more: the averaging updates carry about iterations / 2 more.
             if (planned > 1 && planned < 32) EXPECT_LE(left_after(planned + o.iterations / 2), 0.005 * total);
         }
+}
+
+// The probes' density follows the share of the image's light they carry: gi.probes at a 25 %
+// share or less, sqrt(share / 25 %) times it above, at most twice; without an estimate (GI forced
+// on) or with gi.dense off, gi.probes; a --set gi.probes alone asks for exactly that many.
+TEST(GiPlan, ProbesGetDenserWithTheIndirectShareTheyCarry) {
+    GiOptions o;
+    IndirectEstimate e;
+    const auto at = [&](double share) {
+        e.fraction = share;
+        return gi_planned_probes(o, &e);
+    };
+    EXPECT_EQ(gi_planned_probes(o, nullptr), o.probes);
+    EXPECT_EQ(at(0.0), o.probes);
+    EXPECT_EQ(at(0.25), o.probes);
+    EXPECT_EQ(at(0.5), static_cast<int>(std::lround(o.probes * std::sqrt(2.0))));
+    EXPECT_EQ(at(1.0), 2 * o.probes);
+    int last = 0;
+    for (double s = 0.0; s <= 1.0; s += 0.05) {
+        const int p = at(s);
+        EXPECT_GE(p, last) << s;
+        // share x spacing^2 stays at or under what gi.probes gives at 25 % (up to the rounding and the cap).
+        if (p < 2 * o.probes) EXPECT_LE(s / (p * p), 0.25 / (o.probes * o.probes) * std::pow(1.0 + 0.5 / p, 2) + 1e-12) << s;
+        last = p;
+    }
+    o.probes = 20;
+    EXPECT_EQ(at(1.0), 32);  // the knob's range
+    o.probes = 8;
+    o.dense = false;
+    EXPECT_EQ(at(1.0), 8);
+
+    RenderSettings given;
+    apply_knobs(given, {"gi.probes=12"});
+    EXPECT_FALSE(given.get<GiOptions>().dense);
+    EXPECT_EQ(gi_planned_probes(given.get<GiOptions>(), &e), 12);
+    RenderSettings both;
+    apply_knobs(both, {"gi.probes=12", "gi.dense=1"});
+    EXPECT_TRUE(both.get<GiOptions>().dense);
+    EXPECT_EQ(gi_planned_probes(both.get<GiOptions>(), &e), 24);
+    RenderSettings defaults;
+    EXPECT_TRUE(defaults.get<GiOptions>().dense);
 }
 
 }  // namespace

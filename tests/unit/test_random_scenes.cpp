@@ -409,16 +409,18 @@ void apply_experiment(RenderSettings& settings) {
     const char* e = std::getenv("CANDELA_RANDOM_SET");
     if (!e || !*e) return;
     std::string word;
+    std::vector<std::string> knobs;
     for (const char* c = e;; ++c) {
         if (*c && *c != ' ') {
             word += *c;
             continue;
         }
         if (word.rfind("effects=", 0) == 0) apply_effects(settings, word.substr(8));
-        else if (!word.empty()) apply_knob(settings, word);
+        else if (!word.empty()) knobs.push_back(word);
         word.clear();
         if (!*c) break;
     }
+    apply_knobs(settings, knobs);  // as --set: with what the given knobs imply
 }
 
 // One seed's (or regression file's) outcome: the rules that failed, with their numbers.

@@ -56,6 +56,7 @@ public:
         options_ = s.settings.get<GiOptions>();
         const IndirectEstimate* estimate = indirect_estimate(s.features);
         const int bounces = gi_planned_bounces(options_, estimate);
+        const int probes = gi_planned_probes(options_, estimate);
         if (scene_ != &s.scene || !rt_scene_) {
             scene_ = &s.scene;
             rt_scene_ = std::make_unique<rt::RtScene>(s.scene, static_cast<int>(s.scene.materials.size()));
@@ -68,16 +69,16 @@ public:
             reset_ = true;
         }
         frame_block_ = rt::scene_frame_block(s.scene, *rt_scene_, s.gpu);
-        // The grid: cell-centred in the scene's bounds, gi.probes along the longest axis.
+        // The grid: cell-centred in the scene's bounds, `probes` along the longest axis.
         const Bounds b = s.scene.world_bounds();
         const glm::vec3 extent = b.empty() ? glm::vec3(1.0f) : glm::max(b.extent(), glm::vec3(0.0f));
         const float longest = std::max({extent.x, extent.y, extent.z, 1e-30f});
         glm::ivec3 counts;
         glm::vec3 spacing, origin;
         for (int a = 0; a < 3; ++a) {
-            counts[a] = std::clamp(static_cast<int>(std::lround(options_.probes * extent[a] / longest)), 1, options_.probes);
+            counts[a] = std::clamp(static_cast<int>(std::lround(probes * extent[a] / longest)), 1, probes);
             // The outer probes sit gi.inset of a cell from the bounds (0.5: cell centres).
-            const float cell = extent[a] > 0.0f ? extent[a] / static_cast<float>(counts[a]) : longest / static_cast<float>(options_.probes);
+            const float cell = extent[a] > 0.0f ? extent[a] / static_cast<float>(counts[a]) : longest / static_cast<float>(probes);
             const float inset = counts[a] > 1 ? options_.inset * cell : 0.5f * extent[a];
             spacing[a] = counts[a] > 1 ? (extent[a] - 2.0f * inset) / static_cast<float>(counts[a] - 1) : cell;
             origin[a] = (b.empty() ? 0.0f : b.min[a]) + inset;
@@ -360,7 +361,8 @@ public:
     std::vector<Knob> knobs() const override {
         using O = GiOptions;
         return KnobRows<O>("gi", [](RenderSettings& s) -> O& { return s.get<O>(); })
-            .integer("probes", &O::probes, 2, 32, "GI probes along the scene's longest axis (the other axes in proportion)")
+            .integer("probes", &O::probes, 2, 32, "GI probes along the scene's longest axis (the other axes in proportion); given alone, exactly that many (gi.dense=0)")
+            .boolean("dense", &O::dense, "more probes where they carry more of the image's light: gi.probes x sqrt(indirect share / 25 %), up to 2 gi.probes")
             .integer("rays", &O::rays, 64, 2048, "rays per probe and update (a multiple of 64)")
             .integer("bounces", &O::bounces, 0, 64, "updates that each add a bounce of light; 0: planned from the indirect estimate")
             .integer("iterations", &O::iterations, 1, 512, "probe updates after the bounces, which average noise (a still does them all before its frame)")
@@ -370,6 +372,10 @@ public:
             .real("inset", &O::inset, 0.01f, 0.5f, "distance of the outer probes from the scene's bounds, in cells (0.5: cell centres)")
             .real("bias", &O::bias, 0.0f, 1.0f, "shading offset off the surface, in units of 0.75 x the smallest probe spacing")
             .rows;
+    }
+    // Asking for a number of probes is asking for that many, unless gi.dense is given too.
+    void complete_knobs(RenderSettings& s, const std::set<std::string>& given) const override {
+        if (given.count("gi.probes") && !given.count("gi.dense")) s.get<GiOptions>().dense = false;
     }
     // The planner needs the estimate of the indirect light (estimate.hpp) unless gi.threshold is
     // 0 (always on) or GI is switched off.
@@ -412,7 +418,7 @@ public:
             needed = e->fraction >= o.threshold;
             why = "indirect light is " + e->text() + (needed ? ", at least" : ", below") + " gi.threshold " + pct;
         }
-        if (needed) why += "; " + std::to_string(gi_planned_bounces(o, e)) + " bounce(s)";
+        if (needed) why += "; " + std::to_string(gi_planned_bounces(o, e)) + " bounce(s), " + std::to_string(gi_planned_probes(o, e)) + " probes along the longest axis";
         return decide_effect(name(), s.on(name()), needed, why, true);
     }
     void plan(Stage stage, const Features& f, const RenderSettings& s, std::vector<PlannedPass>& out) const override {
@@ -462,6 +468,13 @@ int gi_planned_bounces(const GiOptions& o, const IndirectEstimate* estimate) {
     // be cut to one (a closed room lost every bounce after the first: -11 % of its image).
     if (k <= 1) return 1;
     return std::clamp(k - o.iterations / 2, 2, 32);
+}
+
+int gi_planned_probes(const GiOptions& o, const IndirectEstimate* estimate) {
+    if (!o.dense || !estimate) return o.probes;
+    const double share = std::clamp(estimate->fraction, 0.0, 1.0);
+    const int planned = static_cast<int>(std::lround(o.probes * std::sqrt(share / 0.25)));
+    return std::clamp(planned, o.probes, std::min(2 * o.probes, 32));
 }
 
 const IndirectEstimate* indirect_estimate(const Features& f) {

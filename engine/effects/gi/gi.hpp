@@ -15,6 +15,7 @@ struct IndirectEstimate;
 
 struct GiOptions {
     int probes = 8;           // [2, 32] probes along the scene's longest axis (the others in proportion)
+    bool dense = true;        // more probes where they carry more of the light (gi_planned_probes)
     int rays = 64;            // [64, 2048] rays per probe and update, rounded up to a multiple of 64
     int bounces = 0;          // [0, 64] iterations that each add a bounce; 0: planned from the estimate
     int iterations = 6;       // [1, 512] updates after the bounces, which average (a still does all before its frame)
@@ -33,6 +34,13 @@ struct GiOptions {
 // enough bounces to leave less than 0.5 % of the image's light out, less the iterations/2 more
 // that the averaging updates after them add on average.
 int gi_planned_bounces(const GiOptions& o, const IndirectEstimate* estimate);
+// Probes along the scene's longest axis: gi.probes, or with gi.dense and an estimate, more where
+// the probes carry more of the image's light. Trilinear interpolation of a smooth irradiance
+// field errs in proportion to the square of the spacing, and the image takes that error in
+// proportion to its indirect share s; holding s x spacing^2 at what gi.probes gives at s = 25 %
+// keeps the probes' part of the image's error there: gi.probes x sqrt(s / 0.25), from gi.probes
+// up to twice it (8x the probes, the cost's bound).
+int gi_planned_probes(const GiOptions& o, const IndirectEstimate* estimate);
 // The estimate the planner had (Features::estimates, Effect::view_estimate), or nullptr.
 const IndirectEstimate* indirect_estimate(const Features& f);
 
