@@ -3,6 +3,7 @@
 // as the sample count grows, both render paths compute the same buffer, and nothing is NaN.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "gltf_builder.hpp"
@@ -79,6 +80,50 @@ TEST_P(SsaoTest, OpenPlaneIsUnoccluded) {
             ++n;
         }
     EXPECT_GT(sum / n, 0.98);
+}
+
+// A floor of `size` (y = 0) seen from `eye` towards the origin: nothing above it.
+Scene floor_scene(glm::vec3 eye, float size, const std::string& name) {
+    test::GltfBuilder b;
+    b.json()["materials"] = {white()};
+    const int quad = b.add_quad_mesh(0);
+    b.add_node({{"mesh", quad}, {"rotation", {-0.70710678, 0, 0, 0.70710678}}, {"scale", {size, size, size}}});
+    b.json()["scenes"][0]["extras"]["environment_radiance"] = {0.5, 0.5, 0.5};
+    b.json()["cameras"] = {{{"type", "perspective"}, {"perspective", {{"yfov", 0.9}, {"znear", 0.05}}}}};
+    const glm::vec3 d = glm::normalize(-eye);
+    const float pitch = std::asin(d.y);
+    b.add_node({{"camera", 0}, {"translation", {eye.x, eye.y, eye.z}}, {"rotation", {std::sin(pitch / 2), 0, 0, std::cos(pitch / 2)}}});
+    return load_gltf(b.write(test::test_dir(name), name));
+}
+
+// The depth buffer holds a surface at texel centres; a march step projects up to half a texel
+// away, where an inclined plane lies nearer or farther. An open plane stays unoccluded however
+// coarse the buffer is against the radius and however grazing the view (compared with the
+// centre's depth, the floor's mean AO was 0.59 to 0.94 in 7 of these 15 views, 0.92 at 256x192
+// from 100 m).
+TEST_P(SsaoTest, OpenPlaneIsUnoccludedAtAnyResolutionAndAngle) {
+    struct View {
+        glm::vec3 eye;
+        float size;
+    };
+    // Eye heights for views 6, 27 and 63 degrees down, near and at 100 m (pixels much wider than
+    // the radius).
+    for (const View& v : {View{{0, 1, 10}, 30}, View{{0, 5, 10}, 30}, View{{0, 10, 5}, 30}, View{{0, 10, 100}, 400}, View{{0, 50, 100}, 400}})
+        for (const glm::ivec2 size : {glm::ivec2(32, 24), glm::ivec2(64, 48), glm::ivec2(256, 192)}) {
+            const Scene scene = floor_scene(v.eye, v.size, "floor_view");
+            const ImageF ao = ao_buffer(scene, size.x, size.y);
+            double sum = 0.0, lowest = 1.0;
+            int n = 0;
+            for (int y = size.y * 3 / 4; y < size.y; ++y)  // the lower quarter sees only the floor
+                for (int x = 0; x < size.x; ++x) {
+                    sum += ao.at(x, y)[0];
+                    lowest = std::min(lowest, static_cast<double>(ao.at(x, y)[0]));
+                    ++n;
+                }
+            SCOPED_TRACE(testing::Message() << "eye (" << v.eye.y << ", " << v.eye.z << "), " << size.x << "x" << size.y);
+            EXPECT_GT(sum / n, 0.99);
+            EXPECT_GT(lowest, 0.95);
+        }
 }
 
 TEST_P(SsaoTest, InsideCornerIsDarkerThanTheFace) {

@@ -18,6 +18,19 @@ layout(location = 0) out vec4 out_ao;
 
 float view_z(float d) { return (frame.depth_to_view.x * d + frame.depth_to_view.y) / (frame.depth_to_view.z * d + frame.depth_to_view.w); }
 
+// The view depth at which the view ray through s (view space) meets the tangent plane of the
+// surface the depth buffer holds at `texel` (depth `d`): its centre's position and its normal.
+// Perspective rays start at the eye, orthographic ones run along -z.
+float tangent_plane_z(ivec2 texel, float d, vec3 s, vec2 fsize) {
+    vec4 pw = frame.inv_view_proj * vec4((vec2(texel) + 0.5) / fsize * 2.0 - 1.0, d, 1.0);
+    vec3 c = (frame.view * vec4(pw.xyz / pw.w, 1.0)).xyz;
+    vec3 n = mat3(frame.view) * oct_decode(texelFetch(t_normals, texel, 0).xy);
+    bool orthographic = frame.proj[3][3] == 1.0;
+    if (orthographic) return abs(n.z) > 1e-6 ? s.z + dot(n, c - s) / n.z : view_z(d);
+    float ns = dot(n, s);
+    return abs(ns) > 1e-12 * length(s) ? s.z * dot(n, c) / ns : view_z(d);
+}
+
 void main() {
     // This pixel's full-resolution sample (the AO target may be at half resolution).
     ivec2 size = textureSize(t_depth, 0);
@@ -58,13 +71,23 @@ void main() {
             vec2 suv = c.xy / c.w * 0.5 + 0.5;
             if (any(lessThan(suv, vec2(0.0))) || any(greaterThan(suv, vec2(1.0)))) break;
             // The nearest depth sample (filtering depth across a silhouette would invent surfaces).
-            float scene_depth = texelFetch(t_depth, min(ivec2(suv * fsize), size - 1), 0).r;
+            ivec2 texel = min(ivec2(suv * fsize), size - 1);
+            float scene_depth = texelFetch(t_depth, texel, 0).r;
             if (scene_depth <= 0.0) continue;
             float zq = view_z(scene_depth);
             // View-space depths (negative forward): the surface in front of s, by less than the radius.
             if (zq > s.z + bias && zq - s.z < radius) {
-                ++occluded;
-                break;
+                // The texel holds its surface at its centre; s projects up to half a texel away,
+                // where a surface inclined to the view lies nearer or farther. Compared with the
+                // centre's depth, a plane shadowed itself by that difference, the more the coarser
+                // the buffer against the radius and the more grazing the view (a floor seen at 6
+                // degrees: AO 0.90 at 64x48). So the depth compared is that of the texel's own
+                // tangent plane (its centre and normal) on the view ray through s.
+                zq = tangent_plane_z(texel, scene_depth, s, fsize);
+                if (zq > s.z + bias && zq - s.z < radius) {
+                    ++occluded;
+                    break;
+                }
             }
         }
     }
