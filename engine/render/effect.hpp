@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include <glm/mat4x4.hpp>
 #include <glm/vec2.hpp>
 #include <nlohmann/json_fwd.hpp>
 
@@ -174,6 +175,11 @@ public:
     // unless the user set that knob: settings that keep every frame interactive where a still
     // would rather converge before its one frame.
     virtual std::vector<std::string> interactive_defaults() const { return {}; }
+    // What `candela info` adds about the effect's plan for a view (`view_proj`) when the effect is
+    // planned: lines such as "reflection probes: ..." (each "name: what"), after the passes.
+    virtual std::vector<std::string> info_lines(const Scene& /*scene*/, const RenderSettings& /*s*/, const glm::mat4& /*view_proj*/) const {
+        return {};
+    }
 };
 
 // How far an effect that converges over frames has got (EffectRuntime::progress): the viewer's

@@ -7,7 +7,6 @@
 #include "core/error.hpp"
 #include "options.hpp"
 #include "budget.hpp"
-#include "effects/reflections/reflections.hpp"
 #include "render/effect_registry.hpp"
 #include "platform/context.hpp"
 #include "render/features.hpp"
@@ -155,13 +154,11 @@ int cmd_info(const Args& args) {
     std::printf("planned passes:\n");
     for (const PlannedPass& pass : plan_passes(features, settings))
         std::printf("  %-22s %s\n", pass.name.c_str(), pass.why.c_str());
-    // The reflection probes as the first frame from this camera plans them.
-    if (features.decision("reflections").planned) {
-        std::string summary;
-        const glm::mat4 view_proj = projection_matrix(view_camera, aspect) * glm::inverse(view_camera.world);
-        place_probes(scene, {}, settings.get<ReflectionsOptions>(), &view_proj, &summary);
-        std::printf("reflection probes: %s\n", summary.c_str());
-    }
+    // What each planned effect adds about its plan for this view (e.g. where its probes go).
+    const glm::mat4 view_proj = projection_matrix(view_camera, aspect) * glm::inverse(view_camera.world);
+    for (const EffectDecision* d : features.effects())
+        if (const Effect* e = find_effect(d->name); e && d->planned)
+            for (const std::string& line : e->info_lines(scene, settings, view_proj)) std::printf("%s\n", line.c_str());
     return 0;
 }
 

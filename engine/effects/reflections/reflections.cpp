@@ -387,6 +387,12 @@ public:
     const char* shading_include() const override { return "effects/reflections/reflections_shading.glsl"; }
     std::unique_ptr<EffectRuntime> create_runtime() const override { return std::make_unique<ReflectionsRuntime>(); }
     std::vector<AccuracySweep> accuracy_sweeps(bool quick) const override { return reflections_accuracy_sweeps(quick); }
+    // The probes as the first frame from this view places them.
+    std::vector<std::string> info_lines(const Scene& scene, const RenderSettings& s, const glm::mat4& view_proj) const override {
+        std::string summary;
+        place_probes(scene, {}, s.get<ReflectionsOptions>(), &view_proj, &summary);
+        return {"reflection probes: " + summary};
+    }
 };
 
 }  // namespace
