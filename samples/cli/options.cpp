@@ -85,7 +85,7 @@ std::string usage_text() {
         "         --raytrace renders with the compute-shader ray tracer instead: --spp samples per\n"
         "         pixel (default 16), --max-depth bounces (whitted 5; path: no cap, Russian\n"
         "         roulette ends paths; a set N drops light after N bounces, a bias), --seed,\n"
-        "         --spp-shard K/N computes the samples s with s %% N == K (alpha holds the\n"
+        "         --spp-shard K/N computes the samples s with s % N == K (alpha holds the\n"
         "         sample count; `compare --batches` tests such batches statistically) and\n"
         "         --time-limit S stops at a sample boundary and still writes the image.\n"
         "         --shader-dir DIR reads the GLSL sources from DIR instead of the built-in shaders/.\n"
