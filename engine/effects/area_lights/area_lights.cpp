@@ -136,6 +136,7 @@ public:
         gpu::AreaLightsData d{};
         d.method = o.method == AreaLightMethod::ltc ? 1 : 0;
         d.ltc_size = ltc::kTableSize;
+        d.residual = o.residual ? 1 : 0;
         if (d.method == 1) {
             if (built_for_ != &p.gpu || built_samples_ != o.samples) {
                 const std::vector<PolygonLightGpu> polys = polygon_lights(p.gpu.scene(), p.gpu, o.samples);
@@ -215,6 +216,8 @@ public:
                      "pieces per emissive mesh: its shadow maps (ltc) or its Lambertian point lights (pieces)")
             .choice("method", &AreaLightsOptions::method, kAreaLightMethods,
                     "ltc: emissive triangles as polygon lights (exact unshadowed, LTC specular), pieces: point lights")
+            .boolean("residual", &AreaLightsOptions::residual,
+                     "ltc: add the specular the fitted lobe misses (tails, grazing views), measured on 3x3 cells of each polygon")
             .rows;
     }
     std::vector<std::string> knob_groups() const override { return {"arealight"}; }

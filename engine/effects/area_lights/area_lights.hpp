@@ -7,7 +7,9 @@
 //   2016; the table: ltc.hpp, fitted by effects/area_lights/ltc_fit). The pieces only cast shadows, applied
 //   as the ratio of their shadowed to unshadowed estimates (Heitz, Hill & McGuire 2018), so an
 //   unoccluded point gets exactly the LTC value. A textured emitter shades with its texture's
-//   average over each triangle.
+//   average over each triangle. What the fitted lobe misses (GGX's tails near the horizon, its
+//   shape at grazing views) is added back as a residual measured on cells
+//   (arealight.residual: 3x3 cells of each polygon; area_lights_shading.glsl).
 // - pieces: the pieces themselves shade, as Lambertian point lights (the old approximation,
 //   kept for comparison in `bench accuracy`).
 // It has no pass of its own: the lighting passes read the light buffer and the polygons. It is
@@ -28,6 +30,7 @@ inline constexpr ChoiceName<AreaLightMethod> kAreaLightMethods[] = {{"ltc", Area
 struct AreaLightsOptions {
     int samples = 4;  // [1, 64] shadowed pieces per emissive primitive
     AreaLightMethod method = AreaLightMethod::ltc;
+    bool residual = true;  // ltc: add the lobe's part the fit misses, measured on cells of each polygon
 };
 
 const Effect& area_lights_effect();

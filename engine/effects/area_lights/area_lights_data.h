@@ -12,7 +12,7 @@ GPU_BLOCK(AreaLightsData, AREA_LIGHTS_BINDING) {
     int method;         // 0: the pieces shade (arealight.method=pieces); 1: LTC polygons
     int polygon_count;  // PolygonLight entries (method 1)
     int ltc_size;       // the LTC table's side
-    int pad;
+    int residual;       // 1: the LTC's residual measured on cells of each polygon (arealight.residual)
 } GPU_BLOCK_INSTANCE(area_lights);
 GPU_BLOCK_CHECK(AreaLightsData, 16)
 

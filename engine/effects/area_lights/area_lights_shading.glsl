@@ -114,6 +114,52 @@ float area_visibility(int first, int count, vec3 p, vec3 n, vec2 pixel) {
     return count > 0 ? plain / float(count) : 1.0;
 }
 
+// The specular the LTC misses over one polygon (a control variate): the lobe's integral over the
+// polygon is the LTC's plus that of the residual f cos - norm D_ltc. Here the polygon is cut into
+// kResidualCells^2 cells (a triangle is the quad p0 p1 p2 p2); on each, the lobe's integral is
+// taken by the midpoint rule and the LTC's exactly, so the residual carries the quadrature's error
+// of the true lobe alone. A clamped cosine cannot take GGX's shape at grazing views nor its tail
+// near the horizon, where f cos stays finite while every cosine goes to 0: a large emitter seen
+// only in a smooth metal's tail was 5x too dark, a quad towards the viewer of a grazing rough
+// metal 1.5x too bright. Where the midpoint cannot resolve the lobe (its value times the cell's
+// solid angle is more than kResidualShare of the lobe's albedo: a sharp highlight) the cell's
+// residual fades out and the LTC answers there. Returns the residual with F = 1, in units of
+// the polygon's radiance; the caller weighs it with its specular Fresnel.
+const int kResidualCells = 3;
+const float kResidualShare = 0.03;
+const float kResidualMinSpecular = 0.1;
+vec3 residual_corner(vec3 a, vec3 b, vec3 c, vec3 d, int i, int j) {
+    float u = float(i) / float(kResidualCells), t = float(j) / float(kResidualCells);
+    return mix(mix(a, b, u), mix(d, c, u), t);
+}
+float ltc_residual(vec3 a, vec3 b, vec3 c, vec3 d, float two_sided, vec3 n, vec3 v, float alpha, mat3 m_inv, float norm) {
+    float NdotV = dot(n, v);
+    if (NdotV <= 0.0) return 0.0;  // brdf.glsl's lobe is 0 there
+    float sum = 0.0;
+    for (int j = 0; j < kResidualCells; ++j)
+        for (int i = 0; i < kResidualCells; ++i) {
+            vec3 c00 = residual_corner(a, b, c, d, i, j), c10 = residual_corner(a, b, c, d, i + 1, j);
+            vec3 c11 = residual_corner(a, b, c, d, i + 1, j + 1), c01 = residual_corner(a, b, c, d, i, j + 1);
+            vec3 q = 0.25 * (c00 + c10 + c11 + c01);  // relative to the shaded point
+            vec3 area = 0.5 * cross(c11 - c00, c01 - c10);  // the cell's area-weighted normal (winding's side)
+            float dist2 = dot(q, q);
+            if (!(dist2 > 0.0)) continue;
+            vec3 l = q * inversesqrt(dist2);
+            float cos_e = -dot(area, l);
+            if (two_sided > 0.5) cos_e = abs(cos_e);
+            float NdotL = dot(n, l);
+            float f = 0.0;
+            if (NdotL > 0.0 && cos_e > 0.0) {
+                vec3 h = normalize(l + v);
+                f = D_GGX(saturate(dot(n, h)), alpha) * V_SmithGGXCorrelated(NdotL, NdotV, alpha) * NdotL * cos_e / dist2;
+            }
+            float g = norm * abs(ltc_polygon_vector(m_inv * c00, m_inv * c10, m_inv * c11, m_inv * c01, true).z);
+            float weight = saturate(1.0 - max(f, g) / (max(norm, 1e-4) * kResidualShare));
+            sum += (f - g) * weight;
+        }
+    return sum;
+}
+
 // Light from the polygon lights towards v, with each emitter's visibility ratio.
 vec3 shade_area_lights(BrdfInput bi, vec3 p, vec3 n, vec3 v, vec2 pixel, float transmission) {
     if (area_lights.method != 1 || area_lights.polygon_count == 0) return vec3(0.0);
@@ -128,6 +174,12 @@ vec3 shade_area_lights(BrdfInput bi, vec3 p, vec3 n, vec3 v, vec2 pixel, float t
     mat3 m_inv_local = ltc_matrix(bi.roughness, max(NdotV, 1e-4), amplitude);
     mat3 m_local = inverse(m_inv_local);
     mat3 m_inv = m_inv_local * to_local;
+    // The residual changes a pixel by at most its specular reflectance times the lobe's mismatch:
+    // where that reflectance (Schlick's at the view's angle) is under kResidualMinSpecular, as on
+    // a dielectric seen away from grazing, the residual is not worth its cells.
+    vec3 spec_view = mix(F_Schlick(dielectric_f0(bi), vec3(dielectric_f90(bi)), NdotV), F_Schlick(bi.base_color, vec3(1.0), NdotV), bi.metallic);
+    bool with_residual = area_lights.residual != 0 && max(spec_view.r, max(spec_view.g, spec_view.b)) >= kResidualMinSpecular;
+    float alpha = brdf_alpha(bi.roughness);
     vec3 f0_d = dielectric_f0(bi);
     float f90_d = dielectric_f90(bi);
     vec3 sum = vec3(0.0);
@@ -170,7 +222,12 @@ vec3 shade_area_lights(BrdfInput bi, vec3 p, vec3 n, vec3 v, vec2 pixel, float t
         float VdotH = saturate(dot(v_local, normalize(v_local + l_mean)));
         vec3 dielectric = (1.0 - F_Schlick(f0_d, vec3(f90_d), VdotH)) * bi.base_color * diffuse * (1.0 - transmission) + spec_d * specular;
         vec3 metal = spec_m * specular;
-        group_sum += pl.radiance * mix(dielectric, metal, bi.metallic);
+        vec3 light = mix(dielectric, metal, bi.metallic);
+        if (with_residual) {
+            float r = ltc_residual(a, b, c, quad ? d : c, pl.double_sided, n, v, alpha, m_inv, amplitude.x);
+            light = max(light + mix(spec_d, spec_m, bi.metallic) * r, vec3(0.0));
+        }
+        group_sum += pl.radiance * light;
     }
     return sum;
 }
