@@ -40,6 +40,8 @@ GPU_BLOCK(RtFrame, RT_FRAME_BINDING) {
                                   // (path/direct: Options::camera_sees_emission)
     float dielectric_highlights;  // 1: dielectric interfaces reflect the punctual lights
                                   // (path/direct: Options::dielectric_highlights)
+    float caustics_only;          // 1: path counts caustic paths alone (Options::caustics_only)
+    float pad0, pad1, pad2;
     // The thin lens (depth of field): lens_x / lens_y.xyz the lens disk's axes (the camera's x and
     // y) scaled by its radius, lens_x.w the radius (0: a pinhole), lens_y.w the focus distance
     // along lens_axis.xyz (the view axis, unit length). Zero unless has_thin_lens(camera).
@@ -47,7 +49,7 @@ GPU_BLOCK(RtFrame, RT_FRAME_BINDING) {
     vec4 lens_y;
     vec4 lens_axis;
 } GPU_BLOCK_INSTANCE(rt);
-GPU_BLOCK_CHECK(RtFrame, 240)
+GPU_BLOCK_CHECK(RtFrame, 256)
 
 GPU_NAMESPACE_END
 

@@ -37,6 +37,11 @@ ModeProgram mode_program(Mode mode);
 // The default depth of `path`: no cap in practice. Russian roulette survives with probability at
 // most 0.95 from the fourth bounce, so a path reaches this depth with probability < 0.95^(2^20).
 inline constexpr int kUnboundedDepth = 1 << 20;
+// Options::caustics_only: a metal smoother than this is a mirror (shaders/rt/modes/path.comp has
+// the same constant). It is the reflection effect's default reflections.max_roughness: the raster
+// shows such a metal's surroundings with reflection probes, and its GI probes cannot carry the
+// light it throws onto other surfaces (a probe ray meets a mirror's light only along one line).
+inline constexpr float kCausticMirrorRoughness = 0.3f;
 
 struct Options {
     Mode mode = Mode::path;
@@ -71,6 +76,11 @@ struct Options {
     // the light that reaches it or by the lit things it shows, and the faint tail of a highlight
     // over every glass pixel would count the glass as lit.
     bool dielectric_highlights = true;
+    // path: count only caustic paths, those that leave the first diffuse or glossy surface the
+    // camera sees through glass or off a mirror (a metal smoother than kCausticMirrorRoughness)
+    // and reach a light with nothing else between: the light the raster has no way to carry
+    // (view_light.hpp, measure_caustics).
+    bool caustics_only = false;
     // visibility mode: the light (debug.light); >= the punctual count: all emissive triangles.
     int visibility_light = 0;
     bool progress = false;      // progress bar with ETA on stderr
@@ -152,6 +162,8 @@ public:
     // Changes the seed for the next render: independent full renders from one tracer (the motion
     // blur test's batches, each a complete stratification of the shutter).
     void set_seed(std::uint32_t seed) { options_.seed = seed; }
+    // Options::caustics_only for the next render (path mode).
+    void set_caustics_only(bool on) { options_.caustics_only = on; }
     // Changes the bounce limit of path mode for the next render (1: direct light only); a later
     // set_mode applies the mode's rules to it as the constructor does to Options::max_depth.
     void set_max_depth(int depth);

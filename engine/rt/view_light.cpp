@@ -167,4 +167,65 @@ ViewLight measure_view_light(const ShaderLibrary& shaders, const Scene& scene, G
     return v;
 }
 
+std::string Caustics::text() const {
+    char buf[400];
+    std::snprintf(buf, sizeof buf,
+                  "%.1f %% +- %.1f %% of the light on the image's surfaces comes through glass or off a mirror after the first "
+                  "surface (%dx%d px x %d spp; %.0f ms)%s",
+                  share * 100.0, stderr_share * 100.0, width, height, spp, ms,
+                  share >= 0.005 ? ": the raster draws no caustics, so its image is darker there by about that share" : "");
+    return buf;
+}
+
+bool can_have_caustics(const Scene& scene) {
+    for (const Material& m : scene.materials)
+        if (m.transmission > 0.0f || (m.metallic > 0.5f && m.roughness < rt::kCausticMirrorRoughness)) return true;
+    return false;
+}
+
+Caustics measure_caustics(const ShaderLibrary& shaders, const Scene& scene, GpuScene& gpu, const Camera& camera, float aspect,
+                          int spp, int pixels) {
+    const auto t0 = std::chrono::steady_clock::now();
+    Caustics c;
+    const double a = std::isfinite(aspect) && aspect > 0.0f ? std::clamp(static_cast<double>(aspect), 1.0 / 16.0, 16.0) : 1.0;
+    const double target = std::max(16, pixels);
+    c.width = std::max(4, static_cast<int>(std::lround(std::sqrt(target * a))));
+    c.height = std::max(4, static_cast<int>(std::lround(target / static_cast<double>(c.width))));
+    c.spp = spp;
+    // kBatches independent batches (seeds) of spp / kBatches samples: the share of each, their
+    // mean, and its standard error from their spread.
+    constexpr int kBatches = 4;
+    rt::Options o;
+    o.mode = rt::Mode::path;
+    o.spp = std::max(1, spp / kBatches);
+    o.tile_rows = c.height;
+    o.camera_sees_emission = false;  // the light the surfaces reflect, as measure_view_light
+    rt::RayTracer tracer(shaders, scene, gpu, o);
+    auto sum = [](const ImageF& img) {
+        double total = 0.0;
+        for (size_t i = 0; i + 2 < img.pixels.size(); i += static_cast<size_t>(img.channels)) {
+            const double l = 0.2126 * img.pixels[i] + 0.7152 * img.pixels[i + 1] + 0.0722 * img.pixels[i + 2];
+            total += std::isfinite(l) ? l : 0.0;
+        }
+        return total;
+    };
+    std::vector<double> shares;
+    for (int b = 0; b < kBatches; ++b) {
+        tracer.set_seed(static_cast<std::uint32_t>(1 + b));
+        tracer.set_caustics_only(false);
+        const double all = sum(tracer.render(camera, c.width, c.height).image);
+        tracer.set_caustics_only(true);
+        const double caustic = sum(tracer.render(camera, c.width, c.height).image);
+        shares.push_back(all > 0.0 ? std::clamp(caustic / all, 0.0, 1.0) : 0.0);
+    }
+    double mean = 0.0, var = 0.0;
+    for (double x : shares) mean += x / kBatches;
+    for (double x : shares) var += (x - mean) * (x - mean) / (kBatches - 1);
+    c.spp = o.spp * kBatches;
+    c.share = mean;
+    c.stderr_share = std::sqrt(var / kBatches);
+    c.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    return c;
+}
+
 }  // namespace candela

@@ -69,4 +69,22 @@ double scattering_albedo_bound(const Scene& scene);
 ViewLight measure_view_light(const ShaderLibrary& shaders, const Scene& scene, GpuScene& gpu, const Camera& camera, float aspect,
                              int spp = 8, int pixels = kViewLightPixels);
 
+// Caustics, the light the raster cannot carry: the share of the light the surfaces in view
+// reflect that reaches them through glass or off a mirror (rt::Options::caustics_only: the first
+// diffuse or glossy surface on a camera ray, then only glass or mirrors, then a light). The raster
+// draws none of it, so it is what a raster image misses there. Found by the tracer's BRDF
+// sampling (and next-event estimation at a mirror), so it is noisy at few samples: the share is
+// the mean of 4 independent batches and stderr_share its standard error from their spread.
+struct Caustics {
+    int width = 0, height = 0, spp = 0;
+    double share = 0.0, stderr_share = 0.0;
+    double ms = 0.0;
+    std::string text() const;
+};
+// Whether the scene has anything a caustic could pass: a transmissive material or a metal
+// smoother than rt::kCausticMirrorRoughness.
+bool can_have_caustics(const Scene& scene);
+Caustics measure_caustics(const ShaderLibrary& shaders, const Scene& scene, GpuScene& gpu, const Camera& camera, float aspect,
+                          int spp = 32, int pixels = kViewLightPixels);
+
 }  // namespace candela

@@ -13,6 +13,7 @@
 #include "render/gpu_scene.hpp"
 #include "shader/shader_library.hpp"
 #include "render/settings.hpp"
+#include "rt/view_light.hpp"
 #include "rt/view_lighting.hpp"
 
 namespace candela::cli {
@@ -135,6 +136,17 @@ int cmd_info(const Args& args) {
             std::printf("%s: %s\n", e->view_estimate(settings), v.text.c_str());
         } else {
             std::printf("%s: none (no usable OpenGL: %s)\n", e->view_estimate(settings), ctx.error.c_str());
+        }
+    }
+    // Caustics: what no raster effect carries, measured where glass or a mirror could pass one.
+    if (shaders && can_have_caustics(scene)) {
+        try {
+            GpuScene gpu(scene);
+            const Caustics c = measure_caustics(*shaders, scene, gpu, scene.select_camera(camera_choice, aspect), aspect);
+            std::printf("caustics: %s\n", c.text().c_str());
+        } catch (const Error& error) {
+            if (error.code() == ExitCode::internal) throw;
+            std::printf("caustics: not measured (%s)\n", error.what());
         }
     }
     const Camera view_camera = scene.select_camera(camera_choice, aspect);  // its lens plans depth of field

@@ -304,6 +304,49 @@ TEST_P(ViewLightTest, AGlassVertexIsNoBounce) {
     EXPECT_LT(v.indirect_share, GiOptions{}.threshold) << "GI would run for 0.5 % of indirect light";
 }
 
+// Caustics (measure_caustics): the open room's lamp over a 1 m panel on the floor. A mirror panel
+// throws the lamp's light onto the ceiling, a glass slab lets it through to the floor below it:
+// light that reaches the surfaces in view only through glass or off a mirror, which the raster
+// cannot draw. A diffuse panel has none at all (the tracer counts no path then: exactly 0).
+TEST_P(ViewLightTest, CausticsAreTheLightThroughGlassOrOffAMirror) {
+    const float aspect = 64.0f / 48.0f;
+    auto with_panel = [](const char* name, float metallic, float roughness, float transmission) {
+        Scene scene = open_room_lit_by_an_emitter();
+        Material m = lambert_material(name, glm::vec3(0.9f));
+        m.metallic = metallic;
+        m.roughness = roughness;
+        m.transmission = transmission;
+        scene.materials.push_back(m);
+        Primitive panel;
+        panel.material = static_cast<int>(scene.materials.size()) - 1;
+        append_box(panel, {-0.5f, 0.2f, -0.5f}, {0.5f, 0.3f, 0.5f});
+        add_mesh_node(scene, name, std::move(panel));
+        scene.update_world_transforms();
+        return scene;
+    };
+    struct Case {
+        const char* name;
+        float metallic, roughness, transmission;
+        bool caustic;
+    };
+    for (const Case& c : {Case{"mirror", 1.0f, 0.05f, 0.0f, true}, Case{"glass", 0.0f, 0.0f, 1.0f, true},
+                          Case{"diffuse", 0.0f, 1.0f, 0.0f, false}}) {
+        SCOPED_TRACE(c.name);
+        const Scene scene = with_panel(c.name, c.metallic, c.roughness, c.transmission);
+        EXPECT_EQ(can_have_caustics(scene), c.caustic);
+        GpuScene gpu(scene);
+        const Caustics k = measure_caustics(lib_, scene, gpu, scene.select_camera("", aspect), aspect, 256);
+        std::printf("%s panel: caustics %s\n", c.name, k.text().c_str());
+        ASSERT_TRUE(std::isfinite(k.share) && std::isfinite(k.stderr_share));
+        if (c.caustic) {
+            EXPECT_GT(k.share, 0.01);
+            EXPECT_GT(k.share, 4.0 * k.stderr_share) << "not told from noise";
+        } else {
+            EXPECT_EQ(k.share, 0.0);
+        }
+    }
+}
+
 INSTANTIATE_TEST_SUITE_P(Backends, ViewLightTest, ::testing::Values(Backend::egl, Backend::osmesa), test::backend_name);
 
 }  // namespace

@@ -29,6 +29,9 @@ struct PathState {
     vec3 throughput;
     float last_brdf_pdf;  // 0: the last bounce was specular-delta or the camera
     int depth;
+    // rt.caustics_only: 0 before the first diffuse or glossy vertex, 1 after it, 2 once a glass
+    // or mirror vertex followed it (every later vertex glass or a mirror too: a caustic path).
+    int caustic_phase;
 #ifdef HAS_BLEND
     int layers;
 #endif
@@ -42,11 +45,17 @@ PathState path_start(ivec2 pixel, uint index, uint sample_index) {
     p.throughput = vec3(1.0);
     p.last_brdf_pdf = 0.0;
     p.depth = 0;
+    p.caustic_phase = 0;
 #ifdef HAS_BLEND
     p.layers = 0;
 #endif
     return p;
 }
+
+// rt.caustics_only (ray_tracer.hpp): a metal smoother than this is a mirror (kCausticMirrorRoughness).
+const float kCausticMirrorRoughness = 0.3;
+// Whether light reaching the path now is counted: always, or only on a caustic path.
+bool counted(PathState p) { return rt.caustics_only == 0.0 || p.caustic_phase == 2; }
 
 // One vertex of the path: the closest hit along p.ray, its emission, direct light and the next
 // direction. Returns true when the path has ended (p.sum is then the sample's radiance).
@@ -57,7 +66,7 @@ bool path_step(inout PathState p) {
     // light that surfaces reflect (the planner's view measurements).
     bool seen = p.depth > 0 || rt.camera_hides_emission == 0.0;
     if (hit.prim < 0) {
-        if (!seen) return true;
+        if (!seen || !counted(p)) return true;
         float w = 1.0;
 #ifdef HAS_ENV_MAP_SAMPLING
         if (p.last_brdf_pdf > 0.0) w = power_heuristic(p.last_brdf_pdf, env_pdf(p.ray.dir));
@@ -81,12 +90,12 @@ bool path_step(inout PathState p) {
 #endif
 #ifdef MATERIAL_LAYERS
     if (surface_unlit(s)) {
-        if (seen) p.sum += p.throughput * unlit_color(s);
+        if (seen && counted(p)) p.sum += p.throughput * unlit_color(s);
         return true;
     }
 #endif
     vec3 Le = emitted(s);
-    if (seen && max(Le.r, max(Le.g, Le.b)) > 0.0) {
+    if (seen && counted(p) && max(Le.r, max(Le.g, Le.b)) > 0.0) {
         float w = 1.0;
 #ifdef HAS_EMITTERS
         if (p.last_brdf_pdf > 0.0) w = power_heuristic(p.last_brdf_pdf, emitter_pdf(p.ray, hit, s));
@@ -109,7 +118,8 @@ bool path_step(inout PathState p) {
         // 1e-3 lobe finds (noise, not a reference), and which the raster does not model; it is
         // left out like the caustic through the glass.
         BrdfInput mi = brdf_input(s);
-        if (rt.dielectric_highlights != 0.0 && p.last_brdf_pdf == 0.0 && (s.front || material_thin(s.material)))
+        if (p.caustic_phase == 1) p.caustic_phase = 2;
+        if (rt.dielectric_highlights != 0.0 && counted(p) && p.last_brdf_pdf == 0.0 && (s.front || material_thin(s.material)))
             p.sum += p.throughput * direct_punctual_specular(s, mi, v);
         vec3 l, w;
         bool below;
@@ -121,12 +131,22 @@ bool path_step(inout PathState p) {
     }
 #endif
     BrdfInput m = brdf_input(s);
-    p.sum += p.throughput * direct_punctual(s, m, v);
+    if (rt.caustics_only != 0.0) {
+        bool mirror = m.metallic > 0.5 && m.roughness < kCausticMirrorRoughness;
+        if (p.caustic_phase >= 1 && !mirror) return true;  // a second diffuse vertex: no caustic
+        if (p.caustic_phase == 1) p.caustic_phase = 2;
+        // The first diffuse vertex's own direct light is no caustic; its light through glass or
+        // off a mirror, found from here on, is. A mirror before it is the camera's view.
+        if (p.caustic_phase == 0 && !mirror) p.caustic_phase = 1;
+    }
+    if (counted(p)) {
+        p.sum += p.throughput * direct_punctual(s, m, v);
 #ifdef HAS_EMITTERS
-    p.sum += p.throughput * direct_emitters(s, m, v, p.rng, true);
+        p.sum += p.throughput * direct_emitters(s, m, v, p.rng, true);
 #endif
+    }
 #ifdef HAS_ENV_MAP_SAMPLING
-    {
+    if (counted(p)) {
         float pdf_env;
         vec3 le = sample_env(p.rng, pdf_env);
         vec3 fc = pdf_env > 0.0 ? brdf_cos_folded(m, s, le, v) : vec3(0.0);
