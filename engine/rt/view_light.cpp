@@ -8,6 +8,7 @@
 
 #include <glm/glm.hpp>
 
+#include "image/image.hpp"
 #include "rt/ray_tracer.hpp"
 
 namespace candela {
@@ -171,8 +172,8 @@ std::string Caustics::text() const {
     char buf[400];
     std::snprintf(buf, sizeof buf,
                   "%.1f %% +- %.1f %% of the light on the image's surfaces comes through glass or off a mirror after the first "
-                  "surface (%dx%d px x %d spp; %.0f ms)%s",
-                  share * 100.0, stderr_share * 100.0, width, height, spp, ms,
+                  "surface, %.4f of display over 4x4 blocks (%dx%d px x %d spp; %.0f ms)%s",
+                  share * 100.0, stderr_share * 100.0, display_error, width, height, spp, ms,
                   share >= 0.005 ? ": the raster draws no caustics, so its image is darker there by about that share" : "");
     return buf;
 }
@@ -210,13 +211,40 @@ Caustics measure_caustics(const ShaderLibrary& shaders, const Scene& scene, GpuS
         return total;
     };
     std::vector<double> shares;
+    ImageF all_mean(c.width, c.height, 4), caustic_mean(c.width, c.height, 4);
+    auto add = [](ImageF& to, const ImageF& img) {
+        for (size_t i = 0; i < to.pixels.size() && i < img.pixels.size(); ++i)
+            to.pixels[i] += std::isfinite(img.pixels[i]) ? img.pixels[i] / kBatches : 0.0f;
+    };
     for (int b = 0; b < kBatches; ++b) {
         tracer.set_seed(static_cast<std::uint32_t>(1 + b));
         tracer.set_caustics_only(false);
-        const double all = sum(tracer.render(camera, c.width, c.height).image);
+        const ImageF all = tracer.render(camera, c.width, c.height).image;
         tracer.set_caustics_only(true);
-        const double caustic = sum(tracer.render(camera, c.width, c.height).image);
-        shares.push_back(all > 0.0 ? std::clamp(caustic / all, 0.0, 1.0) : 0.0);
+        const ImageF caustic = tracer.render(camera, c.width, c.height).image;
+        add(all_mean, all);
+        add(caustic_mean, caustic);
+        const double sa = sum(all), sc = sum(caustic);
+        shares.push_back(sa > 0.0 ? std::clamp(sc / sa, 0.0, 1.0) : 0.0);
+    }
+    // The display error of an image without the caustics: 4x4 block means of the display values
+    // (exposure 0) of the tracer's image and of that image less its caustic light.
+    {
+        ImageF without = all_mean;
+        for (size_t i = 0; i < without.pixels.size(); ++i) without.pixels[i] = std::max(0.0f, all_mean.pixels[i] - caustic_mean.pixels[i]);
+        const ImageF da = to_display(all_mean, 0.0f), db = to_display(without, 0.0f);
+        double total = 0.0;
+        int blocks = 0;
+        for (int by = 0; by + 4 <= c.height; by += 4)
+            for (int bx = 0; bx + 4 <= c.width; bx += 4) {
+                double d = 0.0;
+                for (int y = by; y < by + 4; ++y)
+                    for (int x = bx; x < bx + 4; ++x)
+                        for (int k = 0; k < 3; ++k) d += (da.at(x, y)[k] - db.at(x, y)[k]) / 48.0;
+                total += std::fabs(d);
+                ++blocks;
+            }
+        c.display_error = blocks > 0 ? total / blocks : 0.0;
     }
     double mean = 0.0, var = 0.0;
     for (double x : shares) mean += x / kBatches;

@@ -78,6 +78,10 @@ ViewLight measure_view_light(const ShaderLibrary& shaders, const Scene& scene, G
 struct Caustics {
     int width = 0, height = 0, spp = 0;
     double share = 0.0, stderr_share = 0.0;
+    // Mean |display difference| over 4x4 blocks (exposure 0) between the tracer's image and the
+    // same less its caustics: the error-budget's measure of what a raster image without caustics
+    // misses at least (--error-budget takes it as a floor of every raster candidate's error).
+    double display_error = 0.0;
     double ms = 0.0;
     std::string text() const;
 };

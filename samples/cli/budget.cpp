@@ -1,11 +1,14 @@
 // --error-budget: the choice of settings for a budget (engine/accuracy/error_budget.hpp).
 #include "budget.hpp"
 
+#include <algorithm>
 #include <cstdio>
 
 #include "accuracy/error_budget_measure.hpp"
 #include "core/error.hpp"
+#include "render/gpu_scene.hpp"
 #include "render/settings.hpp"
+#include "rt/view_light.hpp"
 
 namespace candela::cli {
 
@@ -44,7 +47,22 @@ budget::Choice choose_for_scene(const BudgetRequest& r, const Scene& scene, cons
                                 int width, int height, bool all_candidates, std::string& text) {
     const float aspect = static_cast<float>(width) / static_cast<float>(height);
     const budget::SceneStats stats = budget::scene_stats(scene, shaders, with_lens(scene.select_camera(camera, aspect), RenderSettings{}), aspect);
-    const budget::Choice c = budget::choose(budget::predict(r.model, stats), r.budget);
+    std::vector<budget::Prediction> predictions = budget::predict(r.model, stats);
+    // Caustics: no raster candidate draws them, so what the image loses without them is a floor
+    // of every raster candidate's error (view_light.hpp, measure_caustics).
+    std::string caustics_line;
+    if (can_have_caustics(scene)) {
+        try {
+            GpuScene gpu(scene);
+            const Caustics k = measure_caustics(shaders, scene, gpu, scene.select_camera(camera, aspect), aspect);
+            for (budget::Prediction& pr : predictions) pr.error = std::max(pr.error, k.display_error);
+            caustics_line = "error budget caustics: " + k.text() + "; every raster candidate's predicted error is at least " +
+                            format_number("%.4f", k.display_error) + "\n";
+        } catch (const Error& error) {
+            if (error.code() == ExitCode::internal) throw;
+        }
+    }
+    const budget::Choice c = budget::choose(predictions, r.budget);
     const budget::Model& m = r.model;
     text.clear();
     auto line = [&text](const char* format, auto... args) {
@@ -57,6 +75,7 @@ budget::Choice choose_for_scene(const BudgetRequest& r, const Scene& scene, cons
     line("error budget statistics: indirect %.3f, coverage %.3f, punctual %g, shadowed %g, emissive %g, environment %g, metal %g, transmission %g, blend %g\n",
                  stats.indirect, stats.coverage, stats.punctual, stats.shadowed, stats.emissive, stats.environment, stats.metal,
                  stats.transmission, stats.blend);
+    text += caustics_line;
     if (all_candidates) {
         line("error budget candidates (%zu):\n", c.predictions.size() + 1);
         for (size_t i = 0; i < c.predictions.size(); ++i) {
