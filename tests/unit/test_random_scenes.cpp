@@ -38,6 +38,7 @@
 #include "image/image.hpp"
 #include "render/features.hpp"
 #include "render/program_cache.hpp"
+#include "rt/view_light.hpp"
 #include "rt/view_lighting.hpp"
 #include "render/still.hpp"
 #include "rt/ray_tracer.hpp"
@@ -51,6 +52,9 @@ namespace {
 namespace fs = std::filesystem;
 
 constexpr int kW = 64, kH = 48;
+// A failing seed whose caustics are at least this share of the seen surfaces' light is tagged
+// "caustics" (a class of the large run's report: what the raster cannot follow).
+constexpr double kCausticTag = 0.02;
 constexpr int kSeeds = 64, kShards = 8;
 // The tracer's references: kBatches batches of kSpp / kBatches samples each. At 64 samples the
 // standard error of a reference's image mean is typically 0.1-0.5 % of it, far below the 8 % it
@@ -738,6 +742,15 @@ public:
             check(path_box.mean, &path_box.se, "path (box-filtered)", &bo);
         }
 
+        // A failing seed's caustics (rt/view_light.hpp), the light no raster effect carries: the
+        // large run's report reads a failure with caustics of at least kCausticTag of the seen
+        // surfaces' light as that class (tests/tools/random_rate.py).
+        if (!out.failed.empty() && can_have_caustics(scene)) {
+            GpuScene gpu(scene);
+            const Caustics c = measure_caustics(lib_, scene, gpu, camera, static_cast<float>(kW) / kH);
+            out.summary += "; caustics " + c.text();
+            if (c.share >= kCausticTag) out.tags.insert("caustics");
+        }
         out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         if (!out.failed.empty() || std::getenv("CANDELA_RANDOM_WRITE_ALL")) {
             const fs::path dir = out_dir();
