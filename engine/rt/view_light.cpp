@@ -45,14 +45,23 @@ double scattering_albedo_bound(const Scene& scene) {
     return bound;
 }
 
+namespace {
+// About `pixels` pixels at the aspect (clamped to 1/16..16; 1 when not finite), at least 4 each way.
+glm::ivec2 measurement_size(float aspect, int pixels) {
+    const double a = std::isfinite(aspect) && aspect > 0.0f ? std::clamp(static_cast<double>(aspect), 1.0 / 16.0, 16.0) : 1.0;
+    const double target = std::max(16, pixels);
+    const int width = std::max(4, static_cast<int>(std::lround(std::sqrt(target * a))));
+    return {width, std::max(4, static_cast<int>(std::lround(target / static_cast<double>(width))))};
+}
+}  // namespace
+
 ViewLight measure_view_light(const ShaderLibrary& shaders, const Scene& scene, GpuScene& gpu, const Camera& camera, float aspect,
                              int spp, int pixels) {
     const auto t0 = std::chrono::steady_clock::now();
     ViewLight v;
-    const double a = std::isfinite(aspect) && aspect > 0.0f ? std::clamp(static_cast<double>(aspect), 1.0 / 16.0, 16.0) : 1.0;
-    const double target = std::max(16, pixels);
-    v.width = std::max(4, static_cast<int>(std::lround(std::sqrt(target * a))));
-    v.height = std::max(4, static_cast<int>(std::lround(target / static_cast<double>(v.width))));
+    const glm::ivec2 size = measurement_size(aspect, pixels);
+    v.width = size.x;
+    v.height = size.y;
     v.spp = spp;
     rt::Options o;
     o.mode = rt::Mode::direct;
@@ -188,10 +197,9 @@ Caustics measure_caustics(const ShaderLibrary& shaders, const Scene& scene, GpuS
                           int spp, int pixels) {
     const auto t0 = std::chrono::steady_clock::now();
     Caustics c;
-    const double a = std::isfinite(aspect) && aspect > 0.0f ? std::clamp(static_cast<double>(aspect), 1.0 / 16.0, 16.0) : 1.0;
-    const double target = std::max(16, pixels);
-    c.width = std::max(4, static_cast<int>(std::lround(std::sqrt(target * a))));
-    c.height = std::max(4, static_cast<int>(std::lround(target / static_cast<double>(c.width))));
+    const glm::ivec2 size = measurement_size(aspect, pixels);
+    c.width = size.x;
+    c.height = size.y;
     c.spp = spp;
     // kBatches independent batches (seeds) of spp / kBatches samples: the share of each, their
     // mean, and its standard error from their spread.
