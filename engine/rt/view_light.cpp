@@ -210,50 +210,27 @@ Caustics measure_caustics(const ShaderLibrary& shaders, const Scene& scene, GpuS
     o.tile_rows = c.height;
     o.camera_sees_emission = false;  // the light the surfaces reflect, as measure_view_light
     rt::RayTracer tracer(shaders, scene, gpu, o);
-    auto sum = [](const ImageF& img) {
-        double total = 0.0;
-        for (size_t i = 0; i + 2 < img.pixels.size(); i += static_cast<size_t>(img.channels)) {
-            const double l = 0.2126 * img.pixels[i] + 0.7152 * img.pixels[i + 1] + 0.0722 * img.pixels[i + 2];
-            total += std::isfinite(l) ? l : 0.0;
-        }
-        return total;
-    };
     std::vector<double> shares;
-    ImageF all_mean(c.width, c.height, 4), caustic_mean(c.width, c.height, 4);
-    auto add = [](ImageF& to, const ImageF& img) {
-        for (size_t i = 0; i < to.pixels.size() && i < img.pixels.size(); ++i)
-            to.pixels[i] += std::isfinite(img.pixels[i]) ? img.pixels[i] / kBatches : 0.0f;
-    };
+    ImageF all_mean, caustic_mean;
     for (int b = 0; b < kBatches; ++b) {
         tracer.set_seed(static_cast<std::uint32_t>(1 + b));
         tracer.set_caustics_only(false);
         const ImageF all = tracer.render(camera, c.width, c.height).image;
         tracer.set_caustics_only(true);
         const ImageF caustic = tracer.render(camera, c.width, c.height).image;
-        add(all_mean, all);
-        add(caustic_mean, caustic);
-        const double sa = sum(all), sc = sum(caustic);
-        shares.push_back(sa > 0.0 ? std::clamp(sc / sa, 0.0, 1.0) : 0.0);
+        if (b == 0) all_mean = caustic_mean = ImageF(all.width, all.height, all.channels);
+        for (size_t i = 0; i < all_mean.pixels.size(); ++i) {
+            all_mean.pixels[i] += all.pixels[i] / kBatches;
+            caustic_mean.pixels[i] += caustic.pixels[i] / kBatches;
+        }
+        const double la = mean_luminance(all), lc = mean_luminance(caustic);
+        shares.push_back(la > 0.0 ? std::clamp(lc / la, 0.0, 1.0) : 0.0);
     }
-    // The display error of an image without the caustics: 4x4 block means of the display values
-    // (exposure 0) of the tracer's image and of that image less its caustic light.
-    {
-        ImageF without = all_mean;
-        for (size_t i = 0; i < without.pixels.size(); ++i) without.pixels[i] = std::max(0.0f, all_mean.pixels[i] - caustic_mean.pixels[i]);
-        const ImageF da = to_display(all_mean, 0.0f), db = to_display(without, 0.0f);
-        double total = 0.0;
-        int blocks = 0;
-        for (int by = 0; by + 4 <= c.height; by += 4)
-            for (int bx = 0; bx + 4 <= c.width; bx += 4) {
-                double d = 0.0;
-                for (int y = by; y < by + 4; ++y)
-                    for (int x = bx; x < bx + 4; ++x)
-                        for (int k = 0; k < 3; ++k) d += (da.at(x, y)[k] - db.at(x, y)[k]) / 48.0;
-                total += std::fabs(d);
-                ++blocks;
-            }
-        c.display_error = blocks > 0 ? total / blocks : 0.0;
-    }
+    // The budget's metric (block_agreement, `compare --blocks 4`) between the tracer's image and
+    // that image less its caustic light.
+    ImageF without = all_mean;
+    for (size_t i = 0; i < without.pixels.size(); ++i) without.pixels[i] = std::max(0.0f, all_mean.pixels[i] - caustic_mean.pixels[i]);
+    c.display_error = block_agreement(without, all_mean, std::min({4, c.width, c.height})).mean_abs;
     double mean = 0.0, var = 0.0;
     for (double x : shares) mean += x / kBatches;
     for (double x : shares) var += (x - mean) * (x - mean) / (kBatches - 1);

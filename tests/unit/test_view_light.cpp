@@ -341,8 +341,10 @@ TEST_P(ViewLightTest, CausticsAreTheLightThroughGlassOrOffAMirror) {
         if (c.caustic) {
             EXPECT_GT(k.share, 0.01);
             EXPECT_GT(k.share, 4.0 * k.stderr_share) << "not told from noise";
+            EXPECT_GT(k.display_error, 0.0) << "the error budget's floor";
         } else {
             EXPECT_EQ(k.share, 0.0);
+            EXPECT_EQ(k.display_error, 0.0);
         }
     }
 }
