@@ -167,14 +167,24 @@ vec3 shade_ambient(BrdfInput bi, vec3 p, vec3 n, vec3 v, float occlusion) {
 // Indirect light from the GI probes (effects/gi), reflected as the ambient term reflects the
 // environment (split sum): the irradiance E for the Lambert lobe, which keeps what the specular
 // lobe leaves it, and E / pi as the radiance the specular lobe sees, unless a reflection probe
-// gives the surroundings (it captured the walls with their indirect light already).
+// gives the surroundings (it captured the walls with their indirect light already). The layers
+// on top take their share as they do of the ambient term: the sheen reflects E (the probes carry
+// the sky's diffuse light, which the ambient term then leaves out), and a clear coat passes
+// 1 - F of the light below it (its own reflection is the ambient term's).
 vec3 shade_gi(BrdfInput bi, vec3 p, vec3 n, vec3 v, float occlusion, float transmission) {
     if (gi.on < 0.5) return vec3(0.0);
     vec3 E = gi_irradiance(p, n, v);
     float NdotV = saturate(dot(n, v));
     vec2 ab = env_brdf(bi.roughness, NdotV);
     vec3 specular = probe_at(p, bi, transmission) >= 0 ? vec3(0.0) : E * INV_PI;
+#ifdef MATERIAL_LAYERS
+    g_ambient_NdotV = NdotV;
+    vec3 below = brdf_ambient(bi, NdotV, ab, E, specular, transmission, vec3(0.0));
+    vec2 coat_ab = bi.clearcoat > 0.0 ? env_brdf(bi.clearcoat_roughness, saturate(dot(bi.coat_n, v))) : vec2(0.0);
+    return occlusion * layers_ambient(bi, n, v, below, E, vec3(0.0), coat_ab);
+#else
     return occlusion * brdf_ambient(bi, NdotV, ab, E, specular, transmission, vec3(0.0));
+#endif
 }
 
 // The debug view `visibility` (debug.view): the fraction of light frame.debug_light that reaches p
