@@ -120,8 +120,10 @@ void main() {
     Ray ray = make_ray(gi_probe_position(gi_probe_coord(probe)), dir);
     Rng rng = rng_init(floatBitsToUint(gi.seed), uint(probe * rays + ray_index), uint(gi.iteration));
     Hit hit = trace_closest(ray, 3.0e38);
-    // A ray that misses brings the sky (the raster takes the sky's diffuse light from the probes).
-    vec4 result = vec4(gi.on > 0.5 ? environment(dir) : vec3(0.0), gi.miss_distance);
+    // A ray that misses brings the sky (the raster takes the sky's diffuse light from the probes),
+    // in every update: gi.on says only whether the previous update's probes are read (a bounce
+    // more), which they are not in the first update or when a single bounce is planned.
+    vec4 result = vec4(gi.on > -0.5 ? environment(dir) : vec3(0.0), gi.miss_distance);
     if (hit.prim >= 0 && gi.on < -0.5) {
         // Relocation's trace (gi.cpp): only where the ray met a back face, and how far.
         SurfaceHit y = surface_at(ray, hit);
