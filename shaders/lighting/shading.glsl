@@ -166,7 +166,7 @@ vec3 shade_ambient(BrdfInput bi, vec3 p, vec3 n, vec3 v, float occlusion) {
 
 // Indirect light from the GI probes (effects/gi), reflected as the ambient term reflects the
 // environment (split sum): the irradiance E for the Lambert lobe, which keeps what the specular
-// lobe leaves it, and E / pi as the radiance the specular lobe sees, unless a reflection probe
+// lobe leaves it, and E / pi (about the lobe's direction) as the radiance the specular lobe sees, unless a reflection probe
 // gives the surroundings (it captured the walls with their indirect light already). The layers
 // on top take their share as they do of the ambient term: the sheen reflects E (the probes carry
 // the sky's diffuse light, which the ambient term then leaves out), and a clear coat passes
@@ -176,7 +176,18 @@ vec3 shade_gi(BrdfInput bi, vec3 p, vec3 n, vec3 v, float occlusion, float trans
     vec3 E = gi_irradiance(p, n, v);
     float NdotV = saturate(dot(n, v));
     vec2 ab = env_brdf(bi.roughness, NdotV);
-    vec3 specular = probe_at(p, bi, transmission) >= 0 ? vec3(0.0) : E * INV_PI;
+    vec3 specular = vec3(0.0);
+    if (probe_at(p, bi, transmission) < 0) {
+        // The radiance the specular lobe sees, as the probes' own trace takes it (probe_trace.comp):
+        // E / pi about the lobe's dominant direction (Lagarde & de Rousiers 2014) for a metal,
+        // whose lobe is all of its light, E(n) / pi for a dielectric's faint one.
+        vec3 Er = E;
+        if (bi.metallic > 0.0) {
+            float a = bi.roughness * bi.roughness, smooth_ = 1.0 - a;
+            Er = gi_irradiance(p, normalize(mix(n, reflect(-v, n), smooth_ * (sqrt(smooth_) + a))), v);
+        }
+        specular = Er * INV_PI;
+    }
 #ifdef MATERIAL_LAYERS
     g_ambient_NdotV = NdotV;
     vec3 below = brdf_ambient(bi, NdotV, ab, E, specular, transmission, vec3(0.0));
