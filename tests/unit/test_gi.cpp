@@ -119,7 +119,7 @@ TEST_P(GiTest, SmallIndirectLightPlansNoProbes) {
         EXPECT_FALSE(d.planned);
         EXPECT_NE(d.reason.find("below gi.threshold"), std::string::npos) << d.reason;
         ASSERT_NE(indirect_estimate(renderer.features()), nullptr);
-        EXPECT_LT(indirect_estimate(renderer.features())->fraction, 0.07);
+        EXPECT_LT(indirect_estimate(renderer.features())->fraction, GiOptions{}.threshold);
         renderer.render(scene.select_camera("", 1.0f), 32, 32);
         for (const PassStats& p : renderer.last_frame().passes) EXPECT_NE(p.name, "gi_probes");
         // gi.threshold=0 forces them: then they do run.
@@ -236,7 +236,7 @@ TEST_P(GiTest, AViewOfSmallObjectsIsMeasuredAtMorePixelsNotPlannedOnTheUntrusted
     EXPECT_TRUE(e->trusted) << e->text();
     EXPECT_GE(e->lit_pixels, kMinLitPixels);
     EXPECT_GT(e->width * e->height, 2 * kViewLightPixels) << "measured again at more pixels";
-    EXPECT_LT(e->fraction, 0.07);
+    EXPECT_LT(e->fraction, GiOptions{}.threshold);
     const EffectDecision& d = renderer.features().decision("gi");
     EXPECT_FALSE(d.planned) << d.reason;
 }
