@@ -30,11 +30,17 @@ void main() {
     int rays = gi.rays_per_probe;
     int first = probe * rays;
     int back = 0;
-    float nearest_back = 3.0e38;
-    vec3 nearest_back_dir = vec3(0.0);
+    float nearest_back = 3.0e38, nearest_front = 3.0e38;
+    vec3 nearest_back_dir = vec3(0.0), nearest_front_dir = vec3(0.0);
     for (int r = 0; r < rays; ++r) {
         float a = texelFetch(t_gi_rays, 2 * (first + r)).a;
-        if (a >= 0.0) continue;
+        if (a >= 0.0) {
+            if (a < nearest_front) {
+                nearest_front = a;
+                nearest_front_dir = texelFetch(t_gi_rays, 2 * (first + r) + 1).xyz;
+            }
+            continue;
+        }
         ++back;
         // probe_trace.comp records a back face as -0.2 x its distance.
         float d = -a / 0.2;
@@ -45,9 +51,16 @@ void main() {
     }
     ivec2 texel = ivec2(c.x + c.z * gi.probe_counts.x, c.y);
     vec3 offset = imageLoad(i_offsets, texel).xyz;
+    float min_spacing = min(gi.spacing.x, min(gi.spacing.y, gi.spacing.z));
+    float margin = GI_RELOCATE_MARGIN * min_spacing;
     if (back * 4 > rays) {
-        float min_spacing = min(gi.spacing.x, min(gi.spacing.y, gi.spacing.z));
-        vec3 moved = offset + nearest_back_dir * (nearest_back + GI_RELOCATE_MARGIN * min_spacing);
+        vec3 moved = offset + nearest_back_dir * (nearest_back + margin);
+        if (all(lessThanEqual(abs(moved), 0.45 * gi.spacing))) offset = moved;
+    } else if (nearest_front < margin) {
+        // A probe outside geometry but nearer a face than the margin (a grid point just above a
+        // floor) steps back from it to the margin, for the same staircase, and because its
+        // sideways light is the face's at grazing distance, which points a margin away do not see.
+        vec3 moved = offset - nearest_front_dir * (margin - nearest_front);
         if (all(lessThanEqual(abs(moved), 0.45 * gi.spacing))) offset = moved;
     }
     imageStore(i_offsets, texel, vec4(offset, 0.0));

@@ -125,9 +125,9 @@ void main() {
     // more), which they are not in the first update or when a single bounce is planned.
     vec4 result = vec4(gi.on > -0.5 ? environment(dir) : vec3(0.0), gi.miss_distance);
     if (hit.prim >= 0 && gi.on < -0.5) {
-        // Relocation's trace (gi.cpp): only where the ray met a back face, and how far.
+        // Relocation's trace (gi.cpp): how far the ray met a surface, negative for a back face.
         SurfaceHit y = surface_at(ray, hit);
-        if (!y.front && !material_double_sided(y.material)) result.a = -0.2 * hit.t;
+        result.a = !y.front && !material_double_sided(y.material) ? -0.2 * hit.t : min(hit.t, gi.miss_distance);
     } else if (hit.prim >= 0) {
         SurfaceHit y = surface_at(ray, hit);
         if (!y.front && !material_double_sided(y.material)) {
