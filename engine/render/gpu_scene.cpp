@@ -303,6 +303,7 @@ void GpuScene::refresh_materials() {
         set_material(d, scene_.meshes[static_cast<size_t>(node.mesh)].primitives[static_cast<size_t>(d.primitive)]);
     }
     ++pose_version_;  // what the renderer re-plans and re-captures on, as for a new pose
+    ++material_version_;  // and what it measures the view's light again on
 }
 
 void GpuScene::update_lights(int area_samples, EmitterSplitter split, bool shadows, int cascades, int max_shadowed) {

@@ -173,6 +173,7 @@ public:
     bool has_motion() const { return has_motion_; }
     const gl::VertexArray& motion_vertex_array() const { return motion_vao_; }
     std::uint64_t pose_version() const { return pose_version_; }  // bumped by update_pose when something moved, and by refresh_materials
+    std::uint64_t material_version() const { return material_version_; }  // bumped by refresh_materials
 
 private:
     void set_material(Draw& d, const Primitive& p) const;
@@ -182,6 +183,7 @@ private:
     gl::VertexArray motion_vao_;
     bool has_motion_ = false;
     std::uint64_t pose_version_ = 0;
+    std::uint64_t material_version_ = 0;
     std::size_t vertex_count_ = 0;
     const Scene& scene_;
     gl::Buffer vertices_, indices_, materials_, lights_, sorted_indices_;

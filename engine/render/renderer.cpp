@@ -26,6 +26,7 @@ Renderer::Renderer(const ShaderLibrary& shaders, const Scene& scene, GpuScene& g
                    ProgramCache* shared_programs)
     : shaders_(shaders), scene_(scene), gpu_(gpu), scene_bounds_(scene.world_bounds()), ibl_(shaders), own_programs_(shaders),
       programs_(shared_programs ? *shared_programs : own_programs_) {
+    material_version_ = gpu.material_version();  // its materials are the ones the first estimate sees
     programs_.get("tonemap");
     frame_ubo_ = gl::Buffer(sizeof(FrameData), nullptr, GL_DYNAMIC_STORAGE_BIT);
     empty_vao_ = gl::VertexArray::create();
@@ -136,6 +137,13 @@ void Renderer::render(const Camera& view_camera, int width, int height, FrameOut
     // and what the probes captured; they re-capture. Motion in view during the shutter plans
     // the motion blur; the renderer re-plans when that turns on or off.
     bool pose_replan = false;
+    if (gpu_.material_version() != material_version_) {
+        // New materials (a variant chosen live): the view's light is measured again, as a fresh
+        // renderer measures it, so that the plan is the one `render --variant` makes.
+        material_version_ = gpu_.material_version();
+        estimates_.clear();
+        if (view_) estimate_if_needed();
+    }
     if (gpu_.pose_version() != pose_version_) {
         pose_version_ = gpu_.pose_version();
         scene_bounds_ = scene_.world_bounds();

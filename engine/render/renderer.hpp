@@ -159,6 +159,7 @@ private:
     std::vector<std::string> inspectable_;
     bool timer_warmed_ = false;
     std::uint64_t pose_version_ = 0;  // GpuScene::pose_version() the bounds and captures are for
+    std::uint64_t material_version_ = 0;  // GpuScene::material_version() the view estimates are for
     int moving_draws_ = 0;
 };
 
