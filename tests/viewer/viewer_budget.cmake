@@ -34,6 +34,13 @@ function(check_screenshots log expected)
   endforeach()
 endfunction()
 
+# The GI probes are the user's --set over every choice (a user's knob wins over the budget's, in
+# the viewer as in render): 4 probes along the longest axis and 64 rays. The most accurate raster
+# candidate plans 16 probes (4096 in this room) and 256 rays, which took four times ~25 s of
+# this test's ~60 s (CI time); what is tested here is the choice and the mode switches, and
+# GI's own convergence in the viewer is viewer.gi_budget's.
+set(gi --set gi.budget=0 --set gi.probes=4 --set gi.rays=64)
+
 # What `candela info` chooses for the same view at each budget (the same statistics: the
 # viewer's camera is the scene's first, at the same aspect).
 foreach(e 0.1 0.008)
@@ -59,7 +66,7 @@ string(REGEX MATCH "statistics: (indirect [^\n]*)" _ "${info_0.1}")
 set(info_stats "${CMAKE_MATCH_1}")
 
 # 1. The script.
-candela_view_or_fail(${dir} log ${SCENE} --size ${size} --script ${SCRIPT} --set gi.budget=0 --no-vsync)
+candela_view_or_fail(${dir} log ${SCENE} --size ${size} --script ${SCRIPT} ${gi} --no-vsync)
 check_screenshots("${log}" 5)
 candela_log_says_or_fail("${log}" "the log"
     "frame 3: error budget 0.1 \\(model built-in[^\n]*statistics of this view \\([0-9]+ ms\\): ${info_stats}"
@@ -76,7 +83,7 @@ candela_log_says_or_fail("${log}" "the log"
 if(log MATCHES "wrote budget_(start|0.1|0.1_again|off).png[^\n]*\\(reference")
   message(FATAL_ERROR "the reference ran where no budget traced the frame")
 endif()
-candela_render_or_fail("candela render --error-budget 0.1" ${SCENE} --size ${size} --error-budget 0.1 --set gi.budget=0
+candela_render_or_fail("candela render --error-budget 0.1" ${SCENE} --size ${size} --error-budget 0.1 ${gi}
                        -o ${dir}/render_0.1.png)
 candela_same_or_fail(${dir}/budget_0.1.png ${dir}/render_0.1.png ${dir}/budget_0.1_diff.png
                      "the viewer's frame at budget 0.1 (against candela render --error-budget 0.1)")
@@ -101,7 +108,7 @@ endif()
 
 # 2. --error-budget on the command line: chosen before the first frame.
 candela_view_or_fail(${dir} log2 ${SCENE} --size ${size} --error-budget 0.008 --frames 12 --screenshot ${dir}/budget_option.png
-                     --set gi.budget=0 --no-vsync)
+                     ${gi} --no-vsync)
 check_screenshots("${log2}" 1)
 candela_log_says_or_fail("${log2}" "the log of view --error-budget 0.008" "frame 0: error budget 0.008 \\(model built-in" "frame 0: chosen: the path tracer"
              "frame 0: error budget: reference path, show reference"
@@ -111,7 +118,7 @@ candela_log_says_or_fail("${log2}" "the log of view --error-budget 0.008" "frame
 # renderer does too: unit test GiTest.ThresholdChangedLiveGivesTheImageOfAFreshRenderer.)
 string(REGEX MATCH "runner-up: ${most_accurate} \\(([^)]*)\\)" _ "${info_0.008}")
 separate_arguments(most_accurate_args UNIX_COMMAND "${CMAKE_MATCH_1}")
-candela_render_or_fail("candela render at ${most_accurate}" ${SCENE} --size ${size} ${most_accurate_args} --set gi.budget=0
+candela_render_or_fail("candela render at ${most_accurate}" ${SCENE} --size ${size} ${most_accurate_args} ${gi}
                        -o ${dir}/render_${most_accurate}.png)
 candela_same_or_fail(${dir}/budget_option.png ${dir}/render_${most_accurate}.png ${dir}/budget_option_diff.png
                      "the raster frame under the view traced from the first frame (against candela render at ${most_accurate})")
