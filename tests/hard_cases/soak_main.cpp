@@ -1,6 +1,6 @@
 // Soak test: N frames of a scene with every effect (probes re-captured every frame), then
 // M shader hot reloads, headless (usage: soak SOURCE_DIR [frames=1000] [reloads=100]; ctest runs
-// a shorter 300/30 so that CI stays fast, the full run is the closing note's number). The live GL objects and the process's resident memory must
+// a shorter run so that CI stays fast (tests/CMakeLists.txt says which), the full run is the closing note's number). The live GL objects and the process's resident memory must
 // stay flat: the same object counts after warm-up and at the end, and RSS growth below a bound.
 // Exit 0 on success; prints the numbers for the closing note.
 #include <cstdio>
