@@ -115,6 +115,7 @@ Scene Loader::build() {
     build_skins(scene);
     build_animations(scene);
     build_deformation(scene);
+    rebase_far_scene(scene);
     // The rest pose (no animation), so that every consumer sees skinned and morphed geometry.
     pose_scene(scene, -1, 0.0f);
     check_posed(scene);

@@ -149,6 +149,8 @@ private:
     void read_morph_targets(const tinygltf::Primitive& p, const std::string& path, Primitive& prim) const;
     void build_nodes(Scene& scene);
     void build_instances(Scene& scene);  // EXT_mesh_gpu_instancing (gltf_loader_nodes.cpp)
+    // A scene far from the file's origin moved next to it in double (gltf_loader_nodes.cpp).
+    void rebase_far_scene(Scene& scene);
     void build_skins(Scene& scene);
     void build_animations(Scene& scene);
     void build_deformation(Scene& scene);
@@ -170,6 +172,9 @@ private:
     std::vector<std::vector<size_t>> primitive_source_;  // [file mesh][built primitive] -> the file's primitive index
     std::vector<size_t> mesh_source_;                    // [scene mesh] -> the file's mesh (copies for deformed instances)
     std::vector<bool> own_weights_;                      // [node]: the node has its own `weights`
+    // [file node]: its local transform and translation as the file's numbers, in double.
+    std::vector<glm::dmat4> dlocal_;
+    std::vector<glm::dvec3> dtranslation_;
 
     // Whether an accessor's data lies in such a buffer (the validation warned about it).
     bool unavailable(int accessor) const {

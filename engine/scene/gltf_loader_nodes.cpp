@@ -10,6 +10,8 @@ namespace candela::gltf_loading {
 void Loader::build_nodes(Scene& scene) {
     const size_t n = m_.nodes.size();
     scene.nodes.resize(n);
+    dlocal_.assign(n, glm::dmat4(1.0));
+    dtranslation_.assign(n, glm::dvec3(0.0));
     for (size_t i = 0; i < n; ++i) {
         const tinygltf::Node& src = m_.nodes[i];
         Node& node = scene.nodes[i];
@@ -19,6 +21,8 @@ void Loader::build_nodes(Scene& scene) {
             for (int k = 0; k < 16; ++k)
                 glm::value_ptr(node.local)[k] = f32(path + ".matrix[" + std::to_string(k) + "]", src.matrix[static_cast<size_t>(k)]);
             node.has_matrix = true;  // not animatable (glTF 3.7.2.1): channels on it are dropped
+            for (int k = 0; k < 16; ++k) glm::value_ptr(dlocal_[i])[k] = src.matrix[static_cast<size_t>(k)];
+            dtranslation_[i] = glm::dvec3(dlocal_[i][3]);
         } else {
             glm::vec3 t(0.0f), s(1.0f);
             glm::quat r(1.0f, 0.0f, 0.0f, 0.0f);
@@ -33,6 +37,8 @@ void Loader::build_nodes(Scene& scene) {
                 r = len > 0.0f && std::isfinite(len) ? r / len : glm::quat(1, 0, 0, 0);
             }
             node.local = glm::translate(glm::mat4(1.0f), t) * glm::mat4_cast(r) * glm::scale(glm::mat4(1.0f), s);
+            if (src.translation.size() == 3) dtranslation_[i] = glm::dvec3(src.translation[0], src.translation[1], src.translation[2]);
+            dlocal_[i] = glm::translate(glm::dmat4(1.0), dtranslation_[i]) * glm::dmat4(glm::mat4_cast(r) * glm::scale(glm::mat4(1.0f), s));
             node.translation = t;
             node.rotation = r;
             node.scale = s;
@@ -151,6 +157,90 @@ void Loader::build_nodes(Scene& scene) {
     for (const auto& [node, count] : degenerate)
         warn(idx("nodes", static_cast<size_t>(node)) + ".extensions.EXT_mesh_gpu_instancing",
              std::to_string(count) + " instances have a zero or extreme scale (no usable normals); not drawn");
+}
+
+// Far from the origin. Geospatial glTF (and 3D Tiles content) places a small scene with a large
+// translation, e.g. a building at (3e6, 4e6, 3.5e6) m on the Earth's surface: in float its
+// vertices would keep steps of 0.25-0.5 m, and every GPU computation after them (shadow
+// views, probe grids, the tracer's rays) would run on those steps. So the loader composes the
+// hierarchy from the file's numbers in double, finds the centre of the scene's bounds, and when
+// that centre is far from the origin compared with the scene's size it moves the scene next to
+// the origin: every root node's translation, and the keyframes that animate one, lose the
+// centre in double before they become float. Scene::origin keeps the centre (the file's frame
+// is Scene::origin + the scene's coordinates). A scene near the origin is left as written, so
+// its numbers, and its images, are the file's.
+void Loader::rebase_far_scene(Scene& scene) {
+    // Rebased only when the centre is this many scene radii from the origin: there float keeps
+    // steps of at least 2^-23 * 64 (7.6e-6) of the radius, below anything an image shows.
+    constexpr double kFar = 64.0;
+    const size_t n = scene.nodes.size();
+    std::vector<glm::dmat4> world(n, glm::dmat4(1.0));
+    std::vector<int> stack(scene.roots.rbegin(), scene.roots.rend());
+    std::vector<bool> placed(n, false);
+    for (int r : scene.roots) world[static_cast<size_t>(r)] = static_cast<size_t>(r) < dlocal_.size() ? dlocal_[static_cast<size_t>(r)] : glm::dmat4(scene.nodes[static_cast<size_t>(r)].local);
+    while (!stack.empty()) {
+        const size_t i = static_cast<size_t>(stack.back());
+        stack.pop_back();
+        if (placed[i]) continue;
+        placed[i] = true;
+        for (int c : scene.nodes[i].children) {
+            const size_t ci = static_cast<size_t>(c);
+            world[ci] = world[i] * (ci < dlocal_.size() ? dlocal_[ci] : glm::dmat4(scene.nodes[ci].local));
+            stack.push_back(c);
+        }
+    }
+    glm::dvec3 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
+    auto add = [&](const glm::dvec3& p) { lo = glm::min(lo, p), hi = glm::max(hi, p); };
+    std::vector<bool> joint(n, false);
+    for (const Skin& skin : scene.skins)
+        for (int j : skin.joints)
+            if (j >= 0 && static_cast<size_t>(j) < n) joint[static_cast<size_t>(j)] = true;
+    for (size_t i = 0; i < n; ++i) {
+        if (!placed[i]) continue;
+        const Node& node = scene.nodes[i];
+        // A skinned mesh is placed by its joints (glTF ignores its node's transform): the joints
+        // stand for it, with the light and camera nodes.
+        if (joint[i] || node.light >= 0 || node.camera >= 0) add(glm::dvec3(world[i][3]));
+        if (node.mesh < 0 || node.skin >= 0) continue;
+        for (const Primitive& prim : scene.meshes[static_cast<size_t>(node.mesh)].primitives)
+            for (const Vertex& v : prim.vertices) add(glm::dvec3(world[i] * glm::dvec4(glm::dvec3(v.position), 1.0)));
+    }
+    if (!(lo.x <= hi.x)) return;  // nothing placed
+    const glm::dvec3 centre = 0.5 * (lo + hi);
+    const double radius = std::max(0.5 * glm::length(hi - lo), 1e-3);
+    if (!(glm::length(centre) > kFar * radius)) return;
+    scene.origin = centre;
+    std::vector<bool> root(n, false);
+    for (int r : scene.roots) {
+        const size_t i = static_cast<size_t>(r);
+        root[i] = true;
+        Node& node = scene.nodes[i];
+        const glm::dvec3 t = (i < dtranslation_.size() ? dtranslation_[i] : glm::dvec3(node.local[3])) - centre;
+        if (node.has_matrix) {
+            node.local[3] = glm::vec4(glm::vec3(t), 1.0f);
+        } else {
+            node.translation = glm::vec3(t);
+            node.local = glm::translate(glm::mat4(1.0f), node.translation) * glm::mat4_cast(node.rotation) * glm::scale(glm::mat4(1.0f), node.scale);
+        }
+    }
+    // Keyframes that move a root: a copy of the sampler for that channel, its values (not a cubic
+    // spline's tangents) without the centre, subtracted in double.
+    for (Animation& anim : scene.animations) {
+        const size_t samplers = anim.samplers.size();
+        for (AnimationChannel& c : anim.channels) {
+            if (c.path != AnimationPath::translation || c.node < 0 || !root[static_cast<size_t>(c.node)]) continue;
+            if (c.sampler < 0 || static_cast<size_t>(c.sampler) >= samplers) continue;
+            AnimationSampler moved = anim.samplers[static_cast<size_t>(c.sampler)];
+            const bool cubic = moved.interpolation == Interpolation::cubic_spline;
+            const size_t stride = cubic ? 9 : 3, first = cubic ? 3 : 0;
+            for (size_t k = first; k + 3 <= moved.values.size(); k += stride)
+                for (int a = 0; a < 3; ++a)
+                    moved.values[k + static_cast<size_t>(a)] = static_cast<float>(static_cast<double>(moved.values[k + static_cast<size_t>(a)]) - centre[a]);
+            anim.samplers.push_back(std::move(moved));
+            c.sampler = static_cast<int>(anim.samplers.size()) - 1;
+        }
+    }
+    scene.update_world_transforms();
 }
 
 // EXT_mesh_gpu_instancing: a node's mesh is drawn once per instance, at the node's transform

@@ -38,6 +38,7 @@ public:
         json roots = json::array();
         for (int r : scene_.roots) roots.push_back(r);
         for (const Node& n : scene_.nodes) j_["nodes"].push_back(node(n));
+        for (int r : scene_.roots) place_at_origin(j_["nodes"][static_cast<size_t>(r)]);
         // Cameras, in order; one not placed by a node gets a root node at its world transform.
         for (size_t i = 0; i < scene_.cameras.size(); ++i) {
             const Camera& c = scene_.cameras[i];
@@ -46,6 +47,7 @@ public:
                 j_["nodes"][static_cast<size_t>(c.node)]["camera"] = i;
             } else {
                 json n = {{"name", c.name}, {"camera", i}, {"matrix", vec(glm::value_ptr(c.world), 16)}};
+                place_at_origin(n);
                 roots.push_back(j_["nodes"].size());
                 j_["nodes"].push_back(n);
             }
@@ -161,6 +163,14 @@ private:
         if (l.type == LightType::spot)
             j["spot"] = {{"innerConeAngle", static_cast<double>(l.inner_cone)}, {"outerConeAngle", static_cast<double>(l.outer_cone)}};
         return j;
+    }
+
+    // A root node of a scene far from the file's origin (Scene::origin) gets the origin back onto
+    // its translation, in double, as the file had it.
+    void place_at_origin(json& node) const {
+        if (scene_.origin == glm::dvec3(0.0)) return;
+        if (!node.contains("matrix")) node["matrix"] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+        for (int a = 0; a < 3; ++a) node["matrix"][static_cast<size_t>(12 + a)] = node["matrix"][static_cast<size_t>(12 + a)].get<double>() + scene_.origin[a];
     }
 
     json node(const Node& n) const {

@@ -330,6 +330,10 @@ struct WorldTriangle {
 
 struct Scene {
     std::filesystem::path source;
+    // Where the scene's coordinates start in the file's frame, in double: a scene far from the
+    // file's origin is loaded next to it (gltf_loader_nodes.cpp), and everything the engine
+    // computes is in float relative to this point. (0, 0, 0) for a scene near the origin.
+    glm::dvec3 origin{0.0};
     std::vector<Node> nodes;
     std::vector<int> roots;
     std::vector<Mesh> meshes;

@@ -73,6 +73,9 @@ int cmd_info(const Args& args) {
     else
         std::printf("bounds: min (%.4g, %.4g, %.4g)  max (%.4g, %.4g, %.4g)\n", b.min.x, b.min.y, b.min.z, b.max.x,
                     b.max.y, b.max.z);
+    if (scene.origin != glm::dvec3(0.0))
+        std::printf("origin: (%.17g, %.17g, %.17g): far from the file's origin, the scene is rendered relative to this "
+                    "point (its bounds above are relative to it)\n", scene.origin.x, scene.origin.y, scene.origin.z);
     // Animation: what posing changes, and each animation with its duration.
     {
         size_t skinned = 0, morphed = 0;
