@@ -13,6 +13,7 @@
 // and one set of compiled programs (llvmpipe compiles a program's code at its first draw: about
 // half of a one-golden process); all lines name the same backend. Each golden is reported by
 // name ("ok NAME" or "FAIL NAME: why"); exit 1 if any failed, 2 for a bad jobs file.
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -116,6 +117,17 @@ int run_job(GoldenJob& job, const ShaderLibrary& shaders, ProgramCache* programs
         int failures = 0;
         if (const int errors = gl::debug_error_count() - gl_errors_before; errors > 0) {
             std::fprintf(stderr, "FAIL %s: %d GL error(s) during the render\n", name.c_str(), errors);
+            ++failures;
+        }
+        // The path asked for is the path that ran (one golden for both paths: each must be drawn
+        // by its own passes).
+        const char* path_pass = options.settings.path == RenderPath::deferred  ? "deferred_lighting"
+                                : options.settings.path == RenderPath::forward ? "forward_opaque"
+                                                                               : nullptr;
+        if (path_pass && std::none_of(result.report.passes.begin(), result.report.passes.end(),
+                                      [&](const PassStats& p) { return p.name == path_pass; })) {
+            std::fprintf(stderr, "FAIL %s: the %s path ran without its pass %s\n", name.c_str(),
+                         choice_name(kRenderPaths, options.settings.path), path_pass);
             ++failures;
         }
         if (const size_t bad = count_nonfinite(result.radiance)) {

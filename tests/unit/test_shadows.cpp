@@ -269,29 +269,6 @@ TEST_P(ShadowTest, VisibilityIsTheSameAtAnyScale) {
     }
 }
 
-TEST_P(ShadowTest, ForwardAndDeferredAgreeOnOpaqueScenes) {
-    for (const char* name : {"cornell_box", "cornell_point", "shadow_test", "spheres", "reflections"}) {
-        SCOPED_TRACE(name);
-        const Scene scene = load_gltf(fs::path(CANDELA_SOURCE_DIR) / "samples" / "scenes" / (std::string(name) + ".gltf"));
-        StillOptions o;
-        o.width = o.height = 96;
-        o.output = FrameOutput::display;
-        o.settings.path = RenderPath::forward;
-        const StillResult fwd = render_still(scene, lib_, o);
-        o.settings.path = RenderPath::deferred;
-        const StillResult def = render_still(scene, lib_, o);
-        EXPECT_TRUE(std::any_of(def.report.passes.begin(), def.report.passes.end(),
-                                [](const PassStats& p) { return p.name == "deferred_lighting"; }));
-        // The golden tolerance on the display values: at most 0.1% of pixels off by more than 2/255.
-        int off = 0;
-        for (size_t i = 0; i < fwd.display.size(); ++i)
-            if (i % 4 != 3) off += std::abs(static_cast<int>(fwd.display[i]) - static_cast<int>(def.display[i])) > 2;
-        EXPECT_LE(off, static_cast<int>(0.001 * 96 * 96 * 3) + 1);
-        std::printf("forward vs deferred %s: %d channel values off by > 2/255\n", name, off);
-        EXPECT_EQ(count_nonfinite(def.radiance), 0u);
-    }
-}
-
 // shadows.cache: a renderer that keeps its shadow views across frames redraws only the views that
 // changed, and its image is the image of a renderer that draws every view afresh. A point light's
 // cube does not follow the camera; a directional light's cascades do.
