@@ -20,11 +20,13 @@
 #include <vector>
 
 #include "gl_fixture.hpp"
+#include "gltf_builder.hpp"
 #include "image/batch_stats.hpp"
 #include "image/image.hpp"
 #include "render/still.hpp"
 #include "rt/ray_tracer.hpp"
 #include "rt/view_lighting.hpp"
+#include "scene/animation.hpp"
 #include "scene/generate.hpp"
 #include "scene/gltf_loader.hpp"
 #include "scene/gltf_writer.hpp"
@@ -105,6 +107,45 @@ std::vector<ImageF> path_batches(const Scene& scene, const ShaderLibrary& lib, u
         batches.push_back(tracer.render(camera, kW, kH).image);
     }
     return batches;
+}
+
+// An animated scene on the Earth's surface: two root nodes at x = 1e6 m moved by keyframes, one
+// LINEAR (1e6 -> 1e6 + 2 along x), one CUBICSPLINE (its values at 1e6, tangents (1, 0, 0) and
+// (0, 1, 0)), and a camera beside them. The loader moves the scene next to the origin: the
+// keyframes' values lose Scene::origin, the tangents (differences) do not, so the posed nodes
+// are where the file puts them, relative to Scene::origin, to a millimetre.
+TEST(FarOrigin, AnimatedRootsMoveAsTheFileSaysAndTheirTangentsStay) {
+    test::GltfBuilder b;
+    const double x0 = 1e6;
+    const int quad = b.add_quad_mesh();
+    b.add_node({{"mesh", quad}, {"translation", {x0, 0.0, 0.0}}});
+    b.add_node({{"mesh", quad}, {"translation", {x0, 2.0, 0.0}}});
+    b.json()["cameras"] = {{{"type", "perspective"}, {"perspective", {{"yfov", 0.8}, {"znear", 0.05}}}}};
+    b.add_node({{"camera", 0}, {"translation", {x0, 1.0, 6.0}}});
+    const std::vector<float> times = {0.0f, 2.0f};
+    const int input = b.add_accessor(b.add_view(times.data(), times.size() * 4), 5126, times.size(), "SCALAR");
+    b.json()["accessors"][static_cast<size_t>(input)]["min"] = {0.0};
+    b.json()["accessors"][static_cast<size_t>(input)]["max"] = {2.0};
+    const float x = static_cast<float>(x0);  // 1e6 and 1e6 + 2 are floats
+    const int linear = b.add_vec3({{x, 0, 0}, {x + 2.0f, 0, 0}});
+    const int cubic = b.add_vec3({{0, 0, 0}, {x, 2, 0}, {1, 0, 0}, {0, 1, 0}, {x, 2, 0}, {0, 0, 0}});
+    b.json()["animations"] = {{{"name", "slide"},
+                               {"samplers", {{{"input", input}, {"output", linear}, {"interpolation", "LINEAR"}},
+                                             {{"input", input}, {"output", cubic}, {"interpolation", "CUBICSPLINE"}}}},
+                               {"channels", {{{"sampler", 0}, {"target", {{"node", 0}, {"path", "translation"}}}},
+                                             {{"sampler", 1}, {"target", {{"node", 1}, {"path", "translation"}}}}}}}};
+    Scene scene = load_gltf(b.write(fs::temp_directory_path() / "candela-far-origin", "animated"));
+    ASSERT_GT(glm::length(scene.origin), 0.9e6) << "the scene is moved next to the origin";
+    auto placed = [&](int node) { return glm::dvec3(scene.nodes[static_cast<size_t>(node)].world[3]) + scene.origin; };
+    EXPECT_LT(glm::distance(placed(0), glm::dvec3(x0, 0, 0)), 1e-3);
+    pose_scene(scene, 0, 1.0f);
+    EXPECT_LT(glm::distance(placed(0), glm::dvec3(x0 + 1.0, 0, 0)), 1e-3) << "halfway along the LINEAR keyframes";
+    // Hermite at s = 1/2 over an interval of 2: x + 2 * 0.125, y - 2 * 0.125 (AnimationTest's numbers).
+    EXPECT_LT(glm::distance(placed(1), glm::dvec3(x0 + 0.25, 2.0 - 0.25, 0)), 1e-3) << "the CUBICSPLINE tangents are not moved";
+    pose_scene(scene, 0, 2.0f);
+    EXPECT_LT(glm::distance(placed(0), glm::dvec3(x0 + 2.0, 0, 0)), 1e-3);
+    EXPECT_LT(glm::distance(placed(1), glm::dvec3(x0, 2.0, 0)), 1e-3);
+    EXPECT_LT(glm::length(glm::dvec3(scene.nodes[0].world[3])), 10.0) << "the posed node stays next to the origin in float";
 }
 
 class FarOriginTest : public test::GlContextTest {
