@@ -8,13 +8,17 @@
 // - the tracer's `path` batches against the origin's (independent samples) pass the same
 //   statistical test as two renders of one scene: the z of the image mean and the per-pixel z.
 // T: 1e5 along each axis, 6.4e6 (the Earth's radius) in a direction drawn from the seed, and
-// 1e7. CANDELA_FAR_SEEDS=N runs N seeds instead of kSeeds (a longer run).
+// 1e7. CANDELA_FAR_SEEDS=N runs N seeds instead of kSeeds, from CANDELA_FAR_FIRST_SEED if set (a
+// longer run on seeds nobody looked at).
 #include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
 
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <random>
 #include <string>
 #include <vector>
@@ -43,6 +47,10 @@ int seed_count() {
     const char* e = std::getenv("CANDELA_FAR_SEEDS");
     return e ? std::max(1, std::atoi(e)) : kSeeds;
 }
+int first_seed(int ci_seed) {
+    const char* e = std::getenv("CANDELA_FAR_FIRST_SEED");
+    return e ? std::atoi(e) : ci_seed;
+}
 
 // The scene written with `offset` on its roots and read back, as a user's file would be.
 Scene written_and_loaded(Scene scene, const glm::dvec3& offset, const std::string& name) {
@@ -52,6 +60,43 @@ Scene written_and_loaded(Scene scene, const glm::dvec3& offset, const std::strin
     const fs::path file = dir / (name + ".gltf");
     write_gltf(scene, file);
     return load_gltf(file);
+}
+
+// A binary glTF whose scene is put under one new root node translated by `offset` (JSON doubles),
+// as geospatial content places a model: the file's own roots, animated or not, keep their
+// transforms, and a skin's joints move with them.
+fs::path glb_placed_at(const fs::path& src, const glm::dvec3& offset, const std::string& name) {
+    std::ifstream in(src, std::ios::binary);
+    std::vector<char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    auto u32 = [&](size_t at) {
+        std::uint32_t v = 0;
+        for (int k = 3; k >= 0; --k) v = (v << 8) | static_cast<std::uint8_t>(bytes.at(at + static_cast<size_t>(k)));
+        return v;
+    };
+    const size_t json_len = u32(12);
+    nlohmann::json j = nlohmann::json::parse(bytes.begin() + 20, bytes.begin() + 20 + static_cast<std::ptrdiff_t>(json_len));
+    const size_t scene = j.value("scene", 0);
+    nlohmann::json& roots = j["scenes"][scene]["nodes"];
+    j["nodes"].push_back({{"name", "placed"}, {"translation", {offset.x, offset.y, offset.z}}, {"children", roots}});
+    roots = nlohmann::json::array({j["nodes"].size() - 1});
+    std::string text = j.dump();
+    text.resize((text.size() + 3) / 4 * 4, ' ');
+    const std::vector<char> rest(bytes.begin() + 20 + static_cast<std::ptrdiff_t>(json_len), bytes.end());  // the BIN chunk
+    auto put = [](std::ofstream& o, std::uint32_t v) {
+        for (int k = 0; k < 4; ++k) o.put(static_cast<char>((v >> (8 * k)) & 0xffu));
+    };
+    const fs::path dir = fs::temp_directory_path() / "candela-far-origin";
+    fs::create_directories(dir);
+    const fs::path out = dir / (name + ".glb");
+    std::ofstream o(out, std::ios::binary);
+    o.write("glTF", 4);
+    put(o, 2);
+    put(o, static_cast<std::uint32_t>(12 + 8 + text.size() + rest.size()));
+    put(o, static_cast<std::uint32_t>(text.size()));
+    o.write("JSON", 4);
+    o.write(text.data(), static_cast<std::streamsize>(text.size()));
+    o.write(rest.data(), static_cast<std::streamsize>(rest.size()));
+    return out;
 }
 
 // The lighting `candela render` gives it (--lighting auto).
@@ -157,7 +202,7 @@ TEST_P(FarOriginTest, RandomScenesGiveTheOriginsImageAnywhere) {
     const std::string backend = to_string(GetParam());
     // One seed a backend in CI (CANDELA_FAR_SEEDS=N: N from there), both planning GI with 8 probes
     // along the longest axis and 2 bounces (seed 0's 13 probes and 6 bounces took 45 s alone).
-    const int first = GetParam() == Backend::egl ? 2 : 3;
+    const int first = first_seed(GetParam() == Backend::egl ? 2 : 3);
     for (int seed = first; seed < first + seed_count(); ++seed) {
         SCOPED_TRACE("generated:random:" + std::to_string(seed));
         const Scene made = make_random_scene(static_cast<std::uint32_t>(seed));
@@ -204,6 +249,42 @@ TEST_P(FarOriginTest, RandomScenesGiveTheOriginsImageAnywhere) {
             EXPECT_LT(std::fabs(c.z_of_mean), 4.0) << "the tracer's image mean against the origin's";
             EXPECT_GE(c.passing_fraction, 0.99) << "the tracer's pixels against the origin's";
             EXPECT_EQ(c.nonfinite_pixels, 0u);
+        }
+    }
+}
+
+// A skinned, animated model (Fox, walking) and a node-animated one (BoxAnimated), placed on the
+// Earth's surface by a root node and posed there, give the images they give at the origin: the
+// skin's joints and the animated nodes are posed relative to Scene::origin, in float next to it.
+TEST_P(FarOriginTest, AnimatedAndSkinnedModelsPosedOnTheEarthsSurface) {
+    const fs::path models = fs::path(CANDELA_SOURCE_DIR) / "tests" / "data" / "models";
+    struct Case {
+        const char* file;
+        const char* animation;
+        float time;
+    };
+    const glm::dvec3 surface(3.9e6, 3.1e6, -4.0e6);  // |T| = 6.4e6 m
+    for (const Case& c : {Case{"Fox/Fox.glb", "Walk", 0.5f}, Case{"BoxAnimated/BoxAnimated.glb", "0", 1.3f}}) {
+        SCOPED_TRACE(c.file);
+        auto posed = [&](const fs::path& file) {
+            Scene scene = load_gltf(file);
+            pose_scene(scene, find_animation(scene, c.animation), c.time);
+            return as_user(std::move(scene), lib_);
+        };
+        const Scene origin = posed(glb_placed_at(models / c.file, glm::dvec3(0.0), "model_origin"));
+        const Scene far = posed(glb_placed_at(models / c.file, surface, "model_far"));
+        EXPECT_LT(glm::length(far.origin - surface), 1e3) << "the loader moved the model next to the origin";
+        EXPECT_EQ(origin.origin, glm::dvec3(0.0));
+        for (const char* path : {"forward", "deferred"}) {
+            const Frame a = raster(origin, lib_, path), b = raster(far, lib_, path);
+            EXPECT_EQ(b.nonfinite, 0u) << path;
+            EXPECT_EQ(b.passes, a.passes) << path;
+            const std::size_t off = differing_pixels(b.display, a.display);
+            std::printf("%s %s: %zu of %d pixels beyond 2/255\n", c.file, path, off, kW * kH);
+            EXPECT_LE(off, static_cast<std::size_t>(kW * kH / 1000)) << path << ": pixels beyond 2/255 against the origin's image";
+            std::size_t lit = 0;
+            for (std::size_t i = 0; i < a.display.size(); i += 4) lit += a.display[i] + a.display[i + 1] + a.display[i + 2] > 30;
+            EXPECT_GT(lit, static_cast<std::size_t>(kW * kH / 20)) << path << ": the model is in view";
         }
     }
 }
