@@ -329,6 +329,12 @@ Scene load_scene(const std::string& path, bool strict) {
     const int warnings = log::warning_count() - before;
     if (strict && warnings > 0)
         throw bad_input(path + ": " + std::to_string(warnings) + " loader warning(s) (see above) and --strict is set");
+    if (scene.origin != glm::dvec3(0.0)) {
+        char where[160];
+        std::snprintf(where, sizeof where, "origin: (%.17g, %.17g, %.17g): far from the file's origin, rendered relative to this point",
+                      scene.origin.x, scene.origin.y, scene.origin.z);
+        log::info(where);
+    }
     return scene;
 }
 
