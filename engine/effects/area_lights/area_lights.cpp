@@ -138,7 +138,8 @@ public:
         d.ltc_size = ltc::kTableSize;
         d.residual = o.residual ? 1 : 0;
         if (d.method == 1) {
-            if (built_for_ != &p.gpu || built_samples_ != o.samples) {
+            // Built again when the emitters move (an animated emitter, the scene's origin moved).
+            if (built_for_ != &p.gpu || built_samples_ != o.samples || built_pose_ != p.gpu.pose_version()) {
                 const std::vector<PolygonLightGpu> polys = polygon_lights(p.gpu.scene(), p.gpu, o.samples);
                 polygon_count_ = static_cast<int>(polys.size());
                 const PolygonLightGpu none{};
@@ -146,6 +147,7 @@ public:
                                        polys.empty() ? &none : polys.data());
                 built_for_ = &p.gpu;
                 built_samples_ = o.samples;
+                built_pose_ = p.gpu.pose_version();
             }
             if (!ltc_matrix_) upload_tables();
             d.polygon_count = polygon_count_;
@@ -200,6 +202,7 @@ private:
     gl::Texture ltc_matrix_, ltc_amplitude_;
     const GpuScene* built_for_ = nullptr;
     int built_samples_ = -1;
+    std::uint64_t built_pose_ = 0;
     int polygon_count_ = 0;
     int method_ = 0;
     std::vector<std::string> defines_;  // shading_defines: from the block
