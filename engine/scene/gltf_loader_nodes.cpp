@@ -1,5 +1,6 @@
 // glTF loading of the node hierarchy, cameras, KHR_lights_punctual lights and the environment.
 #include "scene/gltf_loader_internal.hpp"
+#include "scene/origin.hpp"
 
 #include <glm/gtc/matrix_inverse.hpp>
 #include <glm/gtc/quaternion.hpp>
@@ -205,42 +206,27 @@ void Loader::rebase_far_scene(Scene& scene) {
         for (const Primitive& prim : scene.meshes[static_cast<size_t>(node.mesh)].primitives)
             for (const Vertex& v : prim.vertices) add(glm::dvec3(world[i] * glm::dvec4(glm::dvec3(v.position), 1.0)));
     }
-    if (!(lo.x <= hi.x)) return;  // nothing placed
-    const glm::dvec3 centre = 0.5 * (lo + hi);
-    const double radius = std::max(0.5 * glm::length(hi - lo), 1e-3);
-    if (!(glm::length(centre) > kFar * radius)) return;
-    scene.origin = centre;
+    // The file's placement of the roots in double, kept so that the origin can move later too
+    // (the camera's anchor, scene/origin.hpp).
     std::vector<bool> root(n, false);
     for (int r : scene.roots) {
         const size_t i = static_cast<size_t>(r);
         root[i] = true;
-        Node& node = scene.nodes[i];
-        const glm::dvec3 t = (i < dtranslation_.size() ? dtranslation_[i] : glm::dvec3(node.local[3])) - centre;
-        if (node.has_matrix) {
-            node.local[3] = glm::vec4(glm::vec3(t), 1.0f);
-        } else {
-            node.translation = glm::vec3(t);
-            node.local = glm::translate(glm::mat4(1.0f), node.translation) * glm::mat4_cast(node.rotation) * glm::scale(glm::mat4(1.0f), node.scale);
+        scene.root_placements.push_back({r, i < dtranslation_.size() ? dtranslation_[i] : glm::dvec3(scene.nodes[i].local[3])});
+    }
+    for (size_t a = 0; a < scene.animations.size(); ++a) {
+        const Animation& anim = scene.animations[a];
+        for (size_t c = 0; c < anim.channels.size(); ++c) {
+            const AnimationChannel& ch = anim.channels[c];
+            if (ch.path == AnimationPath::translation && ch.node >= 0 && root[static_cast<size_t>(ch.node)] && ch.sampler >= 0 &&
+                static_cast<size_t>(ch.sampler) < anim.samplers.size())
+                scene.root_tracks.push_back({static_cast<int>(a), static_cast<int>(c), ch.sampler, -1});
         }
     }
-    // Keyframes that move a root: a copy of the sampler for that channel, its values (not a cubic
-    // spline's tangents) without the centre, subtracted in double.
-    for (Animation& anim : scene.animations) {
-        const size_t samplers = anim.samplers.size();
-        for (AnimationChannel& c : anim.channels) {
-            if (c.path != AnimationPath::translation || c.node < 0 || !root[static_cast<size_t>(c.node)]) continue;
-            if (c.sampler < 0 || static_cast<size_t>(c.sampler) >= samplers) continue;
-            AnimationSampler moved = anim.samplers[static_cast<size_t>(c.sampler)];
-            const bool cubic = moved.interpolation == Interpolation::cubic_spline;
-            const size_t stride = cubic ? 9 : 3, first = cubic ? 3 : 0;
-            for (size_t k = first; k + 3 <= moved.values.size(); k += stride)
-                for (int a = 0; a < 3; ++a)
-                    moved.values[k + static_cast<size_t>(a)] = static_cast<float>(static_cast<double>(moved.values[k + static_cast<size_t>(a)]) - centre[a]);
-            anim.samplers.push_back(std::move(moved));
-            c.sampler = static_cast<int>(anim.samplers.size()) - 1;
-        }
-    }
-    scene.update_world_transforms();
+    if (!(lo.x <= hi.x)) return;  // nothing placed
+    const glm::dvec3 centre = 0.5 * (lo + hi);
+    const double radius = std::max(0.5 * glm::length(hi - lo), 1e-3);
+    if (glm::length(centre) > kFar * radius) move_origin(scene, centre);
 }
 
 // EXT_mesh_gpu_instancing: a node's mesh is drawn once per instance, at the node's transform

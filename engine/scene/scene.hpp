@@ -334,6 +334,20 @@ struct Scene {
     // file's origin is loaded next to it (gltf_loader_nodes.cpp), and everything the engine
     // computes is in float relative to this point. (0, 0, 0) for a scene near the origin.
     glm::dvec3 origin{0.0};
+    // The file's placement of the roots in double, so that `origin` can move (scene/origin.hpp):
+    // each root's translation, and each keyframe sampler that moves a root, as the file gives
+    // them. Empty for a scene that never moved (move_origin then takes the scene as it is).
+    struct RootPlacement {
+        int node = -1;
+        glm::dvec3 translation{0.0};  // in the file's frame
+    };
+    struct RootTrack {
+        int animation = -1, channel = -1;
+        int file_sampler = -1;   // the keyframes as the file gives them
+        int moved_sampler = -1;  // their copy relative to `origin`, which the channel plays
+    };
+    std::vector<RootPlacement> root_placements;
+    std::vector<RootTrack> root_tracks;
     std::vector<Node> nodes;
     std::vector<int> roots;
     std::vector<Mesh> meshes;

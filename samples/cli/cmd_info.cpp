@@ -40,6 +40,7 @@ int cmd_info(const Args& args) {
     int width = 512, height = 512;
     if (p.has("--size")) parse_size(p.get("--size"), width, height);
     const float aspect = static_cast<float>(width) / static_cast<float>(height);
+    anchor_scene(scene, camera_choice, aspect, -1, 0.0f);
     LightingChoice lighting = setup_lighting(scene, p, camera_choice, aspect);
     // The tracer measures the view (whether the file's lights light it; the effects' view
     // estimates) and some effects plan with the device (Effect::plans_with_device): a headless

@@ -1,6 +1,7 @@
 #include "options.hpp"
 
 #include "scene/animation.hpp"
+#include "scene/origin.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -295,6 +296,18 @@ std::string format_number(const char* format, double v) {
     return buf;
 }
 
+void log_origin(const Scene& scene, const char* why) {
+    char where[200];
+    std::snprintf(where, sizeof where, "origin: (%.17g, %.17g, %.17g): %s, rendered relative to this point", scene.origin.x,
+                  scene.origin.y, scene.origin.z, why);
+    log::info(where);
+}
+
+void anchor_scene(Scene& scene, const std::string& camera, float aspect, int animation, float time) {
+    if (anchor_at_camera(scene, scene.select_camera(camera, aspect), animation, time))
+        log_origin(scene, "at the camera, which stands far from the scene's origin compared with its near plane");
+}
+
 Scene load_scene(const std::string& path, bool strict) {
     if (path == "generated:dof") return make_dof_scene();
     if (path == "generated:edges") return make_edges_scene();
@@ -329,12 +342,7 @@ Scene load_scene(const std::string& path, bool strict) {
     const int warnings = log::warning_count() - before;
     if (strict && warnings > 0)
         throw bad_input(path + ": " + std::to_string(warnings) + " loader warning(s) (see above) and --strict is set");
-    if (scene.origin != glm::dvec3(0.0)) {
-        char where[160];
-        std::snprintf(where, sizeof where, "origin: (%.17g, %.17g, %.17g): far from the file's origin, rendered relative to this point",
-                      scene.origin.x, scene.origin.y, scene.origin.z);
-        log::info(where);
-    }
+    if (scene.origin != glm::dvec3(0.0)) log_origin(scene, "far from the file's origin");
     return scene;
 }
 
@@ -418,6 +426,8 @@ SceneSetup setup_scene(const Parsed& p, const std::string& scene_path, int defau
     s.options.time = s.time_first;
     if (p.has("--variant")) select_variant(s.scene, find_variant(s.scene, p.get("--variant")));
     if (s.options.animation >= 0) pose_scene(s.scene, s.options.animation, s.options.time);
+    anchor_scene(s.scene, s.options.camera, static_cast<float>(s.options.width) / static_cast<float>(s.options.height),
+                 s.options.animation, s.options.time);
     s.lighting = setup_lighting(s.scene, p, s.options.camera,
                                 static_cast<float>(s.options.width) / static_cast<float>(s.options.height));
     log::info("lighting: " + s.lighting.reason);

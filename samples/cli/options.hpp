@@ -51,6 +51,11 @@ std::string format_number(const char* format, double v);
 // A glTF file, or generated:N (a bumpy sphere of about N triangles) or generated:lights:N (N
 // point lights over a floor with boxes). strict: loader warnings are errors.
 Scene load_scene(const std::string& path, bool strict);
+// Logs Scene::origin and why it is there.
+void log_origin(const Scene& scene, const char* why);
+// Moves Scene::origin to the camera (and poses the scene again) where the camera stands far from
+// it compared with its near plane (scene/origin.hpp), and logs it.
+void anchor_scene(Scene& scene, const std::string& camera, float aspect, int animation, float time);
 // --lighting auto|file|default, then --environment FILE|none over what it chose (the rig's sky
 // or the file's environment). The camera orients the rig's key light.
 LightingChoice setup_lighting(Scene& scene, const Parsed& p, const std::string& camera, float aspect);

@@ -18,6 +18,7 @@ public:
     void zoom(float factor);                              // orbit: distance *= factor
     void pan(float dx, float dy);                         // in units of the distance
     void fly(glm::vec3 local_move);                       // camera-space move (x right, y up, -z ahead), world units
+    void shift(const glm::vec3& by) { target_ -= by; }    // the scene's origin moved by `by`: the same view
     bool fly_mode = false;
 
     Camera camera() const;  // the current camera (world matrix from position and angles)

@@ -15,7 +15,7 @@ std::vector<ScriptCommand> load_script(const std::filesystem::path& file) {
     if (!in) throw bad_input(file.string() + ": cannot read the script");
     // verb -> (min, max) argument count
     static const std::map<std::string, std::pair<size_t, size_t>> verbs = {
-        {"orbit", {2, 2}}, {"zoom", {1, 1}},    {"pan", {2, 2}},        {"camera", {1, 1}}, {"frame", {0, 0}},
+        {"orbit", {2, 2}}, {"zoom", {1, 1}},    {"pan", {2, 2}}, {"fly", {3, 3}},        {"camera", {1, 1}}, {"frame", {0, 0}},
         {"effects", {1, 1}}, {"set", {1, 1}}, {"path", {1, 1}}, {"screenshot", {1, 1}}, {"quit", {0, 0}},
         {"reference", {1, 2}}, {"show", {1, 1}}, {"inspect", {1, 4}},
         {"animation", {1, 1}}, {"time", {1, 1}}, {"play", {0, 0}}, {"pause", {0, 0}}, {"speed", {1, 1}}, {"loop", {1, 1}},
@@ -68,7 +68,7 @@ std::vector<ScriptCommand> load_script(const std::filesystem::path& file) {
             } catch (const Error& e) {
                 throw bad_input(where + e.what());
             }
-        for (const char* numeric : {"orbit", "zoom", "pan", "time", "speed"})
+        for (const char* numeric : {"orbit", "zoom", "pan", "fly", "time", "speed"})
             if (c.verb == numeric)
                 for (const auto& a : c.args) {
                     try {

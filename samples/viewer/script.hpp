@@ -4,6 +4,7 @@
 //   FRAME orbit YAW PITCH     turn the orbit camera (degrees)
 //   FRAME zoom FACTOR         distance *= FACTOR
 //   FRAME pan DX DY           move the target (units of the distance)
+//   FRAME fly X Y Z           move the camera (camera space: x right, y up, z back; world units), as WASD/QE
 //   FRAME camera N|NAME       switch to a scene camera
 //   FRAME frame               frame the whole scene
 //   FRAME effects LIST        as --effects

@@ -23,6 +23,7 @@
 #include "playback.hpp"
 #include "core/error.hpp"
 #include "core/log.hpp"
+#include "scene/origin.hpp"
 #include "image/image.hpp"
 #include "platform/context.hpp"
 #include "render/features.hpp"
@@ -70,6 +71,27 @@ void Viewer::update_pose() {
     anim_.mark_posed(shutter, fps);
     ++pose_serial_;
     pose_ms_.push_back(ms_since(t0));
+}
+
+void Viewer::anchor_at_the_camera(int frame) {
+    const glm::dvec3 before = scene_.origin;
+    const auto t0 = Clock::now();
+    if (!anchor_at_camera(scene_, controller_.camera(), anim_.animation, anim_.time)) return;
+    const glm::vec3 shift(scene_.origin - before);
+    controller_.shift(shift);
+    bounds_ = scene_.world_bounds();
+    last_camera_.world[3] -= glm::vec4(shift, 0.0f);  // the same view, not a jump
+    gpu_.update_pose();  // every draw moved: the renderer re-plans, probes re-capture, GI retraces
+    if (!shutter_.instant())
+        gpu_.set_motion(evaluate_pose(scene_, anim_.animation, shutter_.open), evaluate_pose(scene_, anim_.animation, shutter_.close));
+    ref_.tracer.reset();  // the tracer's geometry is in the old frame
+    ref_.built_mode = -1;
+    ++view_generation_;
+    ++pose_serial_;
+    char line[256];
+    std::snprintf(line, sizeof line, "viewer: frame %d: origin moved to the camera, (%.17g, %.17g, %.17g) (%.1f ms)", frame, scene_.origin.x,
+                  scene_.origin.y, scene_.origin.z, ms_since(t0));
+    log::info(line);
 }
 
 void Viewer::pose_within_shutter(float u) {
@@ -232,6 +254,7 @@ int Viewer::run() {
         ImGui::NewFrame();
         handle_input(std::min(dt, 0.1f));
         update_pose();
+        anchor_at_the_camera(frame);
         const Camera camera = controller_.camera();
         // The error budget chooses from this view's statistics when asked to (turned on, a new E,
         // a re-choice), before the frame renders at the choice; never because the camera moved.

@@ -28,6 +28,7 @@ void Viewer::run_script(int frame) {
             if (c.verb == "orbit") controller_.orbit(num(0), num(1));
             else if (c.verb == "zoom") controller_.zoom(num(0));
             else if (c.verb == "pan") controller_.pan(num(0), num(1));
+            else if (c.verb == "fly") controller_.fly(glm::vec3(num(0), num(1), num(2)));
             else if (c.verb == "camera") select_camera(c.args[0]);
             else if (c.verb == "frame") controller_.frame(bounds_);
             else if (c.verb == "screenshot") pending_screenshots_.push_back(c.args[0]);

@@ -189,6 +189,10 @@ private:
     // Animation: poses the scene when the animation, its time or the shutter changed
     // since the last pose (paused: no work), then the GPU copy and the shutter's motion.
     void update_pose();
+    // A scene large compared with what the camera sees close by: when the camera has moved
+    // farther from Scene::origin than kAnchorDistances times its distance to the nearest geometry, the origin moves to
+    // it (scene/origin.hpp) and the GPU copy, the view and the reference follow.
+    void anchor_at_the_camera(int frame);
     // The reference tracer's Options::pose_at: the scene at time u in [0, 1) of the shutter.
     void pose_within_shutter(float u);
     std::string animation_label(int index) const {

@@ -35,6 +35,7 @@
 #include "render/still.hpp"
 #include "scene/animation.hpp"
 #include "scene/gltf_loader.hpp"
+#include "scene/origin.hpp"
 #include "rt/view_lighting.hpp"
 #include "scene/lighting.hpp"
 
@@ -108,6 +109,7 @@ int run_job(GoldenJob& job, const ShaderLibrary& shaders, ProgramCache* programs
         }
         // As `candela render`: a file without lights gets the default rig (--lighting auto).
         const float aspect = static_cast<float>(options.width) / static_cast<float>(options.height);
+        anchor_at_camera(scene, scene.select_camera(options.camera, aspect), options.animation, options.time);
         LightingChoice lighting = apply_lighting(scene, LightingMode::auto_select, scene.select_camera(options.camera, aspect));
         complete_lighting(scene, lighting, shaders, scene.select_camera(options.camera, aspect), aspect);
         options.output = FrameOutput::display;  // the GPU tonemap pass, as `candela render x.png`

@@ -12,6 +12,7 @@
 // longer run on seeds nobody looked at).
 #include <gtest/gtest.h>
 
+#include <glm/gtc/matrix_transform.hpp>
 #include <nlohmann/json.hpp>
 
 #include <cmath>
@@ -27,6 +28,7 @@
 #include "gltf_builder.hpp"
 #include "image/batch_stats.hpp"
 #include "image/image.hpp"
+#include "render/renderer.hpp"
 #include "render/still.hpp"
 #include "rt/ray_tracer.hpp"
 #include "rt/view_lighting.hpp"
@@ -35,6 +37,7 @@
 #include "scene/gltf_loader.hpp"
 #include "scene/gltf_writer.hpp"
 #include "scene/lighting.hpp"
+#include "scene/origin.hpp"
 
 namespace candela {
 namespace {
@@ -113,11 +116,12 @@ struct Frame {
     std::vector<std::string> passes;
     std::size_t nonfinite = 0;
 };
-Frame raster(const Scene& scene, const ShaderLibrary& lib, const std::string& path) {
+Frame raster(const Scene& scene, const ShaderLibrary& lib, const std::string& path, const std::string& effects = "") {
     StillOptions o;
     o.width = kW;
     o.height = kH;
     o.output = FrameOutput::display;
+    if (!effects.empty()) apply_effects(o.settings, effects);
     apply_knob(o.settings, "render.path=" + path);
     const StillResult r = render_still(scene, lib, o);
     Frame f;
@@ -191,6 +195,29 @@ TEST(FarOrigin, AnimatedRootsMoveAsTheFileSaysAndTheirTangentsStay) {
     EXPECT_LT(glm::distance(placed(0), glm::dvec3(x0 + 2.0, 0, 0)), 1e-3);
     EXPECT_LT(glm::distance(placed(1), glm::dvec3(x0, 2.0, 0)), 1e-3);
     EXPECT_LT(glm::length(glm::dvec3(scene.nodes[0].world[3])), 10.0) << "the posed node stays next to the origin in float";
+}
+
+// The camera's anchor is for scenes large compared with what the camera sees: no random scene (nor
+// a sample scene or a shared model, checked with `candela info` when the rule was chosen) moves
+// its origin, so they render as their files place them. And a camera that is far in near planes
+// but close to the geometry it sees (TransmissionTest's znear is 1e-4 of its distance) does not.
+TEST(FarOrigin, TheCamerasAnchorLeavesOrdinaryScenesWhereTheyAre) {
+    int moved = 0;
+    for (std::uint32_t seed = 0; seed < 256; ++seed) {
+        Scene scene = make_random_scene(seed);
+        const Camera camera = scene.select_camera("", 4.0f / 3.0f);
+        if (anchor_at_camera(scene, camera)) {
+            ++moved;
+            ADD_FAILURE() << "generated:random:" << seed << " moved its origin to the camera";
+        }
+    }
+    EXPECT_EQ(moved, 0);
+    Scene tiny_near = make_random_scene(1);
+    Camera camera = tiny_near.select_camera("", 4.0f / 3.0f);
+    camera.znear = 1e-6f;
+    EXPECT_FALSE(anchor_at_camera(tiny_near, camera)) << "a tiny near plane alone does not move the origin";
+    camera.world[3] += glm::vec4(1e5f, 0.0f, 0.0f, 0.0f);
+    EXPECT_FALSE(anchor_at_camera(tiny_near, camera)) << "a camera far from every geometry sees nothing close by";
 }
 
 class FarOriginTest : public test::GlContextTest {
@@ -287,6 +314,106 @@ TEST_P(FarOriginTest, AnimatedAndSkinnedModelsPosedOnTheEarthsSurface) {
             EXPECT_GT(lit, static_cast<std::size_t>(kW * kH / 20)) << path << ": the model is in view";
         }
     }
+}
+
+// A scene large compared with what its camera sees close by: cornell_box with a copy of its tall
+// box D metres away, seen from the room's camera. Written with the room at the file's origin and
+// with the room at (D, 0, 0), the loader leaves both where they are (their centre is half their
+// size from the origin); the camera then stands D from Scene::origin, 2e5+ near distances, and
+// anchor_at_camera moves the origin to it. The room then renders as at the file's origin, on
+// both paths with shadows and area lights; without the anchor, the float steps at D show.
+TEST_P(FarOriginTest, ALargeSceneKeepsItsPrecisionNextToTheCamera) {
+    const std::string backend = to_string(GetParam());
+    Scene room = load_gltf(fs::path(CANDELA_SOURCE_DIR) / "samples" / "scenes" / "cornell_box.gltf");
+    int mesh_node = -1;
+    for (size_t i = 0; i < room.nodes.size(); ++i)
+        if (room.nodes[i].mesh >= 0) mesh_node = static_cast<int>(i);
+    ASSERT_GE(mesh_node, 0);
+    for (const double d : {1e5, 1e6}) {
+        char where[64];
+        std::snprintf(where, sizeof where, "D = %.0e m", d);
+        SCOPED_TRACE(where);
+        Scene big = room;
+        Node far_box = big.nodes[static_cast<size_t>(mesh_node)];
+        far_box.parent = -1;
+        far_box.children.clear();
+        far_box.translation = glm::vec3(static_cast<float>(-d), 0.0f, 0.0f);
+        far_box.has_matrix = false;
+        far_box.local = glm::translate(glm::mat4(1.0f), far_box.translation);
+        far_box.rest_local.reset();
+        big.nodes.push_back(far_box);
+        big.roots.push_back(static_cast<int>(big.nodes.size()) - 1);
+        big.update_world_transforms();
+        const float aspect = static_cast<float>(kW) / kH;
+        Scene at_origin = written_and_loaded(big, glm::dvec3(0.0), backend + "_large_origin");
+        EXPECT_FALSE(anchor_at_camera(at_origin, at_origin.select_camera("", aspect))) << "the camera stands at the origin";
+        Scene unanchored = written_and_loaded(big, glm::dvec3(d, 0.0, 0.0), backend + "_large_far");
+        EXPECT_EQ(unanchored.origin, glm::dvec3(0.0)) << "the loader leaves a scene whose centre is half its size away";
+        Scene anchored = unanchored;
+        ASSERT_TRUE(anchor_at_camera(anchored, anchored.select_camera("", aspect))) << "the camera stands D from the origin";
+        EXPECT_LT(glm::length(anchored.origin - glm::dvec3(d, 1.0, 3.4)), 1.0) << "the origin moved to the camera";
+        const Scene a = as_user(std::move(at_origin), lib_), b = as_user(std::move(anchored), lib_), c = as_user(std::move(unanchored), lib_);
+        for (const char* path : {"forward", "deferred"}) {
+            const Frame fa = raster(a, lib_, path, "shadows"), fb = raster(b, lib_, path, "shadows"), fc = raster(c, lib_, path, "shadows");
+            const std::size_t off = differing_pixels(fb.display, fa.display), off_without = differing_pixels(fc.display, fa.display);
+            std::printf("%s %s: %zu of %d pixels beyond 2/255 (without the anchor: %zu)\n", where, path, off, kW * kH, off_without);
+            EXPECT_EQ(fb.nonfinite, 0u) << path;
+            EXPECT_EQ(fb.passes, fa.passes) << path;
+            EXPECT_LE(off, static_cast<std::size_t>(kW * kH / 1000)) << path << ": pixels beyond 2/255 against the room at the origin";
+            if (d >= 1e6) EXPECT_GT(off_without, static_cast<std::size_t>(kW * kH / 100)) << path << ": the float steps the anchor removes";
+        }
+    }
+}
+
+// The origin moving under a live renderer (the viewer flying far): the GPU copy updated as for a
+// new pose, the next frame is the frame of a renderer made afresh on the moved scene, value for
+// value: shadow views, area-light polygons and the light buffer follow the nodes.
+TEST_P(FarOriginTest, MovingTheOriginUnderALiveRendererGivesAFreshRenderersImage) {
+    Scene scene = load_gltf(fs::path(CANDELA_SOURCE_DIR) / "samples" / "scenes" / "cornell_box.gltf");
+    const int w = 64, h = 48;
+    const float aspect = static_cast<float>(w) / h;
+    Camera far_camera = scene.select_camera("", aspect);
+    const size_t n = scene.nodes.size();
+    for (size_t i = 0; i < n; ++i) {  // the room again, 1e5 m along x, and the camera in it
+        if (scene.nodes[i].camera >= 0) continue;
+        Node copy = scene.nodes[i];
+        copy.translation.x += 1e5f;
+        copy.local = glm::translate(glm::mat4(1.0f), copy.translation) * glm::mat4_cast(copy.rotation) * glm::scale(glm::mat4(1.0f), copy.scale);
+        copy.rest_local.reset();
+        scene.nodes.push_back(copy);
+        scene.roots.push_back(static_cast<int>(scene.nodes.size()) - 1);
+    }
+    scene.update_world_transforms();
+    far_camera.node = -1;
+    far_camera.world[3].x += 1e5f;
+    RenderSettings settings;
+    apply_effects(settings, "shadows");
+    GpuScene gpu(scene);
+    Renderer live(lib_, scene, gpu, settings);
+    live.set_view(far_camera, w, h);
+    live.render(far_camera, w, h);  // the frame before the move, at 1e5 from the origin
+    const glm::dvec3 before = scene.origin;
+    ASSERT_TRUE(anchor_at_camera(scene, far_camera));
+    Camera anchored = far_camera;
+    anchored.world[3] -= glm::vec4(glm::vec3(scene.origin - before), 0.0f);
+    EXPECT_LT(glm::length(glm::vec3(anchored.world[3])), 1e-3f);
+    gpu.update_pose();
+    live.render(anchored, w, h);
+    const ImageF kept = live.read_radiance();
+    GpuScene fresh_gpu(scene);
+    Renderer fresh(lib_, scene, fresh_gpu, settings);
+    fresh.set_view(anchored, w, h);
+    fresh.render(anchored, w, h);
+    const ImageF reference = fresh.read_radiance();
+    EXPECT_EQ(count_nonfinite(kept), 0u);
+    ASSERT_EQ(kept.pixels.size(), reference.pixels.size());
+    size_t differ = 0;
+    for (size_t i = 0; i < kept.pixels.size(); ++i) differ += kept.pixels[i] != reference.pixels[i];
+    EXPECT_EQ(differ, 0u) << "values that differ from a fresh renderer's";
+    float sum = 0.0f;
+    for (size_t i = 0; i < reference.pixels.size(); ++i)
+        if (i % static_cast<size_t>(reference.channels) < 3) sum += reference.pixels[i];
+    EXPECT_GT(sum / static_cast<float>(w * h), 0.05f) << "the far room is lit";
 }
 
 INSTANTIATE_TEST_SUITE_P(Backends, FarOriginTest, ::testing::Values(Backend::egl, Backend::osmesa), test::backend_name);
