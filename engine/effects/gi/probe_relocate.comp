@@ -2,7 +2,7 @@
 // GI probes, relocation (engine/effects/gi/gi.cpp), before the first update, each round from a
 // trace of every probe where it stands: a probe inside geometry (a quarter or more of its rays meet back
 // faces: a wall's slab, a box) is moved out through the nearest back face it saw, to a quarter of
-// a cell beyond it (Majercik et al. 2021, "Scaling Probe-Based Real-Time Dynamic Global Illumination for
+// a cell beyond it along the face's normal (Majercik et al. 2021, "Scaling Probe-Based Real-Time Dynamic Global Illumination for
 // Production", JCGT 10(2): probe relocation). Without it such a probe is switched off, and the
 // surfaces next to it take their light from probes a whole cell away, inside the room: a closed
 // room's outer layer of probes sits in its walls, and its walls, floor and ceiling were lit by
@@ -29,24 +29,29 @@ void main() {
     ivec3 c = gi_probe_coord(probe);
     int rays = gi.rays_per_probe;
     int first = probe * rays;
+    // The nearest planes the rays met, by the probe's distance to them (probe_trace.comp gives each
+    // hit's face: its normal towards the probe, and that distance). Moves go along a plane's
+    // normal: rays that meet one plane agree on it, so a float rounding that changes which ray is
+    // nearest does not change the move (moving along the nearest ray, two rays at nearly the
+    // same angle to a floor 9 m away moved a probe 2.4 m apart sideways).
     int back = 0;
     float nearest_back = 3.0e38, nearest_front = 3.0e38;
-    vec3 nearest_back_dir = vec3(0.0), nearest_front_dir = vec3(0.0);
+    vec3 back_normal = vec3(0.0), front_normal = vec3(0.0);
     for (int r = 0; r < rays; ++r) {
         float a = texelFetch(t_gi_rays, 2 * (first + r)).a;
+        vec4 face = texelFetch(t_gi_rays, 2 * (first + r) + 1);
+        if (dot(face.xyz, face.xyz) < 0.25) continue;  // a miss
         if (a >= 0.0) {
-            if (a < nearest_front) {
-                nearest_front = a;
-                nearest_front_dir = texelFetch(t_gi_rays, 2 * (first + r) + 1).xyz;
+            if (face.w < nearest_front) {
+                nearest_front = face.w;
+                front_normal = face.xyz;
             }
             continue;
         }
-        ++back;
-        // probe_trace.comp records a back face as -0.2 x its distance.
-        float d = -a / 0.2;
-        if (d < nearest_back) {
-            nearest_back = d;
-            nearest_back_dir = texelFetch(t_gi_rays, 2 * (first + r) + 1).xyz;
+        ++back;  // probe_trace.comp records a back face as -0.2 x its distance
+        if (face.w < nearest_back) {
+            nearest_back = face.w;
+            back_normal = face.xyz;
         }
     }
     ivec2 texel = ivec2(c.x + c.z * gi.probe_counts.x, c.y);
@@ -54,13 +59,14 @@ void main() {
     float min_spacing = min(gi.spacing.x, min(gi.spacing.y, gi.spacing.z));
     float margin = GI_RELOCATE_MARGIN * min_spacing;
     if (back * 4 > rays) {
-        vec3 moved = offset + nearest_back_dir * (nearest_back + margin);
+        // Out through the nearest back face: against its normal (which faces the probe).
+        vec3 moved = offset - back_normal * (nearest_back + margin);
         if (all(lessThanEqual(abs(moved), 0.45 * gi.spacing))) offset = moved;
     } else if (nearest_front < margin) {
         // A probe outside geometry but nearer a face than the margin (a grid point just above a
         // floor) steps back from it to the margin, for the same staircase, and because its
         // sideways light is the face's at grazing distance, which points a margin away do not see.
-        vec3 moved = offset - nearest_front_dir * (margin - nearest_front);
+        vec3 moved = offset + front_normal * (margin - nearest_front);
         if (all(lessThanEqual(abs(moved), 0.45 * gi.spacing))) offset = moved;
     }
     imageStore(i_offsets, texel, vec4(offset, 0.0));

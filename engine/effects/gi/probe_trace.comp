@@ -110,6 +110,25 @@ vec3 probe_ray_radiance(Ray ray, SurfaceHit y, inout Rng rng) {
     return vec3(0.0);
 }
 
+// What a probe ray sees at `hit`. A back face (the probe is inside geometry or behind a one-sided
+// wall) counts as such only if no front face lies at the same distance: where two faces coincide
+// (a box standing on a floor: its bottom and the floor's top) the tracer returns either of them by
+// float rounding alone, and the probe's irradiance and relocation then changed with the scene's
+// placement (a box moved by its own size flipped a probe's move). Such a pair is the front face.
+SurfaceHit probe_ray_face(Ray ray, Hit hit, out bool back) {
+    SurfaceHit y = surface_at(ray, hit);
+    back = !y.front && !material_double_sided(y.material);
+    if (!back) return y;
+    float d = 1e-4 * min(gi.spacing.x, min(gi.spacing.y, gi.spacing.z));
+    Ray around = make_ray(y.p - ray.dir * d, ray.dir);
+    Hit h = trace(around, 2.0 * d, false, true);  // front faces (and two-sided ones) only
+    if (h.prim < 0) return y;
+    SurfaceHit f = surface_at(around, h);
+    if (!f.front && !material_double_sided(f.material)) return y;
+    back = false;
+    return f;
+}
+
 void main() {
     int rays = gi.rays_per_probe;
     int probe = gi.first_probe + int(gl_WorkGroupID.y);
@@ -124,13 +143,20 @@ void main() {
     // in every update: gi.on says only whether the previous update's probes are read (a bounce
     // more), which they are not in the first update or when a single bounce is planned.
     vec4 result = vec4(gi.on > -0.5 ? environment(dir) : vec3(0.0), gi.miss_distance);
+    vec4 face = vec4(0.0);  // relocation's trace: the plane of the face met (none: a miss)
     if (hit.prim >= 0 && gi.on < -0.5) {
-        // Relocation's trace (gi.cpp): how far the ray met a surface, negative for a back face.
-        SurfaceHit y = surface_at(ray, hit);
-        result.a = !y.front && !material_double_sided(y.material) ? -0.2 * hit.t : min(hit.t, gi.miss_distance);
+        // Relocation's trace (gi.cpp): how far the ray met a surface, negative for a back face,
+        // and the face's plane: its normal towards the probe and the probe's distance to it.
+        // probe_relocate.comp moves a probe by planes, not by rays: rays that meet one plane
+        // at nearly the same distance then agree on the move, whichever of them is nearest.
+        bool back;
+        SurfaceHit y = probe_ray_face(ray, hit, back);
+        result.a = back ? -0.2 * hit.t : min(hit.t, gi.miss_distance);
+        face = vec4(y.ng, hit.t * abs(dot(dir, y.ng)));
     } else if (hit.prim >= 0) {
-        SurfaceHit y = surface_at(ray, hit);
-        if (!y.front && !material_double_sided(y.material)) {
+        bool back;
+        SurfaceHit y = probe_ray_face(ray, hit, back);
+        if (back) {
             // Inside geometry (or behind a one-sided wall): no light, and a short negative distance
             // so that the update counts it and the Chebyshev test keeps the probe from leaking.
             result = vec4(0.0, 0.0, 0.0, -0.2 * hit.t);
@@ -143,5 +169,5 @@ void main() {
         result = vec4(0.0, 0.0, 0.0, gi.miss_distance);
     }
     gi_rays[2 * (probe * rays + ray_index)] = result;
-    gi_rays[2 * (probe * rays + ray_index) + 1] = vec4(dir, 0.0);
+    gi_rays[2 * (probe * rays + ray_index) + 1] = gi.on < -0.5 ? face : vec4(dir, 0.0);
 }

@@ -118,7 +118,13 @@ ShadowViews build_shadow_views(const GpuScene& gpu, const Bounds& bounds, const 
         };
         if (info.kind == LightInfo::Kind::directional) {
             const glm::vec3 dir = glm::normalize(info.direction);
-            const glm::mat4 light_view = glm::lookAt(glm::vec3(0.0f), dir, any_perpendicular_up(dir));
+            // Light space starts at the scene's centre, not at the world's origin: the cascades'
+            // boxes snap to texels of this space, so the grid stands where the scene stands and a
+            // scene moved anywhere (the loader moves a far one by its own centre) keeps its shadow
+            // edges on the same texels. Snapped from the world's origin, a move by a fraction of a
+            // texel moved every hard shadow edge by a texel (FarOriginTest: 11 of 3072 pixels).
+            const glm::vec3 anchor = bounds.empty() ? glm::vec3(0.0f) : bounds.center();
+            const glm::mat4 light_view = glm::lookAt(anchor, anchor + dir, any_perpendicular_up(dir));
             // The scene in light space: depth range for casters, xy clip for receivers.
             Bounds scene_ls;
             for (const glm::vec3& c : corners) scene_ls.extend(glm::vec3(light_view * glm::vec4(c, 1.0f)));
