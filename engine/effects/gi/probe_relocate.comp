@@ -34,39 +34,57 @@ void main() {
     // normal: rays that meet one plane agree on it, so a float rounding that changes which ray is
     // nearest does not change the move (moving along the nearest ray, two rays at nearly the
     // same angle to a floor 9 m away moved a probe 2.4 m apart sideways).
+    float min_spacing = min(gi.spacing.x, min(gi.spacing.y, gi.spacing.z));
+    float margin = GI_RELOCATE_MARGIN * min_spacing;
+    // Planes at the same distance up to rounding are a tie: the grid's outer probes stand at equal
+    // distances from a closed room's walls and floor by construction. A tie among back faces goes
+    // to a fixed order of the normals, and a probe steps back from every front plane nearer than
+    // the margin, not from the nearest alone (which one was nearest changed with the scene's
+    // placement: cornell_point's corner probes stepped off the floor or off a wall).
+    const float tie = 1e-4 * min_spacing;
+    const vec3 order = vec3(0.5773, 0.5774, 0.5775);
     int back = 0;
-    float nearest_back = 3.0e38, nearest_front = 3.0e38;
-    vec3 back_normal = vec3(0.0), front_normal = vec3(0.0);
+    float nearest_back = 3.0e38;
+    vec3 back_normal = vec3(0.0);
+    vec4 near_planes[4];
+    int near_count = 0;
     for (int r = 0; r < rays; ++r) {
         float a = texelFetch(t_gi_rays, 2 * (first + r)).a;
         vec4 face = texelFetch(t_gi_rays, 2 * (first + r) + 1);
         if (dot(face.xyz, face.xyz) < 0.25) continue;  // a miss
         if (a >= 0.0) {
-            if (face.w < nearest_front) {
-                nearest_front = face.w;
-                front_normal = face.xyz;
-            }
+            if (face.w >= margin) continue;
+            bool known = false;
+            for (int k = 0; k < near_count; ++k)
+                if (dot(near_planes[k].xyz, face.xyz) > 0.999 && abs(near_planes[k].w - face.w) < 0.05 * margin) {
+                    near_planes[k].w = min(near_planes[k].w, face.w);
+                    known = true;
+                }
+            if (!known && near_count < 4) near_planes[near_count++] = face;
             continue;
         }
         ++back;  // probe_trace.comp records a back face as -0.2 x its distance
-        if (face.w < nearest_back) {
+        if (face.w < nearest_back - tie) {
             nearest_back = face.w;
+            back_normal = face.xyz;
+        } else if (face.w <= nearest_back + tie && dot(face.xyz, order) > dot(back_normal, order)) {
+            nearest_back = min(nearest_back, face.w);
             back_normal = face.xyz;
         }
     }
     ivec2 texel = ivec2(c.x + c.z * gi.probe_counts.x, c.y);
     vec3 offset = imageLoad(i_offsets, texel).xyz;
-    float min_spacing = min(gi.spacing.x, min(gi.spacing.y, gi.spacing.z));
-    float margin = GI_RELOCATE_MARGIN * min_spacing;
     if (back * 4 > rays) {
         // Out through the nearest back face: against its normal (which faces the probe).
         vec3 moved = offset - back_normal * (nearest_back + margin);
         if (all(lessThanEqual(abs(moved), 0.45 * gi.spacing))) offset = moved;
-    } else if (nearest_front < margin) {
-        // A probe outside geometry but nearer a face than the margin (a grid point just above a
-        // floor) steps back from it to the margin, for the same staircase, and because its
-        // sideways light is the face's at grazing distance, which points a margin away do not see.
-        vec3 moved = offset + front_normal * (margin - nearest_front);
+    } else if (near_count > 0) {
+        // A probe outside geometry but nearer faces than the margin (a grid point just above a
+        // floor, in a room's corner) steps back from each to the margin, for the same staircase,
+        // and because its sideways light is the face's at grazing distance, which points a
+        // margin away do not see.
+        vec3 moved = offset;
+        for (int k = 0; k < near_count; ++k) moved += near_planes[k].xyz * (margin - near_planes[k].w);
         if (all(lessThanEqual(abs(moved), 0.45 * gi.spacing))) offset = moved;
     }
     imageStore(i_offsets, texel, vec4(offset, 0.0));
