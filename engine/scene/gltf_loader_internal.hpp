@@ -151,6 +151,7 @@ private:
     void build_instances(Scene& scene);  // EXT_mesh_gpu_instancing (gltf_loader_nodes.cpp)
     // A scene far from the file's origin moved next to it in double (gltf_loader_nodes.cpp).
     void rebase_far_scene(Scene& scene);
+    void hoist_transform_roots(Scene& scene, const std::vector<bool>& joint);
     void build_skins(Scene& scene);
     void build_animations(Scene& scene);
     void build_deformation(Scene& scene);

@@ -39,7 +39,17 @@ void Loader::build_nodes(Scene& scene) {
             }
             node.local = glm::translate(glm::mat4(1.0f), t) * glm::mat4_cast(r) * glm::scale(glm::mat4(1.0f), s);
             if (src.translation.size() == 3) dtranslation_[i] = glm::dvec3(src.translation[0], src.translation[1], src.translation[2]);
-            dlocal_[i] = glm::translate(glm::dmat4(1.0), dtranslation_[i]) * glm::dmat4(glm::mat4_cast(r) * glm::scale(glm::mat4(1.0f), s));
+            // In double from the file's numbers: a rotation rounded to float turns a translation
+            // of 6.4e6 m below it by up to 0.4 m.
+            glm::dquat dr(1.0, 0.0, 0.0, 0.0);
+            if (src.rotation.size() == 4) {
+                dr = glm::dquat(src.rotation[3], src.rotation[0], src.rotation[1], src.rotation[2]);
+                const double len = glm::length(dr);
+                dr = len > 0.0 && std::isfinite(len) ? dr / len : glm::dquat(1.0, 0.0, 0.0, 0.0);
+            }
+            glm::dvec3 ds(1.0);
+            for (size_t k = 0; k < 3 && src.scale.size() == 3; ++k) ds[static_cast<int>(k)] = src.scale[k];
+            dlocal_[i] = glm::translate(glm::dmat4(1.0), dtranslation_[i]) * glm::mat4_cast(dr) * glm::scale(glm::dmat4(1.0), ds);
             node.translation = t;
             node.rotation = r;
             node.scale = s;
@@ -206,6 +216,8 @@ void Loader::rebase_far_scene(Scene& scene) {
         for (const Primitive& prim : scene.meshes[static_cast<size_t>(node.mesh)].primitives)
             for (const Vertex& v : prim.vertices) add(glm::dvec3(world[i] * glm::dvec4(glm::dvec3(v.position), 1.0)));
     }
+    const bool far = lo.x <= hi.x && glm::length(0.5 * (lo + hi)) > kFar * std::max(0.5 * glm::length(hi - lo), 1e-3);
+    if (far) hoist_transform_roots(scene, joint);
     // The file's placement of the roots in double, kept so that the origin can move later too
     // (the camera's anchor, scene/origin.hpp).
     std::vector<bool> root(n, false);
@@ -223,10 +235,51 @@ void Loader::rebase_far_scene(Scene& scene) {
                 scene.root_tracks.push_back({static_cast<int>(a), static_cast<int>(c), ch.sampler, -1});
         }
     }
-    if (!(lo.x <= hi.x)) return;  // nothing placed
-    const glm::dvec3 centre = 0.5 * (lo + hi);
-    const double radius = std::max(0.5 * glm::length(hi - lo), 1e-3);
-    if (glm::length(centre) > kFar * radius) move_origin(scene, centre);
+    if (far) move_origin(scene, 0.5 * (lo + hi));
+}
+
+// A far scene placed by a node below its roots (an exporter's root that only turns Z-up into
+// Y-up, with the building's Earth-centred translation on its child): moving the roots would leave
+// that child's float translation at 6.4e6 m, in steps of 0.5 m. So a root that is only a
+// transform (no mesh, camera, light or skin, not a joint, not animated) and whose children are
+// not animated hands its transform to its children, composed in double, and they become the
+// roots; again while such roots remain. (An animated node keeps its place in the hierarchy: its
+// channels are relative to its parent.)
+void Loader::hoist_transform_roots(Scene& scene, const std::vector<bool>& joint) {
+    const size_t n = scene.nodes.size();
+    std::vector<bool> animated(n, false);
+    for (const Animation& anim : scene.animations)
+        for (const AnimationChannel& c : anim.channels)
+            if (c.node >= 0 && static_cast<size_t>(c.node) < n) animated[static_cast<size_t>(c.node)] = true;
+    for (int round = 0; round < 64; ++round) {
+        bool changed = false;
+        std::vector<int> roots;
+        for (int r : scene.roots) {
+            const size_t i = static_cast<size_t>(r);
+            Node& node = scene.nodes[i];
+            bool movable = i < dlocal_.size() && node.mesh < 0 && node.camera < 0 && node.light < 0 && node.skin < 0 && !joint[i] &&
+                           !animated[i] && !node.children.empty();
+            for (int c : node.children) movable = movable && static_cast<size_t>(c) < dlocal_.size() && !animated[static_cast<size_t>(c)];
+            if (!movable) {
+                roots.push_back(r);
+                continue;
+            }
+            for (int c : node.children) {
+                const size_t ci = static_cast<size_t>(c);
+                Node& child = scene.nodes[ci];
+                dlocal_[ci] = dlocal_[i] * dlocal_[ci];
+                dtranslation_[ci] = glm::dvec3(dlocal_[ci][3]);
+                child.local = glm::mat4(dlocal_[ci]);
+                child.has_matrix = true;  // not animated: a matrix holds any composition
+                child.parent = -1;
+                roots.push_back(c);
+            }
+            node.children.clear();
+            changed = true;
+        }
+        scene.roots = std::move(roots);
+        if (!changed) break;
+    }
 }
 
 // EXT_mesh_gpu_instancing: a node's mesh is drawn once per instance, at the node's transform

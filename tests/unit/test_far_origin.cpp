@@ -67,7 +67,8 @@ Scene written_and_loaded(Scene scene, const glm::dvec3& offset, const std::strin
 // A binary glTF whose scene is put under one new root node translated by `offset` (JSON doubles),
 // as geospatial content places a model: the file's own roots, animated or not, keep their
 // transforms, and a skin's joints move with them.
-fs::path glb_placed_at(const fs::path& src, const glm::dvec3& offset, const std::string& name) {
+// nested: as exporters write it, a root that turns Z-up into Y-up above the translated node.
+fs::path glb_placed_at(const fs::path& src, const glm::dvec3& offset, const std::string& name, bool nested = false) {
     std::ifstream in(src, std::ios::binary);
     std::vector<char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
     auto u32 = [&](size_t at) {
@@ -81,6 +82,10 @@ fs::path glb_placed_at(const fs::path& src, const glm::dvec3& offset, const std:
     nlohmann::json& roots = j["scenes"][scene]["nodes"];
     j["nodes"].push_back({{"name", "placed"}, {"translation", {offset.x, offset.y, offset.z}}, {"children", roots}});
     roots = nlohmann::json::array({j["nodes"].size() - 1});
+    if (nested) {
+        j["nodes"].push_back({{"name", "z_up"}, {"rotation", {-0.70710678118654752, 0.0, 0.0, 0.70710678118654752}}, {"children", roots}});
+        roots = nlohmann::json::array({j["nodes"].size() - 1});
+    }
     std::string text = j.dump();
     text.resize((text.size() + 3) / 4 * 4, ' ');
     const std::vector<char> rest(bytes.begin() + 20 + static_cast<std::ptrdiff_t>(json_len), bytes.end());  // the BIN chunk
@@ -268,31 +273,44 @@ TEST_P(FarOriginTest, RandomScenesGiveTheOriginsImageAnywhere) {
 // A skinned, animated model (Fox, walking) and a node-animated one (BoxAnimated), placed on the
 // Earth's surface by a root node and posed there, give the images they give at the origin: the
 // skin's joints and the animated nodes are posed relative to Scene::origin, in float next to it.
+// BoxAnimated again with the translation one level down, below a root that turns Z-up into Y-up (the
+// loader hands that root's transform to its child, in double, before moving the roots).
 TEST_P(FarOriginTest, AnimatedAndSkinnedModelsPosedOnTheEarthsSurface) {
     const fs::path models = fs::path(CANDELA_SOURCE_DIR) / "tests" / "data" / "models";
     struct Case {
         const char* file;
         const char* animation;
         float time;
+        bool nested;  // the translation on a node below a turning root
     };
     const glm::dvec3 surface(3.9e6, 3.1e6, -4.0e6);  // |T| = 6.4e6 m
-    for (const Case& c : {Case{"Fox/Fox.glb", "Walk", 0.5f}, Case{"BoxAnimated/BoxAnimated.glb", "0", 1.3f}}) {
-        SCOPED_TRACE(c.file);
+    for (const Case& c : {Case{"Fox/Fox.glb", "Walk", 0.5f, false}, Case{"BoxAnimated/BoxAnimated.glb", "0", 1.3f, false},
+                          Case{"BoxAnimated/BoxAnimated.glb", "0", 1.3f, true}}) {
+        SCOPED_TRACE(std::string(c.file) + (c.nested ? " nested" : ""));
         auto posed = [&](const fs::path& file) {
             Scene scene = load_gltf(file);
             pose_scene(scene, find_animation(scene, c.animation), c.time);
             return as_user(std::move(scene), lib_);
         };
-        const Scene origin = posed(glb_placed_at(models / c.file, glm::dvec3(0.0), "model_origin"));
-        const Scene far = posed(glb_placed_at(models / c.file, surface, "model_far"));
-        EXPECT_LT(glm::length(far.origin - surface), 1e3) << "the loader moved the model next to the origin";
+        const Scene origin = posed(glb_placed_at(models / c.file, glm::dvec3(0.0), "model_origin", c.nested));
+        const Scene far = posed(glb_placed_at(models / c.file, surface, "model_far", c.nested));
+        const glm::dvec3 placed = c.nested ? glm::dvec3(surface.x, surface.z, -surface.y) : surface;  // turned Z-up to Y-up
+        EXPECT_LT(glm::length(far.origin - placed), 1e3) << "the loader moved the model next to the origin";
+        // Every node where the file puts it, to a millimetre (a framing camera would follow a
+        // model displaced as a whole; the nodes do not).
+        ASSERT_EQ(far.nodes.size(), origin.nodes.size());
+        double worst = 0.0;
+        for (size_t i = 0; i < far.nodes.size(); ++i)
+            if (far.nodes[i].mesh >= 0)
+                worst = std::max(worst, glm::length(glm::dvec3(far.nodes[i].world[3]) + far.origin - placed - glm::dvec3(origin.nodes[i].world[3])));
+        EXPECT_LT(worst, 1e-3) << "metres between a node and where the file puts it";
         EXPECT_EQ(origin.origin, glm::dvec3(0.0));
         for (const char* path : {"forward", "deferred"}) {
             const Frame a = raster(origin, lib_, path), b = raster(far, lib_, path);
             EXPECT_EQ(b.nonfinite, 0u) << path;
             EXPECT_EQ(b.passes, a.passes) << path;
             const std::size_t off = differing_pixels(b.display, a.display);
-            std::printf("%s %s: %zu of %d pixels beyond 2/255\n", c.file, path, off, kW * kH);
+            std::printf("%s%s %s: %zu of %d pixels beyond 2/255\n", c.file, c.nested ? " nested" : "", path, off, kW * kH);
             EXPECT_LE(off, static_cast<std::size_t>(kW * kH / 1000)) << path << ": pixels beyond 2/255 against the origin's image";
             std::size_t lit = 0;
             for (std::size_t i = 0; i < a.display.size(); i += 4) lit += a.display[i] + a.display[i + 1] + a.display[i + 2] > 30;
