@@ -324,7 +324,8 @@ void Renderer::render_subframe(const Camera& camera, FrameOutput output, float e
     state_.bind_framebuffer(0);
 
     // Sub-frames after the first add their passes as "name#k" (the GPU timer's order).
-    const std::string suffix = sub > 0 ? "#" + std::to_string(sub + 1) : "";
+    std::string suffix;
+    if (sub > 0) suffix.append(1, '#').append(std::to_string(sub + 1));  // (not "#" + ...: GCC 12's -Wrestrict false positive)
     report_.graph_ms += graph_ms;
     for (const auto& p : graph.passes()) {
         if (p.culled) {
