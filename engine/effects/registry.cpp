@@ -40,15 +40,10 @@ std::vector<std::string> effect_shading_includes() {
     return files;
 }
 
-namespace {
-// Every shader library (whoever makes it) serves the lighting code's "effects_shading.glsl" from
-// the registry: installed when the program starts, as this file is linked into every program
-// that uses the registry.
-[[maybe_unused]] const bool shading_include_installed = [] {
-    ShaderLibrary::set_default_generated_include("effects_shading.glsl", effect_shading_includes());
-    return true;
-}();
-}  // namespace
+ShaderLibrary serve_effect_shading(ShaderLibrary shaders) {
+    shaders.set_generated_include("effects_shading.glsl", effect_shading_includes());
+    return shaders;
+}
 
 const Effect* find_effect(std::string_view name) {
     for (const Effect* e : effect_registry())

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "render/effect.hpp"
+#include "shader/shader_library.hpp"
 
 namespace candela {
 
@@ -15,7 +16,10 @@ const std::vector<const Effect*>& effect_registry();
 // nullptr for an unknown name.
 const Effect* find_effect(std::string_view name);
 // The effects' shading includes (Effect::shading_include), registry order: what the lighting
-// code's "effects_shading.glsl" includes (every ShaderLibrary serves it).
+// code's "effects_shading.glsl" includes.
 std::vector<std::string> effect_shading_includes();
+// `shaders` serving "effects_shading.glsl" (effect_shading_includes): what every program that
+// includes the lighting code is built with (ProgramCache does so for the renderer's programs).
+ShaderLibrary serve_effect_shading(ShaderLibrary shaders);
 
 }  // namespace candela

@@ -3,12 +3,15 @@
 #include <algorithm>
 
 #include "core/error.hpp"
+#include "render/effect_registry.hpp"
 #include "render/program_catalog.hpp"
 
 namespace candela {
 namespace {
 std::filesystem::path normal(const std::filesystem::path& p) { return std::filesystem::absolute(p).lexically_normal(); }
 }  // namespace
+
+ProgramCache::ProgramCache(const ShaderLibrary& shaders) : shaders_(serve_effect_shading(shaders)) {}
 
 const gl::Program& ProgramCache::get(const std::string& name) {
     auto it = programs_.find(name);

@@ -20,7 +20,8 @@ struct ShaderReload {
 
 class ProgramCache {
 public:
-    explicit ProgramCache(const ShaderLibrary& shaders) : shaders_(shaders) {}
+    // Builds with a copy of `shaders` that serves the effects' shading (serve_effect_shading).
+    explicit ProgramCache(const ShaderLibrary& shaders);
     // The program `name`, built now if it is not yet; throws candela::Error (internal) if it does
     // not build. Call at set-up (the renderer builds every planned pass's programs in
     // set_settings), so that a frame only looks programs up.
@@ -36,7 +37,7 @@ private:
         gl::Program program;
         std::set<std::filesystem::path> files;
     };
-    const ShaderLibrary& shaders_;
+    const ShaderLibrary shaders_;
     std::map<std::string, Entry> programs_;  // node-based: references stay valid
 };
 

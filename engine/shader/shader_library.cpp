@@ -5,7 +5,6 @@
 #include <climits>
 #include <cstdlib>
 #include <fstream>
-#include <mutex>
 #include <regex>
 #include <set>
 #include <sstream>
@@ -50,13 +49,6 @@ GLenum gl_stage(ShaderStage stage) {
 
 using Generated = std::map<std::string, std::vector<std::string>>;
 
-// The process-wide generated includes every new library starts with.
-Generated& default_generated(std::unique_lock<std::mutex>& lock) {
-    static std::mutex mutex;
-    static Generated generated;
-    lock = std::unique_lock<std::mutex>(mutex);
-    return generated;
-}
 
 struct Expander {
     const ShaderLibrary& lib;
@@ -138,19 +130,12 @@ std::string PreprocessedSource::map_log(const std::string& log) const {
 }
 
 ShaderLibrary::ShaderLibrary(fs::path root, fs::path effects_root)
-    : root_(std::move(root)), effects_root_(std::move(effects_root)) {
-    std::unique_lock<std::mutex> lock;
-    generated_ = default_generated(lock);
-}
+    : root_(std::move(root)), effects_root_(std::move(effects_root)) {}
 
 void ShaderLibrary::set_generated_include(const std::string& name, std::vector<std::string> files) {
     generated_[name] = std::move(files);
 }
 
-void ShaderLibrary::set_default_generated_include(const std::string& name, std::vector<std::string> files) {
-    std::unique_lock<std::mutex> lock;
-    default_generated(lock)[name] = std::move(files);
-}
 
 fs::path ShaderLibrary::installed_data_dir() {
     char buf[PATH_MAX];

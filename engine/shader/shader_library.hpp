@@ -53,9 +53,9 @@ public:
     // effects_root()/effects and effects_root()/gpu (the blocks and bindings shared with C++).
     std::vector<std::filesystem::path> watched_dirs() const;
     // `#include "name"` in any file then includes each of `files`, in order, resolved like any
-    // include. A library starts with the process-wide ones (set_default_generated_include).
+    // include. A library starts with none: the renderer's programs get the effects' shading
+    // (serve_effect_shading, render/effect_registry.hpp).
     void set_generated_include(const std::string& name, std::vector<std::string> files);
-    static void set_default_generated_include(const std::string& name, std::vector<std::string> files);
     // Throws candela::Error (internal) with "file:line: message" on a missing file or include cycle.
     PreprocessedSource preprocess(const std::filesystem::path& file, const std::vector<std::string>& defines) const;
 

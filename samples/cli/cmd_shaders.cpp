@@ -8,6 +8,7 @@
 #include "core/error.hpp"
 #include "core/log.hpp"
 #include "options.hpp"
+#include "render/effect_registry.hpp"
 #include "render/program_catalog.hpp"
 #include "shader/shader_library.hpp"
 
@@ -20,7 +21,7 @@ int cmd_shaders(const Args& args) {
     SceneSetup s;
     s.shader_dir = shader_dir_option(p);
     s.backend = backend_option(p, false);
-    const ShaderLibrary shaders(s.shader_dir);
+    const ShaderLibrary shaders = serve_effect_shading(ShaderLibrary(s.shader_dir));
     std::vector<ProgramDesc> programs = raster_programs();
     for (ProgramDesc& d : ray_tracer_variants()) programs.push_back(std::move(d));
     // glslang first: it needs no GL, so a machine without GL still checks the sources.

@@ -3,6 +3,7 @@
 #include <filesystem>
 #include <string>
 
+#include "render/effect_registry.hpp"
 #include "render/program_catalog.hpp"
 #include "shader/shader_library.hpp"
 
@@ -22,7 +23,7 @@ TEST(ForwardVariants, EverySpecialisationValidatesWithGlslang) {
     EXPECT_EQ(d.defines.front(), "FORWARD_NO_PEEL");
     EXPECT_EQ(d.defines.back(), "FORWARD_NO_TEXTURES");
     EXPECT_EQ(&program_desc("forward#" + all), &d);  // built once, reference stays valid
-    const ShaderLibrary lib(fs::path(CANDELA_SOURCE_DIR) / "shaders");
+    const ShaderLibrary lib = serve_effect_shading(ShaderLibrary(fs::path(CANDELA_SOURCE_DIR) / "shaders"));
     for (const auto& [stage, file] : d.stages) EXPECT_EQ(validate_with_glslang(lib.preprocess(file, d.defines), stage), "") << file;
     EXPECT_THROW(program_desc("no_such_program#FORWARD_NO_GI"), std::exception);
 }
@@ -30,7 +31,7 @@ TEST(ForwardVariants, EverySpecialisationValidatesWithGlslang) {
 // The deferred lighting programs take the same lighting defines (deferred_light_program_name),
 // with every shadow filter mode: each combination must still compile.
 TEST(ForwardVariants, DeferredSpecialisationsValidateWithGlslang) {
-    const ShaderLibrary lib(fs::path(CANDELA_SOURCE_DIR) / "shaders");
+    const ShaderLibrary lib = serve_effect_shading(ShaderLibrary(fs::path(CANDELA_SOURCE_DIR) / "shaders"));
     for (const char* base : {"deferred_light", "deferred_light_ms", "deferred_light_ms_edges"})
         for (int mode = 0; mode <= 3; ++mode) {
             const std::string name = std::string(base) +

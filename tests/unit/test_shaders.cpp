@@ -6,6 +6,7 @@
 
 #include "core/error.hpp"
 #include "gltf_builder.hpp"
+#include "render/effect_registry.hpp"
 #include "shader/shader_library.hpp"
 
 namespace candela {
@@ -21,7 +22,7 @@ std::optional<ShaderStage> stage_of(const fs::path& p) {
 }
 
 TEST(Shaders, EveryStageValidatesWithGlslang) {
-    const ShaderLibrary lib(fs::path(CANDELA_SOURCE_DIR) / "shaders");
+    const ShaderLibrary lib = serve_effect_shading(ShaderLibrary(fs::path(CANDELA_SOURCE_DIR) / "shaders"));
     int checked = 0;
     for (const auto& entry : fs::recursive_directory_iterator(lib.root())) {
         const auto stage = stage_of(entry.path());
@@ -101,9 +102,12 @@ TEST_F(ShaderIncludes, GeneratedIncludeExpandsItsFilesInOrder) {
     EXPECT_NE(log.find("bad.glsl:2:"), std::string::npos) << log;
 }
 
-// Every library serves the effects' shading include (installed by the effects registry).
+// The effects' shading include is served where it is asked for (serve_effect_shading, as the
+// renderer's program cache does), and nowhere else: no library is changed behind its back.
 TEST(Shaders, TheLightingIncludeOfTheEffectsIsGenerated) {
-    const ShaderLibrary lib(fs::path(CANDELA_SOURCE_DIR) / "shaders");
+    const ShaderLibrary plain(fs::path(CANDELA_SOURCE_DIR) / "shaders");
+    EXPECT_THROW(plain.preprocess("forward/forward.frag", {}), Error);
+    const ShaderLibrary lib = serve_effect_shading(plain);
     const PreprocessedSource src = lib.preprocess("forward/forward.frag", {});
     bool ssao = false;
     for (const fs::path& f : src.files) ssao = ssao || f.filename() == "ssao_shading.glsl";
