@@ -1,6 +1,8 @@
 #!/usr/bin/env python3
 """Checks that engine/'s folders form layers: a file may include headers of its own folder and
-of folders in lower layers, never of a higher one, so no two folders depend on each other.
+of folders in lower layers, never of a higher one, so no two folders depend on each other. And
+that the CPU folders (NO_GL) make no GL call: the scene, its loader, images and the shared
+block declarations work without a context.
 
     check_layers.py SOURCE_DIR          exit 0, or 1 naming each offending include
 
@@ -24,6 +26,10 @@ LAYERS = [
     ["accuracy"], # the accuracy engine (renders references and the effects' knob sweeps)
 ]
 INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"]+)"')
+# Folders whose code runs without a GL context: no gl*() call (comments aside).
+NO_GL = {"core", "gpu", "image", "scene"}
+GL_CALL = re.compile(r'\bgl[A-Z][A-Za-z0-9]*\s*\(')
+STRING = re.compile(r'"(\\.|[^"\\])*"')
 
 
 def main() -> int:
@@ -40,6 +46,9 @@ def main() -> int:
                 path = os.path.join(dirpath, name)
                 with open(path, encoding="utf-8", errors="replace") as f:
                     for number, line in enumerate(f, 1):
+                        if folder in NO_GL and GL_CALL.search(STRING.sub('""', line).split("//")[0]):
+                            rel = os.path.relpath(path, os.path.dirname(root))
+                            problems.append(f"{rel}:{number}: a GL call in engine/{folder}/, which runs without a GL context")
                         m = INCLUDE.match(line)
                         if not m:
                             continue
@@ -55,7 +64,7 @@ def main() -> int:
     cycles = sorted({tuple(sorted(e)) for e in edges if (e[1], e[0]) in edges})
     for a, b in cycles:
         print(f"back-edge: engine/{a}/ and engine/{b}/ include each other")
-    print(f"{len(folders)} folders, {len(edges)} folder dependencies, {len(problems)} upward includes, {len(cycles)} back-edges")
+    print(f"{len(folders)} folders, {len(edges)} folder dependencies, {len(problems)} problems, {len(cycles)} back-edges")
     return 1 if problems or cycles else 0
 
 
