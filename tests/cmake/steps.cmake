@@ -4,6 +4,8 @@
 #                                          no NaN/Inf) writing HEATMAP; fails saying WHAT differs
 #   candela_view_or_fail(DIR LOG_VAR ARG...) `candela view ARG...` under xvfb-run in DIR; LOG_VAR: its log
 #   candela_log_says_or_fail(LOG WHAT REGEX...) every REGEX matches LOG, else fails naming WHAT and the REGEX
+#   candela_clean_shots_or_fail(LOG SHOT COUNT WHAT) LOG says COUNT times that it wrote a screenshot
+#                                          matching SHOT with 0 non-finite radiance values
 function(candela_render_or_fail what)
   execute_process(COMMAND ${CANDELA} render ${ARGN} RESULT_VARIABLE code OUTPUT_VARIABLE out ERROR_VARIABLE err TIMEOUT 300)
   if(NOT code EQUAL 0)
@@ -45,4 +47,14 @@ function(candela_log_says_or_fail log what)
       message(FATAL_ERROR "${what} does not say: ${line}")
     endif()
   endforeach()
+endfunction()
+
+# The viewer's log says exactly `count` times that it wrote a screenshot whose name and note match
+# `shot` (a regular expression) with 0 non-finite radiance values, else the test fails naming `what`.
+function(candela_clean_shots_or_fail log shot count what)
+  string(REGEX MATCHALL "wrote ${shot}[^\n]*, 0 non-finite radiance values" clean "${log}")
+  list(LENGTH clean n_clean)
+  if(NOT n_clean EQUAL ${count})
+    message(FATAL_ERROR "expected ${count} screenshots ${what} with 0 non-finite radiance values, the log has ${n_clean}")
+  endif()
 endfunction()
