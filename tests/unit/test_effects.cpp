@@ -128,7 +128,7 @@ TEST(EffectRegistry, ChoiceKnobsAreEnumsWithNamedValues) {
 using EffectBlocks = test::GlContextTest;
 
 TEST_P(EffectBlocks, CxxStructsMatchTheGlslBlocks) {
-    const ShaderLibrary shaders(ShaderLibrary::default_root());
+    const ShaderLibrary shaders = serve_effect_shading(ShaderLibrary(ShaderLibrary::default_root()));
     std::set<int> bindings = {FRAME_BINDING, RT_FRAME_BINDING};
     int checked = 0;
     for (const Effect* e : effect_registry())
@@ -153,7 +153,7 @@ TEST_P(EffectBlocks, CxxStructsMatchTheGlslBlocks) {
 // with one element is the C++ struct's; likewise the effects' storage buffers (shadow views, RSM
 // views, area-light polygons, reflection probes).
 TEST_P(EffectBlocks, BaseBlocksMatchTheGlsl) {
-    const ShaderLibrary shaders(ShaderLibrary::default_root());
+    const ShaderLibrary shaders = serve_effect_shading(ShaderLibrary(ShaderLibrary::default_root()));
     const ProgramDesc rt_path{"rt_path", {{ShaderStage::compute, "rt/modes/path.comp"}}, {}};
     const ProgramDesc rt_path_emitters{"rt_path", {{ShaderStage::compute, "rt/modes/path.comp"}}, {"HAS_EMITTERS"}};
     struct Block {
