@@ -27,6 +27,12 @@ struct KnobInfo {
     std::string help;
     double lo = 0.0, hi = 0.0;         // int and float: the valid range
     std::vector<std::string> choices;  // choice: the names, in declaration order
+    // What the knob is while the camera moves (the viewer's adaptive quality, reduced level):
+    // a number is lowered to `moving` if it is above it; a choice, declared from the finest to
+    // the cheapest, goes to `moving` if it comes before it. Empty: the knob stays. Only when the
+    // assignment `moving_when` ("knob=value") holds, if given (a knob that else does nothing).
+    std::string moving;
+    std::string moving_when;
 };
 
 struct Knob {
@@ -65,7 +71,7 @@ public:
     KnobRows(std::string prefix, Access access) : prefix_(std::move(prefix)), access_(access) {}
 
     KnobRows& integer(const char* name, int O::*field, int lo, int hi, const char* help) {
-        KnobInfo info{full(name), "int", "[" + std::to_string(lo) + ", " + std::to_string(hi) + "]", help, double(lo), double(hi), {}};
+        KnobInfo info{full(name), "int", "[" + std::to_string(lo) + ", " + std::to_string(hi) + "]", help, double(lo), double(hi), {}, {}, {}};
         const Access access = access_;
         rows.push_back({info,
                         [=](RenderSettings& s, const std::string& v) {
@@ -87,7 +93,7 @@ public:
     KnobRows& real(const char* name, float O::*field, float lo, float hi, const char* help) {
         char range[64];
         std::snprintf(range, sizeof range, "[%g, %g]", lo, hi);
-        KnobInfo info{full(name), "float", range, help, double(lo), double(hi), {}};
+        KnobInfo info{full(name), "float", range, help, double(lo), double(hi), {}, {}, {}};
         const Access access = access_;
         rows.push_back({info,
                         [=](RenderSettings& s, const std::string& v) {
@@ -107,7 +113,7 @@ public:
     }
 
     KnobRows& boolean(const char* name, bool O::*field, const char* help) {
-        KnobInfo info{full(name), "bool", "0|1|true|false|on|off", help, 0.0, 1.0, {}};
+        KnobInfo info{full(name), "bool", "0|1|true|false|on|off", help, 0.0, 1.0, {}, {}, {}};
         const Access access = access_;
         rows.push_back({info,
                         [=](RenderSettings& s, const std::string& v) {
@@ -123,7 +129,7 @@ public:
     template <class E, std::size_t N>
     KnobRows& choice(const char* name, E O::*field, const ChoiceName<E> (&names)[N], const char* help) {
         std::vector<ChoiceName<E>> table(std::begin(names), std::end(names));
-        KnobInfo info{full(name), "choice", "", help, 0.0, double(N - 1), {}};
+        KnobInfo info{full(name), "choice", "", help, 0.0, double(N - 1), {}, {}, {}};
         for (const auto& c : table) {
             if (!info.range.empty()) info.range += '|';
             info.range += c.name;
@@ -145,6 +151,13 @@ public:
                                 if (c.value == value) return nlohmann::json(c.name);
                             return nlohmann::json(nullptr);
                         }});
+        return *this;
+    }
+
+    // The last row's value while the camera moves (KnobInfo::moving), if `when` holds.
+    KnobRows& while_moving(std::string value, std::string when = {}) {
+        rows.back().info.moving = std::move(value);
+        rows.back().info.moving_when = std::move(when);
         return *this;
     }
 

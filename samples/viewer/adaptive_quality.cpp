@@ -105,47 +105,38 @@ void AdaptiveQuality::measured(double frame_ms) {
 
 namespace {
 
-// One knob lowered to at most `low` (integers) when it is above it.
-void lower_int(const nlohmann::json& knobs, const char* name, int low, std::vector<std::string>& out) {
-    const auto it = knobs.find(name);
-    if (it == knobs.end() || !it->is_number_integer()) return;
-    if (it->get<int>() > low) out.push_back(std::string(name) + "=" + std::to_string(low));
-}
+// The knob's value as the assignment's right-hand side writes it ("half", "4", "0.5").
+std::string as_text(const nlohmann::json& v) { return v.is_string() ? v.get<std::string>() : v.dump(); }
 
-// A choice knob moved to `to` when its current value is one of `from`.
-void lower_choice(const nlohmann::json& knobs, const char* name, std::initializer_list<const char*> from, const char* to,
-                  std::vector<std::string>& out) {
-    const auto it = knobs.find(name);
-    if (it == knobs.end() || !it->is_string()) return;
-    for (const char* f : from)
-        if (it->get<std::string>() == f) out.push_back(std::string(name) + "=" + to);
+// Whether `info` is lowered by its moving value from `value` (KnobInfo::moving).
+bool lowered(const KnobInfo& info, const nlohmann::json& value) {
+    if (info.type == "int" && value.is_number_integer()) return value.get<long long>() > std::stoll(info.moving);
+    if (info.type == "float" && value.is_number()) return value.get<double>() > std::stod(info.moving);
+    if (info.type == "choice" && value.is_string()) {
+        const auto at = [&](const std::string& name) { return std::find(info.choices.begin(), info.choices.end(), name) - info.choices.begin(); };
+        return at(value.get<std::string>()) < at(info.moving);
+    }
+    return false;
 }
 
 }  // namespace
 
 std::vector<std::string> reductions(const RenderSettings& full) {
+    // Each effect's knob rows say what they are while the camera moves (KnobRows::while_moving):
+    // lower sample counts and resolutions of the costly passes, never a switch of an effect and
+    // never a mode that selects shader code (it would build programs in the middle of a movement).
     const nlohmann::json knobs = to_json(full)["knobs"];
     std::vector<std::string> out;
-    // Screen-space ambient occlusion: half the resolution, fewer directions, a shorter blur.
-    lower_choice(knobs, "ssao.resolution", {"full"}, "half", out);
-    lower_int(knobs, "ssao.samples", 6, out);
-    lower_int(knobs, "ssao.blur", 2, out);
-    // RSM indirect light: the gather at a quarter of the resolution, fewer texels per pixel.
-    lower_choice(knobs, "rsm.gather", {"full", "half"}, "quarter", out);
-    lower_int(knobs, "rsm.samples", 16, out);
-    // Soft shadows: fewer PCSS taps, a smaller PCF kernel (the filter mode stays: it selects the
-    // shaders' code, and another mode would build programs in the middle of a movement).
-    lower_int(knobs, "shadows.pcss_taps", 8, out);
-    lower_int(knobs, "shadows.pcss_blocker_taps", 4, out);
-    lower_int(knobs, "shadows.pcf_size", 3, out);
-    // Converging GI probes: fewer rays per frame while moving (0, converge before the frame, is
-    // the user's explicit choice and stays).
-    if (const auto it = knobs.find("gi.budget"); it != knobs.end() && it->is_number_integer() && it->get<int>() > 4096)
-        out.push_back("gi.budget=4096");
-    // Lens and motion effects, and depth peeling: fewer samples and layers.
-    lower_int(knobs, "dof.samples", 8, out);
-    lower_int(knobs, "motion_blur.samples", 5, out);
-    if (const auto it = knobs.find("transparency.mode"); it != knobs.end() && *it == "peeling") lower_int(knobs, "transparency.layers", 4, out);
+    for (const KnobInfo& info : knob_infos()) {
+        if (info.moving.empty()) continue;
+        const auto it = knobs.find(info.name);
+        if (it == knobs.end() || !lowered(info, *it)) continue;
+        if (const size_t eq = info.moving_when.find('='); eq != std::string::npos) {
+            const auto when = knobs.find(info.moving_when.substr(0, eq));
+            if (when == knobs.end() || as_text(*when) != info.moving_when.substr(eq + 1)) continue;
+        }
+        out.push_back(info.name + "=" + info.moving);
+    }
     return out;
 }
 

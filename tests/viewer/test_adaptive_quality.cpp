@@ -180,6 +180,20 @@ TEST(ViewerAdaptiveQuality, ReducedSettingsLowerEveryKnobTheyName) {
     EXPECT_TRUE(reductions(reduced_settings(full)).empty());
 }
 
+// The knob rows say what they are while the camera moves: each such value (and its condition) is
+// one the knob accepts, so that a typo in a row fails here, not in the middle of a movement.
+TEST(ViewerAdaptiveQuality, EveryKnobsMovingValueIsOneItTakes) {
+    int rows = 0;
+    for (const KnobInfo& info : knob_infos()) {
+        if (info.moving.empty()) continue;
+        ++rows;
+        RenderSettings s;
+        EXPECT_NO_THROW(apply_knob(s, info.name + "=" + info.moving)) << info.name;
+        if (!info.moving_when.empty()) EXPECT_NO_THROW(apply_knob(s, info.moving_when)) << info.name;
+    }
+    EXPECT_GE(rows, 12);
+}
+
 TEST(ViewerAdaptiveQuality, ReducedSettingsNeverRaiseTheUsersKnobs) {
     // Knobs the user set lower than the reduction stay; gi.budget 0 (converge before the frame) stays.
     const RenderSettings full = viewer_settings({"ssao.samples=2", "rsm.gather=quarter", "shadows.pcss_taps=1", "gi.budget=0"});

@@ -139,6 +139,7 @@ public:
             .real("max_coc", &DofOptions::max_coc, 2.0f, 256.0f,
                   "largest circle of confusion (diameter, pixels); larger blur circles are clamped to it")
             .integer("samples", &DofOptions::samples, 4, 256, "gather samples per pixel for each of the near and far fields")
+            .while_moving("8")
             .rows;
     }
     EffectDecision decide(const Features& f, const RenderSettings& s) const override {

@@ -368,6 +368,7 @@ public:
             .integer("iterations", &O::iterations, 1, 512, "probe updates after the bounces, which average noise (a still does them all before its frame)")
             .real("threshold", &O::threshold, 0.0f, 1.0f, "estimated indirect fraction of the image from which the probes run (0: always)")
             .integer("budget", &O::budget, 0, 1 << 26, "probe rays per frame (the viewer); 0: converge before the frame")
+            .while_moving("4096")
             .boolean("restart", &O::restart, "start the probes over every frame (a scene that changes every frame; bench accuracy times the convergence so)")
             .real("inset", &O::inset, 0.01f, 0.5f, "distance of the outer probes from the scene's bounds, in cells (0.5: cell centres)")
             .real("bias", &O::bias, 0.0f, 1.0f, "shading offset off the surface, in units of 0.75 x the smallest probe spacing")

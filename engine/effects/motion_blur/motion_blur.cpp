@@ -163,6 +163,7 @@ public:
             .integer("max_radius", &MotionBlurOptions::max_radius, 1, 64,
                      "largest blur in pixels (half the motion over the shutter; longer motions are clamped) and the tile side")
             .integer("samples", &MotionBlurOptions::samples, 3, 255, "gather taps per pixel along the dominant motion (odd: the centre is the pixel)")
+            .while_moving("5")
             .real("soft_z", &MotionBlurOptions::soft_z, 1e-4f, 10.0f,
                   "soft depth comparison: surfaces within this fraction of the view depth count as one")
             .rows;

@@ -216,8 +216,11 @@ public:
             .choice("filter", &O::filter, kShadowFilters,
                     "hard: one 2x2 hardware PCF tap; pcf: pcf_size^2 taps; pcss: blocker search + variable kernel")
             .integer("pcf_size", &O::pcf_size, 1, 15, "PCF kernel width in taps (each tap is a 2x2 hardware PCF)")
+            .while_moving("3")
             .integer("pcss_blocker_taps", &O::pcss_blocker_taps, 1, 128, "PCSS blocker-search taps")
+            .while_moving("4")
             .integer("pcss_taps", &O::pcss_taps, 1, 256, "PCSS filter taps")
+            .while_moving("8")
             .real("max_radius", &O::max_radius, 1.0f, 64.0f, "largest PCSS search/filter radius in texels")
             .real("normal_bias", &O::normal_bias, 0.0f, 16.0f, "receiver offset along its normal, in shadow texels")
             .real("depth_bias", &O::depth_bias, 0.0f, 16.0f, "receiver depth moved towards the light, in shadow texels")

@@ -134,9 +134,12 @@ public:
     std::vector<Knob> knobs() const override {
         return KnobRows<SsaoOptions>("ssao", [](RenderSettings& s) -> SsaoOptions& { return s.get<SsaoOptions>(); })
             .integer("samples", &SsaoOptions::samples, 1, 256, "SSAO directions per pixel (cosine-distributed around the normal)")
+            .while_moving("6")
             .integer("steps", &SsaoOptions::steps, 1, 32, "SSAO steps marched along each direction, out to ao.radius")
             .choice("resolution", &SsaoOptions::resolution, kSsaoResolutions, "resolution of the AO buffer")
+            .while_moving("half")
             .integer("blur", &SsaoOptions::blur, 0, 16, "depth-aware blur radius in AO pixels (0: no blur)")
+            .while_moving("2")
             .real("bias", &SsaoOptions::bias, 0.0f, 0.5f, "SSAO start offset and depth tolerance, as a fraction of ao.radius")
             .rows;
     }

@@ -186,6 +186,7 @@ public:
             .choice("mode", &TransparencyOptions::mode, kTransparencyModes,
                     "sorted blending, or depth peeling (exact per pixel up to transparency.layers layers)")
             .integer("layers", &TransparencyOptions::layers, 1, 64, "depth-peeling layers")
+            .while_moving("4", "transparency.mode=peeling")
             .rows;
     }
     // Debug views show surface values of the nearest surface: blended ones count as opaque there,
