@@ -6,6 +6,7 @@
 // effects/registry.cpp lists them (render/effect_registry.hpp); the renderer, the planner,
 // `info`, the stats JSON, the viewer and `bench accuracy` iterate it and know no effect by name.
 #include <any>
+#include <functional>
 #include <map>
 #include <memory>
 #include <set>
@@ -38,6 +39,21 @@ struct RenderSettings;
 class GpuScene;
 class ProgramCache;
 class EffectRuntime;
+
+// Where a planned pass adds its work (PlannedPass::work): the frame's graph, the passes'
+// environment, the targets of the pass's stage and, for an effect's pass, the effect's runtime.
+struct PassSite {
+    FrameGraph& graph;
+    const PassEnv& env;
+    FrameTargets& targets;
+    EffectRuntime* runtime;
+};
+using PassWork = std::function<void(const PassSite&)>;
+// An effect's pass whose work is `f(runtime, site)`, with the runtime as its own type R.
+template <class R, class F>
+PassWork runtime_pass(F f) {
+    return [f](const PassSite& s) { f(static_cast<R&>(*s.runtime), s); };
+}
 
 // Where in the frame an effect's passes go. The base passes (render/) sit between them:
 //   light_views | geometry (G-buffer or depth/normal prepass) | screen | lighting |
@@ -237,8 +253,6 @@ public:
     virtual void invalidate() {}
     // Textures the effect owns that the viewer's buffer inspector can show, by name.
     virtual void inspectables(std::vector<std::pair<std::string, const gl::Texture*>>& /*out*/) const {}
-    // Adds the pass `name`, one this effect planned for this frame.
-    virtual void add_pass(const std::string& name, FrameGraph& graph, const PassEnv& env, FrameTargets& targets) = 0;
     // The shading passes (forward, deferred, blended, probe capture) read what this effect made:
     // declare those reads, and bind the effect's textures, buffers and uniform block.
     virtual void read_shading_inputs(FrameGraph::Builder& /*b*/) const {}

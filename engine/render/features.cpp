@@ -6,6 +6,7 @@
 
 #include "core/error.hpp"
 #include "render/effect_registry.hpp"
+#include "render/passes/pass_env.hpp"
 
 namespace candela {
 namespace {
@@ -103,6 +104,17 @@ Features analyze(const Scene& scene, const RenderSettings& s, const ViewEstimate
     return f;
 }
 
+namespace {
+// A base pass (render/passes/) with the usual arguments.
+PassWork base_pass(void (*add)(FrameGraph&, const PassEnv&, FrameTargets&)) {
+    return [add](const PassSite& p) { add(p.graph, p.env, p.targets); };
+}
+// ... and one that draws BLEND geometry as opaque unless a planned effect draws it blended.
+PassWork base_pass(void (*add)(FrameGraph&, const PassEnv&, FrameTargets&, bool), bool blended_drawn) {
+    return [add, blended_drawn](const PassSite& p) { add(p.graph, p.env, p.targets, !blended_drawn); };
+}
+}  // namespace
+
 std::vector<PlannedPass> plan_passes(const Features& f, const RenderSettings& s) {
     std::vector<PlannedPass> plan;
     // The passes the planned effect modules add at `stage`, in registry order.
@@ -119,29 +131,35 @@ std::vector<PlannedPass> plan_passes(const Features& f, const RenderSettings& s)
     for (size_t i = 0; i < effect_registry().size() && !screen_reader; ++i)
         if (f.modules[i].planned) screen_reader = effect_registry()[i]->needs_depth_normals();
     if (f.deferred) {
-        plan.push_back({"gbuffer", what + "; deferred path, " + f.path_reason, nullptr, {"gbuffer"}});
+        plan.push_back({"gbuffer", what + "; deferred path, " + f.path_reason, nullptr, {"gbuffer"}, false, false,
+                        base_pass(add_gbuffer_pass, f.blended_drawn)});
         // A multisampled G-buffer (FrameSampling::samples): the screen-space effects read sample
         // 0's depth and normal; the lighting shades edge pixels once per surface they show.
         const bool ms = frame_sampling(f, s).samples > 1;
         if (ms)
             plan.push_back({"gbuffer_resolve", "multisampled G-buffer: single-sample depth and normals for the screen passes",
-                            nullptr, {"gbuffer_resolve"}});
+                            nullptr, {"gbuffer_resolve"}, false, false, base_pass(add_gbuffer_resolve_pass)});
         add_stage(Stage::screen);
         plan.push_back({"deferred_lighting",
                         ms ? "tiled light culling and shading of the G-buffer; edge pixels once per surface their samples show"
                            : "tiled light culling and shading of the G-buffer",
                         nullptr, ms ? std::vector<std::string>{"deferred_light_ms", "deferred_light_ms_edges"}
-                                    : std::vector<std::string>{"deferred_light"}});
+                                    : std::vector<std::string>{"deferred_light"},
+                        false, false, base_pass(add_deferred_lighting_pass)});
         add_stage(Stage::after_lighting);
     } else {
         if (screen_reader)
-            plan.push_back({"depth_normal_prepass", std::string(screen_reader) + " needs depth and normals before shading", nullptr, {"depth_normals"}});
-        else if (s.forward.depth_prepass) plan.push_back({"depth_prepass", "forward.depth_prepass=1", nullptr, {"depth_prepass", "depth_prepass_mask"}});
+            plan.push_back({"depth_normal_prepass", std::string(screen_reader) + " needs depth and normals before shading", nullptr,
+                            {"depth_normals"}, false, false, base_pass(add_depth_normal_prepass, f.blended_drawn)});
+        else if (s.forward.depth_prepass)
+            plan.push_back({"depth_prepass", "forward.depth_prepass=1", nullptr, {"depth_prepass", "depth_prepass_mask"}, false, false,
+                            base_pass(add_depth_prepass)});
         add_stage(Stage::screen);
-        plan.push_back({"forward_opaque", what + "; forward path, " + f.path_reason, nullptr, {"forward"}});
+        plan.push_back({"forward_opaque", what + "; forward path, " + f.path_reason, nullptr, {"forward"}, false, false,
+                        base_pass(add_forward_opaque_pass, f.blended_drawn)});
         add_stage(Stage::after_lighting);
     }
-    if (f.environment) plan.push_back({"sky", "the scene has environment light", nullptr, {"sky"}});
+    if (f.environment) plan.push_back({"sky", "the scene has environment light", nullptr, {"sky"}, false, false, base_pass(add_sky_pass)});
     add_stage(Stage::blended);
     const size_t before_post = plan.size();
     add_stage(Stage::post);

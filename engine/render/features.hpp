@@ -88,6 +88,8 @@ struct PlannedPass {
     // Runs in every sub-frame (FrameSampling::subframes), accumulating them; the other post
     // passes run after the last sub-frame only.
     bool every_subframe = false;
+    // Adds the pass to the frame's graph: the renderer calls it, base and effect passes alike.
+    PassWork work = {};
 };
 std::vector<PlannedPass> plan_passes(const Features& features, const RenderSettings& settings);
 nlohmann::json to_json(const Features& features);

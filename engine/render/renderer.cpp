@@ -236,18 +236,14 @@ void Renderer::render_subframe(const Camera& camera, FrameOutput output, float e
         // Sub-frames before the last only draw and accumulate: the post filters see the mean.
         if (pass.post && !last && !pass.every_subframe) continue;
         FrameTargets& t = pass.post ? post : targets;
+        // Each planned pass carries its work; an effect's gets the effect's runtime.
+        EffectRuntime* runtime = nullptr;
         if (pass.owner) {
             const auto& reg = effect_registry();
-            const size_t i = static_cast<size_t>(std::find(reg.begin(), reg.end(), pass.owner) - reg.begin());
-            effects_.at(i)->add_pass(pass.name, graph, env, t);
-        } else if (pass.name == "gbuffer") add_gbuffer_pass(graph, env, targets, !features_.blended_drawn);
-        else if (pass.name == "gbuffer_resolve") add_gbuffer_resolve_pass(graph, env, targets);
-        else if (pass.name == "deferred_lighting") add_deferred_lighting_pass(graph, env, targets);
-        else if (pass.name == "depth_prepass") add_depth_prepass(graph, env, targets);
-        else if (pass.name == "depth_normal_prepass") add_depth_normal_prepass(graph, env, targets, !features_.blended_drawn);
-        else if (pass.name == "forward_opaque") add_forward_opaque_pass(graph, env, targets, !features_.blended_drawn);
-        else if (pass.name == "sky") add_sky_pass(graph, env, targets);
-        else throw Error(ExitCode::internal, "renderer: no pass named '" + pass.name + "'");
+            runtime = effects_.at(static_cast<size_t>(std::find(reg.begin(), reg.end(), pass.owner) - reg.begin())).get();
+        }
+        if (!pass.work) throw Error(ExitCode::internal, "renderer: the pass '" + pass.name + "' was planned without its work");
+        pass.work({graph, env, t, runtime});
     }
     // The tonemap pass is always declared; for an HDR-only frame nobody consumes its output and
     // the graph culls it.

@@ -51,7 +51,8 @@ std::pair<int, float> pattern_score(const std::vector<glm::vec2>& pts) {
 
 class AaRuntime final : public EffectRuntime {
 public:
-    void add_pass(const std::string& /*name*/, FrameGraph& graph, const PassEnv& env, FrameTargets& targets) override {
+    // The pass aa_resolve: the drawn targets' samples (and sub-frames) into the output.
+    void add_resolve(FrameGraph& graph, const PassEnv& env, FrameTargets& targets) {
         const FrameTargets* drawn = targets.drawn;
         if (!drawn) throw Error(ExitCode::internal, "aa_resolve: no drawn targets");
         struct Data {
@@ -149,6 +150,7 @@ public:
                             this,
                             {p.device_samples > 1 ? "aa_resolve" : "aa_resolve_single"}};
         resolve.every_subframe = true;  // the running mean of the sub-frames
+        resolve.work = runtime_pass<AaRuntime>([](AaRuntime& r, const PassSite& p) { r.add_resolve(p.graph, p.env, p.targets); });
         out.push_back(std::move(resolve));
     }
     // The drawing targets are the resolve's: multisampled with the device's samples, and with

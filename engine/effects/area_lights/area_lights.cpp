@@ -164,7 +164,6 @@ public:
         if (d.method != 1 || d.polygon_count <= 0) defines_.push_back("FORWARD_NO_AREA_LIGHTS");
     }
     std::vector<std::string> shading_defines() const override { return defines_; }
-    void add_pass(const std::string&, FrameGraph&, const PassEnv&, FrameTargets&) override {}
     void bind_shading_inputs(const PassEnv&, FrameGraph::Context*) const override {
         glBindBufferBase(GL_UNIFORM_BUFFER, AREA_LIGHTS_BINDING, block_.id());
         if (method_ != 1) return;

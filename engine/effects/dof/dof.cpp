@@ -19,6 +19,8 @@ constexpr int kTile = 16;  // pixels per side of a near-field tile
 // The passes, at Stage::post: "dof_coc" (colour + signed CoC), "dof_tiles" and "dof_dilate" (the
 // near field's reach per tile), "dof_gather" (both fields, composited into the HDR target).
 class DofRuntime final : public EffectRuntime {
+    friend class Dof;  // its plan hands each pass the member that adds it
+
 public:
     void prepare(const FramePrep& p) override {
         const DofOptions& o = p.settings.get<DofOptions>();
@@ -38,13 +40,6 @@ public:
         d.tile_reach = static_cast<int>(std::ceil(d.max_radius / static_cast<float>(kTile)));
         if (!block_) block_ = gl::Buffer(sizeof d, nullptr, GL_DYNAMIC_STORAGE_BIT);
         block_.update(0, sizeof d, &d);
-    }
-
-    void add_pass(const std::string& name, FrameGraph& graph, const PassEnv& env, FrameTargets& targets) override {
-        if (name == "dof_coc") add_coc(graph, env, targets);
-        else if (name == "dof_tiles") add_tiles(graph, env, false);
-        else if (name == "dof_dilate") add_tiles(graph, env, true);
-        else add_gather(graph, env, targets);
     }
 
 private:
@@ -153,10 +148,15 @@ public:
         const DofOptions& o = s.get<DofOptions>();
         char buf[128];
         std::snprintf(buf, sizeof buf, "%s, max CoC %g px", f.decision(name()).reason.substr(4).c_str(), static_cast<double>(o.max_coc));
+        using R = DofRuntime;
         out.push_back({"dof_coc", buf, this, {"dof_coc"}});
+        out.back().work = runtime_pass<R>([](R& r, const PassSite& p) { r.add_coc(p.graph, p.env, p.targets); });
         out.push_back({"dof_tiles", "near-field reach per 16x16 tile", this, {"dof_tiles"}});
+        out.back().work = runtime_pass<R>([](R& r, const PassSite& p) { r.add_tiles(p.graph, p.env, false); });
         out.push_back({"dof_dilate", "near-field reach over the tiles a blur circle spans", this, {"dof_dilate"}});
+        out.back().work = runtime_pass<R>([](R& r, const PassSite& p) { r.add_tiles(p.graph, p.env, true); });
         out.push_back({"dof_gather", "near and far fields, " + std::to_string(o.samples) + " samples each", this, {"dof_gather"}});
+        out.back().work = runtime_pass<R>([](R& r, const PassSite& p) { r.add_gather(p.graph, p.env, p.targets); });
     }
     std::vector<ProgramDesc> programs() const override {
         using S = ShaderStage;

@@ -115,7 +115,8 @@ public:
         depth_id_ = graph.import_texture("gi_depth", depth_, {GL_RG32F, depth_.width(), depth_.height()});
     }
 
-    void add_pass(const std::string& /*name*/, FrameGraph& graph, const PassEnv& env, FrameTargets& /*targets*/) override {
+    // The pass gi_probes: this frame's share of the probes' relocation and updates.
+    void add_probes(FrameGraph& graph, const PassEnv& env) {
         graph.add_pass(
             "gi_probes",
             [&](FrameGraph::Builder& b) {
@@ -430,6 +431,7 @@ public:
                           std::to_string(gi_planned_bounces(o, e)) + " bounces, " +
                           (o.budget > 0 ? std::to_string(o.budget) + " rays per frame)" : "converged before the frame)");
         out.push_back({"gi_probes", why, this, {"gi_trace", "gi_update"}});
+        out.back().work = runtime_pass<GiRuntime>([](GiRuntime& r, const PassSite& p) { r.add_probes(p.graph, p.env); });
     }
     std::vector<ProgramDesc> programs() const override {
         using S = ShaderStage;

@@ -19,6 +19,8 @@ namespace {
 // and "motion_neighbormax" (the dominant motion per tile and around it), "motion_gather" (the
 // reconstruction, into the HDR target).
 class MotionBlurRuntime final : public EffectRuntime {
+    friend class MotionBlur;  // its plan hands each pass the member that adds it
+
 public:
     void prepare(const FramePrep& p) override {
         const MotionBlurOptions& o = p.settings.get<MotionBlurOptions>();
@@ -30,13 +32,6 @@ public:
         tile_ = d.tile;
         if (!block_) block_ = gl::Buffer(sizeof d, nullptr, GL_DYNAMIC_STORAGE_BIT);
         block_.update(0, sizeof d, &d);
-    }
-
-    void add_pass(const std::string& name, FrameGraph& graph, const PassEnv& env, FrameTargets& targets) override {
-        if (name == "motion_velocity") add_velocity(graph, env, targets);
-        else if (name == "motion_tilemax") add_tiles(graph, env, false);
-        else if (name == "motion_neighbormax") add_tiles(graph, env, true);
-        else add_gather(graph, env, targets);
     }
 
 private:
@@ -185,11 +180,16 @@ public:
         char buf[160];
         std::snprintf(buf, sizeof buf, "%s during the shutter (%g of a frame at %g fps)", f.decision(name()).reason.substr(4).c_str(),
                       static_cast<double>(s.camera.shutter), static_cast<double>(s.camera.fps));
+        using R = MotionBlurRuntime;
         out.push_back({"motion_velocity", buf, this, {"motion_velocity"}});
+        out.back().work = runtime_pass<R>([](R& r, const PassSite& p) { r.add_velocity(p.graph, p.env, p.targets); });
         const std::string k = std::to_string(std::max(o.max_radius, 1));
         out.push_back({"motion_tilemax", "largest motion per " + k + "x" + k + " tile", this, {"motion_tilemax"}});
+        out.back().work = runtime_pass<R>([](R& r, const PassSite& p) { r.add_tiles(p.graph, p.env, false); });
         out.push_back({"motion_neighbormax", "largest motion of the 3x3 tiles around", this, {"motion_neighbormax"}});
+        out.back().work = runtime_pass<R>([](R& r, const PassSite& p) { r.add_tiles(p.graph, p.env, true); });
         out.push_back({"motion_gather", "reconstruction along the dominant motion, " + std::to_string(o.samples) + " taps", this, {"motion_gather"}});
+        out.back().work = runtime_pass<R>([](R& r, const PassSite& p) { r.add_gather(p.graph, p.env, p.targets); });
     }
     std::vector<ProgramDesc> programs() const override {
         using S = ShaderStage;

@@ -164,11 +164,7 @@ void ReflectionsRuntime::begin_graph(FrameGraph& graph) {
     if (on_) probes_id_ = graph.import_texture("probes", res_.filtered, {GL_RGBA32F, res_.size, res_.size});
 }
 
-void ReflectionsRuntime::add_pass(const std::string& name, FrameGraph& graph, const PassEnv& env, FrameTargets& targets) {
-    if (name == "transmissive") {
-        add_transmissive(graph, env, targets);
-        return;
-    }
+void ReflectionsRuntime::add_probes(FrameGraph& graph, const PassEnv& env) {
     // probe.update=once: captured by an earlier frame of the same scene and settings.
     if (on_ && (!res_.valid || options_.update == ProbeUpdate::every_frame)) add_capture(graph, env);
 }
@@ -374,9 +370,13 @@ public:
                                (o.update == ProbeUpdate::once ? " (captured when the scene or settings change)" : ""),
                            this, f.environment ? std::vector<std::string>{"forward", "sky", "probe_distance"}
                                                : std::vector<std::string>{"forward", "probe_distance"}});
-        if (stage == Stage::after_lighting && f.deferred && f.scene.transmission.needed)
+        using R = ReflectionsRuntime;
+        if (stage == Stage::light_views) out.back().work = runtime_pass<R>([](R& r, const PassSite& p) { r.add_probes(p.graph, p.env); });
+        if (stage == Stage::after_lighting && f.deferred && f.scene.transmission.needed) {
             out.push_back({"transmissive", "transmissive surfaces refract through the probes (forward shading, depth EQUAL)", this,
                            {"forward"}});
+            out.back().work = runtime_pass<R>([](R& r, const PassSite& p) { r.add_transmissive(p.graph, p.env, p.targets); });
+        }
     }
     std::vector<ProgramDesc> programs() const override {
         return {{"probe_distance", {{ShaderStage::compute, "effects/reflections/probe_distance.comp"}}, {}}};

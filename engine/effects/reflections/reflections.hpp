@@ -40,7 +40,10 @@ public:
     void configure(const EffectSetup& setup) override;
     void prepare(const FramePrep& prep) override;
     void begin_graph(FrameGraph& graph) override;
-    void add_pass(const std::string& name, FrameGraph& graph, const PassEnv& env, FrameTargets& targets) override;
+    // The pass env_probe: the probes captured (again, if they must be) in this frame.
+    void add_probes(FrameGraph& graph, const PassEnv& env);
+    // The pass transmissive (deferred path): transmissive surfaces shaded forward over the lit image.
+    void add_transmissive(FrameGraph& graph, const PassEnv& env, FrameTargets& targets);
     void read_shading_inputs(FrameGraph::Builder& b) const override;
     void bind_shading_inputs(const PassEnv& env, FrameGraph::Context* ctx) const override;
     std::vector<std::string> shading_defines() const override { return defines_; }
@@ -51,7 +54,6 @@ private:
     void place(const FramePrep& prep);
     void prepare_faces(const FramePrep& prep);
     void add_capture(FrameGraph& graph, const PassEnv& env);
-    void add_transmissive(FrameGraph& graph, const PassEnv& env, FrameTargets& targets);
 
     // Captured by the env_probe pass into `capture` (level 0 of each face, then a box-filtered
     // chain), prefiltered into `filtered`, which the shading passes read.

@@ -25,6 +25,8 @@ int downscale(RsmGather g) { return g == RsmGather::quarter ? 4 : g == RsmGather
 
 // The passes: "rsm" (the maps, light_views stage) and "rsm_indirect" (the gather, screen stage).
 class RsmRuntime final : public EffectRuntime {
+    friend class Rsm;  // its plan hands each pass the member that adds it
+
 public:
     void prepare(const FramePrep& p) override {
         options_ = p.settings.get<RsmOptions>();
@@ -46,11 +48,6 @@ public:
 
     void begin_graph(FrameGraph& graph) override {
         if (on_) maps_ = graph.import_texture("rsm", res_.position, {GL_RGBA32F, res_.resolution, res_.resolution});
-    }
-
-    void add_pass(const std::string& name, FrameGraph& graph, const PassEnv& env, FrameTargets& targets) override {
-        if (name == "rsm") add_maps(graph, env);
-        else add_gather(graph, env, targets);
     }
 
     void read_shading_inputs(FrameGraph::Builder& b) const override {
@@ -356,11 +353,17 @@ public:
                              s.gating || !shadows || gi);  // without shadow views there is nothing to run it on
     }
     void plan(Stage stage, const Features& f, const RenderSettings& s, std::vector<PlannedPass>& out) const override {
-        if (stage == Stage::light_views) out.push_back({"rsm", f.decision(name()).reason.substr(4), this, {"rsm"}});
-        if (stage == Stage::screen)
+        using R = RsmRuntime;
+        if (stage == Stage::light_views) {
+            out.push_back({"rsm", f.decision(name()).reason.substr(4), this, {"rsm"}});
+            out.back().work = runtime_pass<R>([](R& r, const PassSite& p) { r.add_maps(p.graph, p.env); });
+        }
+        if (stage == Stage::screen) {
             out.push_back({"rsm_indirect",
                            std::string("gather rsm.samples texels per pixel, rsm.gather=") + choice_name(kRsmGathers, s.get<RsmOptions>().gather),
                            this, {"rsm_gather"}});
+            out.back().work = runtime_pass<R>([](R& r, const PassSite& p) { r.add_gather(p.graph, p.env, p.targets); });
+        }
     }
     const char* needs_depth_normals() const override { return "RSM"; }
     std::vector<ProgramDesc> programs() const override {

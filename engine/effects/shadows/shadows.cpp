@@ -126,7 +126,7 @@ void ShadowsRuntime::bind_shading_inputs(const PassEnv&, FrameGraph::Context*) c
     glBindSampler(SHADOW_DEPTH_UNIT, raw_.id());
 }
 
-void ShadowsRuntime::add_pass(const std::string&, FrameGraph& graph, const PassEnv& env, FrameTargets&) {
+void ShadowsRuntime::add_maps(FrameGraph& graph, const PassEnv& env) {
     graph.add_pass(
         "shadow_maps", [&](FrameGraph::Builder& b) { b.write(maps_); },
         [this, &env](FrameGraph::Context& ctx) {
@@ -238,13 +238,15 @@ public:
     }
     void plan(Stage stage, const Features& f, const RenderSettings&, std::vector<PlannedPass>& out) const override {
         if (stage != Stage::light_views) return;
-        // The alpha-testing caster program only when some material is MASK (ShadowsRuntime::add_pass).
+        // The alpha-testing caster program only when some material is MASK (ShadowsRuntime::add_maps).
         bool masked = f.source == nullptr;
         if (f.source)
             for (const Material& m : f.source->materials) masked = masked || m.alpha_mode == AlphaMode::mask;
         std::vector<std::string> programs{"shadow_depth"};
         if (masked) programs.push_back("shadow");
         out.push_back({"shadow_maps", f.decision(name()).reason.substr(4), this, programs});
+        using R = ShadowsRuntime;
+        out.back().work = runtime_pass<R>([](R& r, const PassSite& p) { r.add_maps(p.graph, p.env); });
     }
     void light_setup(const RenderSettings& s, const EffectDecision& d, LightSetup& out) const override {
         const ShadowsOptions& o = s.get<ShadowsOptions>();

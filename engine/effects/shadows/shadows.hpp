@@ -46,7 +46,8 @@ public:
 
     void prepare(const FramePrep& prep) override;
     void begin_graph(FrameGraph& graph) override;
-    void add_pass(const std::string& name, FrameGraph& graph, const PassEnv& env, FrameTargets& targets) override;
+    // The pass shadow_maps: every shadow view whose cached depth is stale.
+    void add_maps(FrameGraph& graph, const PassEnv& env);
     void read_shading_inputs(FrameGraph::Builder& b) const override;
     void bind_shading_inputs(const PassEnv& env, FrameGraph::Context* ctx) const override;
     std::vector<std::string> shading_defines() const override { return defines_; }

@@ -13,6 +13,8 @@ namespace {
 
 // The passes: "ssao" (the AO buffer), then "ssao_blur_x" and "ssao_blur_y" when ssao.blur > 0.
 class SsaoRuntime final : public EffectRuntime {
+    friend class Ssao;  // its plan hands each pass the member that adds it
+
 public:
     void prepare(const FramePrep& p) override {
         ao_ = -1;
@@ -29,11 +31,6 @@ public:
         block_.update(0, sizeof d, &d);
         downscale_ = d.downscale;
         if (p.decision.planned && !noise_) make_noise();
-    }
-
-    void add_pass(const std::string& name, FrameGraph& graph, const PassEnv& env, FrameTargets& targets) override {
-        if (name == "ssao") add_ao(graph, env, targets);
-        else add_blur(graph, env, name == "ssao_blur_x" ? 0 : 1);
     }
 
     void read_shading_inputs(FrameGraph::Builder& b) const override {
@@ -157,10 +154,14 @@ public:
     void plan(Stage stage, const Features& f, const RenderSettings& s, std::vector<PlannedPass>& out) const override {
         if (stage != Stage::screen) return;
         const int blur = s.get<SsaoOptions>().blur;
+        using R = SsaoRuntime;
         out.push_back({"ssao", f.decision(name()).reason.substr(4), this, {"ssao"}});
+        out.back().work = runtime_pass<R>([](R& r, const PassSite& p) { r.add_ao(p.graph, p.env, p.targets); });
         if (blur > 0) {
             out.push_back({"ssao_blur_x", "ssao.blur=" + std::to_string(blur), this, {"ssao_blur"}});
+            out.back().work = runtime_pass<R>([](R& r, const PassSite& p) { r.add_blur(p.graph, p.env, 0); });
             out.push_back({"ssao_blur_y", "ssao.blur=" + std::to_string(blur), this, {"ssao_blur"}});
+            out.back().work = runtime_pass<R>([](R& r, const PassSite& p) { r.add_blur(p.graph, p.env, 1); });
         }
     }
     const char* needs_depth_normals() const override { return "SSAO"; }

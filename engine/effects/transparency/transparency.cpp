@@ -14,13 +14,10 @@ namespace {
 // The passes: "transparent" (sorted blending) or "transparent_peeling" (depth peeling), after the
 // sky, over the opaque image and its depth.
 class TransparencyRuntime final : public EffectRuntime {
+    friend class Transparency;  // its plan hands each pass the member that adds it
+
 public:
     void prepare(const FramePrep& p) override { options_ = p.settings.get<TransparencyOptions>(); }
-
-    void add_pass(const std::string& name, FrameGraph& graph, const PassEnv& env, FrameTargets& targets) override {
-        if (name == "transparent_peeling") add_peeling(graph, env, targets);
-        else add_sorted(graph, env, targets);
-    }
 
 private:
     // Alpha-blended geometry after everything opaque: back to front by the view depth of each
@@ -199,9 +196,14 @@ public:
         if (stage != Stage::blended) return;
         const TransparencyOptions& o = s.get<TransparencyOptions>();
         const std::string why = f.decision(name()).reason.substr(4);
-        if (o.mode == TransparencyMode::peeling)
+        using R = TransparencyRuntime;
+        if (o.mode == TransparencyMode::peeling) {
             out.push_back({"transparent_peeling", why + ", " + std::to_string(o.layers) + " depth-peeling layers", this, {"forward", "copy"}});
-        else out.push_back({"transparent", why, this, {"forward"}});
+            out.back().work = runtime_pass<R>([](R& r, const PassSite& p) { r.add_peeling(p.graph, p.env, p.targets); });
+        } else {
+            out.push_back({"transparent", why, this, {"forward"}});
+            out.back().work = runtime_pass<R>([](R& r, const PassSite& p) { r.add_sorted(p.graph, p.env, p.targets); });
+        }
     }
     bool draws_blended_surfaces() const override { return true; }
     std::unique_ptr<EffectRuntime> create_runtime() const override { return std::make_unique<TransparencyRuntime>(); }
