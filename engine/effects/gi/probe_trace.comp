@@ -71,7 +71,7 @@ vec3 probe_ray_radiance(Ray ray, Hit hit, SurfaceHit y, inout Rng rng) {
     // (as a distribution of normals widens it: Kaplanyan et al. 2016, "Filtering Distributions
     // of Normals for Shading Antialiasing"; ray cones: Akenine-Moeller et al. 2019). One ray
     // through one point of a sphere's highlight otherwise carries the highlight of the whole
-    // cone: random:20035's metal sphere, 0.2 m across, 0.5 m from a probe, gave one ray of 64
+    // cone: random:20035's metal sphere, 0.4 m across, 0.5 m from a probe, gave one ray of 64
     // 600 times the room's radiance, and its probe's irradiance of that update 20 times its mean.
     const float cone = 2.0 / sqrt(float(gi.rays_per_probe));
     float travelled = hit.t * length(ray.dir);
