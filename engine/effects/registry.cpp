@@ -33,17 +33,20 @@ const std::vector<const Effect*>& effect_registry() {
     return all;
 }
 
-std::vector<std::string> effect_shading_includes() {
+std::vector<std::string> effect_shading_includes(const std::vector<const Effect*>& effects) {
     std::vector<std::string> files;
-    for (const Effect* e : effect_registry())
+    for (const Effect* e : effects)
         if (const char* f = e->shading_include()) files.emplace_back(f);
     return files;
 }
 
-ShaderLibrary serve_effect_shading(ShaderLibrary shaders) {
-    shaders.set_generated_include("effects_shading.glsl", effect_shading_includes());
+ShaderLibrary serve_effect_shading(ShaderLibrary shaders, const std::vector<const Effect*>& effects) {
+    shaders.set_generated_include("shading_hooks.glsl", {}, shading_hook_prototypes());
+    shaders.set_generated_include("effects_shading.glsl", effect_shading_includes(effects), shading_hook_definitions(effects));
     return shaders;
 }
+
+ShaderLibrary serve_effect_shading(ShaderLibrary shaders) { return serve_effect_shading(std::move(shaders), effect_registry()); }
 
 const Effect* find_effect(std::string_view name) {
     for (const Effect* e : effect_registry())

@@ -7,6 +7,13 @@
 #include "gpu/bindings.h"
 #include "gpu/gpu_block.h"
 
+// FrameData::debug_view: what the lighting writes instead of radiance (debug.view). Each shows
+// one of the lighting's hook points (render/shading_hooks.hpp), whichever effects provide it.
+#define DEBUG_VIEW_NONE 0
+#define DEBUG_VIEW_VISIBILITY 1  // light debug_light's share reaching the point: the light_visibility hook
+#define DEBUG_VIEW_OCCLUSION 2   // the occlusion hook (SSAO's buffer)
+#define DEBUG_VIEW_INDIRECT 3    // the indirect_light hook (GI probes, RSM)
+
 GPU_NAMESPACE_BEGIN
 
 // The rasterizer's frame: camera, environment, light counts, debug view. Reflection probes draw
@@ -24,7 +31,7 @@ GPU_BLOCK(FrameData, FRAME_BINDING) {
     int env_mips;              // mip count of the environment (map, or the cube when bound)
     int punctual_light_count;
     float specular_filter;     // variance of the pixel filter specular lobes are widened by (0: none)
-    int debug_view;            // 0 radiance, 1 light visibility, 2 ssao, 3 indirect
+    int debug_view;            // DEBUG_VIEW_* (above)
     int debug_light;           // the light of the visibility view
     int camera_view;           // 1 in the camera's view (screen-space effect buffers are valid), 0 in
                                // other views (reflection probe faces)

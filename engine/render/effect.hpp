@@ -20,6 +20,7 @@
 #include "render/knob.hpp"
 #include "render/frame_graph.hpp"
 #include "render/gpu_scene.hpp"
+#include "render/shading_hooks.hpp"
 #include "shader/shader_library.hpp"
 
 namespace candela {
@@ -178,6 +179,9 @@ public:
     // lighting code (shaders/lighting/shading.glsl) includes for what this effect adds to the
     // shading; nullptr: none. The registry's order is the include order.
     virtual const char* shading_include() const { return nullptr; }
+    // The lighting's hook points (render/shading_hooks.hpp) this effect provides: for each hook H,
+    // its shading include defines `<name()>_<H's name>` with H's parameters.
+    virtual std::vector<ShadingHook> shading_hooks() const { return {}; }
 
     // Every program this effect can build (the catalog: `candela shaders check`, hot reload).
     virtual std::vector<ProgramDesc> programs() const { return {}; }

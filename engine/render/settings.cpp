@@ -37,7 +37,7 @@ std::vector<Knob> base_knobs() {
             .rows);
     add(KnobRows<S::Debug>("debug", [](S& s) -> S::Debug& { return s.debug; })
             .choice("view", &S::Debug::view, kDebugViews,
-                    "visibility: light debug.light's visibility (0..1); ao: the SSAO buffer; indirect: RSM light; instead of radiance")
+                    "instead of radiance: visibility: light debug.light's visibility (0..1); ao: the occlusion of ambient light (SSAO); indirect: the indirect light (GI probes, RSM)")
             .integer("light", &S::Debug::light, 0, 1000000, "the light of debug.view=visibility; >= the punctual light count: all area lights")
             .rows);
     add(KnobRows<S::AmbientOcclusion>("ao", [](S& s) -> S::AmbientOcclusion& { return s.ao; })

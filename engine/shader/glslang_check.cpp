@@ -1,5 +1,5 @@
-// Offline GLSL validation with glslang: the same sources the engine compiles, checked without a
-// GL context (tests validate every shader this way; the GL driver's own compile still decides).
+// Offline GLSL validation with glslang: the same sources the engine compiles, checked (compiled
+// and each stage linked) without a GL context (tests validate every shader this way; the GL driver's own compile still decides).
 #include <glslang/Public/ResourceLimits.h>
 #include <glslang/Public/ShaderLang.h>
 
@@ -21,8 +21,13 @@ std::string validate_with_glslang(const PreprocessedSource& source, ShaderStage 
     shader.setEnvInput(glslang::EShSourceGlsl, lang, glslang::EShClientOpenGL, 450);
     shader.setEnvClient(glslang::EShClientOpenGL, glslang::EShTargetOpenGL_450);
     const auto messages = static_cast<EShMessages>(EShMsgDefault);
-    if (shader.parse(GetDefaultResources(), 450, ECoreProfile, false, false, messages)) return {};
-    return source.map_log(shader.getInfoLog());
+    if (!shader.parse(GetDefaultResources(), 450, ECoreProfile, false, false, messages)) return source.map_log(shader.getInfoLog());
+    // The stage linked on its own: a function declared and called but never defined (a shading
+    // hook without its definition) is a link error, not a compile error.
+    glslang::TProgram program;
+    program.addShader(&shader);
+    if (program.link(messages)) return {};
+    return source.map_log(program.getInfoLog());
 }
 
 }  // namespace candela

@@ -47,7 +47,7 @@ GLenum gl_stage(ShaderStage stage) {
     return GL_VERTEX_SHADER;
 }
 
-using Generated = std::map<std::string, std::vector<std::string>>;
+using Generated = std::map<std::string, ShaderLibrary::GeneratedInclude>;
 
 
 struct Expander {
@@ -91,13 +91,17 @@ struct Expander {
                 version_seen = true;
             } else if (std::regex_match(line, m, include_re)) {
                 const auto g = generated.find(m[1].str());
-                const std::vector<std::string> names = g != generated.end() ? g->second : std::vector<std::string>{m[1].str()};
+                const std::vector<std::string> names = g != generated.end() ? g->second.files : std::vector<std::string>{m[1].str()};
                 for (const std::string& name : names) {
                     const fs::path inc = resolve(file.parent_path(), name);
                     if (inc.empty())
                         throw Error(ExitCode::internal, file.string() + ":" + std::to_string(line_no) + ": cannot find include \"" +
                                                             name + "\"");
                     expand(inc, false, {});
+                }
+                if (g != generated.end() && !g->second.text.empty() && included.insert(fs::path(g->first + " (generated)")).second) {
+                    out.text += "#line 1 " + std::to_string(file_id(g->first + " (generated)")) + "\n" + g->second.text;
+                    if (g->second.text.back() != '\n') out.text += "\n";
                 }
                 out.text += "#line " + std::to_string(line_no + 1) + " " + std::to_string(id) + "\n";
             } else {
@@ -132,8 +136,8 @@ std::string PreprocessedSource::map_log(const std::string& log) const {
 ShaderLibrary::ShaderLibrary(fs::path root, fs::path effects_root)
     : root_(std::move(root)), effects_root_(std::move(effects_root)) {}
 
-void ShaderLibrary::set_generated_include(const std::string& name, std::vector<std::string> files) {
-    generated_[name] = std::move(files);
+void ShaderLibrary::set_generated_include(const std::string& name, std::vector<std::string> files, std::string text) {
+    generated_[name] = GeneratedInclude{std::move(files), std::move(text)};
 }
 
 

@@ -3,7 +3,7 @@
 // to the shader root), each file included once, #line directives so that compiler messages map
 // back to file:line, and defines injected after #version. Programs remember their files so the
 // hot reloader knows what to rebuild. A generated include (set_generated_include) stands for a
-// list of includes given by the code that knows them (the effects registry gives
+// list of includes and text given by the code that knows them (the effects registry gives
 // "effects_shading.glsl": what each effect adds to the lighting code).
 #include <filesystem>
 #include <map>
@@ -53,9 +53,14 @@ public:
     // effects_root()/effects and effects_root()/gpu (the blocks and bindings shared with C++).
     std::vector<std::filesystem::path> watched_dirs() const;
     // `#include "name"` in any file then includes each of `files`, in order, resolved like any
-    // include. A library starts with none: the renderer's programs get the effects' shading
-    // (serve_effect_shading, render/effect_registry.hpp).
-    void set_generated_include(const std::string& name, std::vector<std::string> files);
+    // include, then `text` (compiler messages name it "name (generated)"). A library starts with
+    // none: the renderer's programs get the effects' shading (serve_effect_shading,
+    // render/effect_registry.hpp).
+    void set_generated_include(const std::string& name, std::vector<std::string> files, std::string text = {});
+    struct GeneratedInclude {
+        std::vector<std::string> files;
+        std::string text;
+    };
     // Throws candela::Error (internal) with "file:line: message" on a missing file or include cycle.
     PreprocessedSource preprocess(const std::filesystem::path& file, const std::vector<std::string>& defines) const;
 
@@ -74,11 +79,11 @@ private:
     std::filesystem::path resolve(const std::filesystem::path& including_dir, const std::string& name) const;
     std::filesystem::path root_;
     std::filesystem::path effects_root_;
-    std::map<std::string, std::vector<std::string>> generated_;
+    std::map<std::string, GeneratedInclude> generated_;
 };
 
-// Offline check with glslang (no GL context needed): empty string if the source compiles as
-// GLSL 4.50 core, else glslang's messages mapped through `source.map_log`.
+// Offline check with glslang (no GL context needed): empty string if the source compiles and its
+// stage links on its own as GLSL 4.50 core, else glslang's messages mapped through `source.map_log`.
 std::string validate_with_glslang(const PreprocessedSource& source, ShaderStage stage);
 
 }  // namespace candela

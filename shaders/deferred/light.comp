@@ -98,18 +98,9 @@ vec3 shade_surface(vec3 color, BrdfInput bi, float occlusion, vec3 p, vec3 n, ve
             }
         }
     }
-    // FORWARD_NO_* (render/passes/pass_env.cpp, deferred_light_program_name): code of features
-    // whose blocks say they are off this frame is left out, as in forward/forward.frag.
-#ifndef FORWARD_NO_AREA_LIGHTS
-    color += shade_area_lights(bi, p, n, v, pixel, 0.0);
-#endif
-    color += shade_ambient(bi, p, n, v, occlusion * ssao_at(pixel));
-#ifndef FORWARD_NO_RSM
-    color += rsm_indirect(bi, pixel, p);
-#endif
-#ifndef FORWARD_NO_GI
-    color += shade_gi(bi, p, n, v, occlusion, 0.0);
-#endif
+    effect_add_direct_light(color, bi, p, n, v, pixel, 0.0);
+    color += shade_ambient(bi, p, n, v, occlusion * effect_occlusion(pixel));
+    effect_add_indirect_light(color, bi, p, n, v, pixel, occlusion, 0.0);
     return color;
 }
 
@@ -187,16 +178,19 @@ void shade_group(ivec2 q, uint m, int light_count, bool tiled, vec2 px_ndc) {
     vec3 n = oct_decode(normal_rm.xy);
     vec3 v = normalize(frame.camera_pos.xyz - p);
     vec3 lit;
-#ifndef FORWARD_NO_DEBUG
-    if (frame.debug_view == 3) lit = rsm_indirect(bi, pixel, p) + shade_gi(bi, p, n, v, base_occlusion.a, 0.0);
-    else if (frame.debug_view != 0) lit = vec3(frame.debug_view == 1 ? light_visibility(p, n, pixel) : ssao_at(pixel));
-    else
+#ifndef NO_DEBUG_VIEW
+    if (frame.debug_view == DEBUG_VIEW_INDIRECT) {
+        lit = vec3(0.0);
+        effect_add_indirect_light(lit, bi, p, n, v, pixel, base_occlusion.a, 0.0);
+    } else if (frame.debug_view != DEBUG_VIEW_NONE) {
+        lit = vec3(frame.debug_view == DEBUG_VIEW_VISIBILITY ? light_visibility(p, n, pixel) : effect_occlusion(pixel));
+    } else
 #endif
     lit = shade_surface(vec3(0.0), bi, base_occlusion.a, p, n, v, pixel, light_count, tiled);
     for (int s = first; s < kMaxSamples; ++s)
         if ((m & (1u << uint(s))) != 0u) {
             vec3 emission = imageLoad(light_buffer, q, s).rgb;
-            imageStore(light_buffer, q, s, vec4(frame.debug_view != 0 ? lit : emission + lit, 1.0));
+            imageStore(light_buffer, q, s, vec4(frame.debug_view != DEBUG_VIEW_NONE ? lit : emission + lit, 1.0));
         }
 }
 #endif
@@ -209,7 +203,7 @@ void main() {
     if (k >= min(edge_entries, uint(list_size.x * list_size.y))) return;
     uvec2 e = imageLoad(edge_groups, ivec2(int(k) % list_size.x, int(k) / list_size.x)).xy;
     ivec2 q = ivec2(int(e.x & 0xffffu), int(e.x >> 16));
-    shade_group(q, e.y, shaded_light_count(), false, 2.0 / vec2(imageSize(light_buffer)));
+    shade_group(q, e.y, effect_shaded_light_count(), false, 2.0 / vec2(imageSize(light_buffer)));
 }
 #else
 void main() {
@@ -281,7 +275,7 @@ void main() {
     }
     barrier();
     // The lights shaded one by one (with LTC area lights: the punctual ones; the polygons follow).
-    int light_count = shaded_light_count();
+    int light_count = effect_shaded_light_count();
     bool tiled = light_count <= kMaxTiledLights;
     if (any_geometry && tiled) {
         for (int i = int(local); i < light_count; i += 256)
@@ -334,13 +328,15 @@ void main() {
     vec3 p = world_point(ndc, depth);
     vec3 v = normalize(frame.camera_pos.xyz - p);
     vec2 pixel = vec2(gid) + 0.5;
-#ifndef FORWARD_NO_DEBUG
-    if (frame.debug_view == 3) {
-        imageStore(light_buffer, gid, vec4(rsm_indirect(bi, pixel, p) + shade_gi(bi, p, n, v, base_occlusion.a, 0.0), 1.0));
+#ifndef NO_DEBUG_VIEW
+    if (frame.debug_view == DEBUG_VIEW_INDIRECT) {
+        vec3 indirect = vec3(0.0);
+        effect_add_indirect_light(indirect, bi, p, n, v, pixel, base_occlusion.a, 0.0);
+        imageStore(light_buffer, gid, vec4(indirect, 1.0));
         return;
     }
-    if (frame.debug_view != 0) {
-        float value = frame.debug_view == 1 ? light_visibility(p, n, pixel) : ssao_at(pixel);
+    if (frame.debug_view != DEBUG_VIEW_NONE) {
+        float value = frame.debug_view == DEBUG_VIEW_VISIBILITY ? light_visibility(p, n, pixel) : effect_occlusion(pixel);
         imageStore(light_buffer, gid, vec4(vec3(value), 1.0));
         return;
     }

@@ -7,8 +7,8 @@ layout(location = 0) in vec2 v_ndc;
 layout(location = 0) out vec4 out_radiance;
 
 void main() {
-    if (frame.debug_view != 0) {  // debug views: no light reaches the sky; nothing occludes it (AO 1)
-        out_radiance = vec4(vec3(frame.debug_view == 2 ? 1.0 : 0.0), 1.0);  // (indirect view: 0)
+    if (frame.debug_view != DEBUG_VIEW_NONE) {  // debug views: no light reaches the sky; nothing occludes it (AO 1)
+        out_radiance = vec4(vec3(frame.debug_view == DEBUG_VIEW_OCCLUSION ? 1.0 : 0.0), 1.0);  // (indirect view: 0)
         return;
     }
     vec4 p = frame.inv_view_proj * vec4(v_ndc, 0.5, 1.0);

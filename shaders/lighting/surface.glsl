@@ -66,7 +66,7 @@ struct Surface {
     bool unlit;          // KHR_materials_unlit: the colour is base_color
 };
 
-#ifdef FORWARD_NO_TEXTURES
+#ifdef NO_MATERIAL_TEXTURES
 bool slot_textured(int slot) { return false; }  // no material has a texture (forward/forward.frag)
 #else
 bool slot_textured(int slot) { return (v_material_bits & (1 << slot)) != 0; }

@@ -107,19 +107,19 @@ json texture_ref(int texture, int texcoord, const json& transform) {
 }
 
 // Materials of the grid test.
-enum class Material {
+enum class GridMaterial {
     emissive,            // emission = detail texture, nothing else: the texture as it is
     emissive_transform,  // the same through an offset + rotation + scale on TEXCOORD_1
     all_slots,           // base colour, metallic-roughness, normal, occlusion and emission textured,
                          // on both texcoord sets with different transforms, in a constant environment
 };
-const char* to_string(Material m) {
-    return m == Material::emissive ? "emissive" : m == Material::emissive_transform ? "emissive_transform" : "all_slots";
+const char* to_string(GridMaterial m) {
+    return m == GridMaterial::emissive ? "emissive" : m == GridMaterial::emissive_transform ? "emissive_transform" : "all_slots";
 }
 
 // A scene: the quad (cells x cells) with `material`, seen orthographically so that it fills the
 // view. No punctual light; all_slots has a constant environment of radiance 1.
-fs::path write_grid_scene(const fs::path& dir, Material material, int cells) {
+fs::path write_grid_scene(const fs::path& dir, GridMaterial material, int cells) {
     test::GltfBuilder b;
     b.json()["images"] = {{{"uri", "detail.png"}}, {{"uri", "normal.png"}}};
     // Trilinear, repeating: the transforms below reach outside [0,1].
@@ -129,10 +129,10 @@ fs::path write_grid_scene(const fs::path& dir, Material material, int cells) {
     json m = {{"pbrMetallicRoughness", {{"baseColorFactor", {0, 0, 0, 1}}, {"metallicFactor", 0}, {"roughnessFactor", 1}}},
               {"extensions", {{"KHR_materials_specular", {{"specularFactor", 0}}}}}};
     const json rotated = {{"offset", {0.1, -0.2}}, {"rotation", 0.4}, {"scale", {1.6, 1.3}}};
-    if (material == Material::emissive) {
+    if (material == GridMaterial::emissive) {
         m["emissiveFactor"] = {1, 1, 1};
         m["emissiveTexture"] = texture_ref(0, 0, nullptr);
-    } else if (material == Material::emissive_transform) {
+    } else if (material == GridMaterial::emissive_transform) {
         m["emissiveFactor"] = {1, 1, 1};
         m["emissiveTexture"] = texture_ref(0, 1, rotated);
     } else {
@@ -158,7 +158,7 @@ fs::path write_grid_scene(const fs::path& dir, Material material, int cells) {
 struct GridCase {
     Backend backend;
     std::string path;  // forward | deferred
-    Material material;
+    GridMaterial material;
 };
 void PrintTo(const GridCase& c, std::ostream* os) { *os << to_string(c.backend) << " " << c.path << " " << to_string(c.material); }
 std::string grid_case_name(const ::testing::TestParamInfo<GridCase>& info) {
@@ -219,16 +219,16 @@ TEST_P(TexturedGridTest, ManySmallTrianglesRenderLikeTwo) {
 
 INSTANTIATE_TEST_SUITE_P(
     Paths, TexturedGridTest,
-    ::testing::Values(GridCase{Backend::egl, "forward", Material::emissive}, GridCase{Backend::egl, "deferred", Material::emissive},
-                      GridCase{Backend::egl, "forward", Material::emissive_transform},
-                      GridCase{Backend::egl, "deferred", Material::emissive_transform},
-                      GridCase{Backend::egl, "forward", Material::all_slots}, GridCase{Backend::egl, "deferred", Material::all_slots},
-                      GridCase{Backend::osmesa, "forward", Material::emissive},
-                      GridCase{Backend::osmesa, "deferred", Material::emissive},
-                      GridCase{Backend::osmesa, "forward", Material::emissive_transform},
-                      GridCase{Backend::osmesa, "deferred", Material::emissive_transform},
-                      GridCase{Backend::osmesa, "forward", Material::all_slots},
-                      GridCase{Backend::osmesa, "deferred", Material::all_slots}),
+    ::testing::Values(GridCase{Backend::egl, "forward", GridMaterial::emissive}, GridCase{Backend::egl, "deferred", GridMaterial::emissive},
+                      GridCase{Backend::egl, "forward", GridMaterial::emissive_transform},
+                      GridCase{Backend::egl, "deferred", GridMaterial::emissive_transform},
+                      GridCase{Backend::egl, "forward", GridMaterial::all_slots}, GridCase{Backend::egl, "deferred", GridMaterial::all_slots},
+                      GridCase{Backend::osmesa, "forward", GridMaterial::emissive},
+                      GridCase{Backend::osmesa, "deferred", GridMaterial::emissive},
+                      GridCase{Backend::osmesa, "forward", GridMaterial::emissive_transform},
+                      GridCase{Backend::osmesa, "deferred", GridMaterial::emissive_transform},
+                      GridCase{Backend::osmesa, "forward", GridMaterial::all_slots},
+                      GridCase{Backend::osmesa, "deferred", GridMaterial::all_slots}),
     grid_case_name);
 
 

@@ -161,7 +161,7 @@ public:
         method_ = d.method;
         // No polygon to integrate: the lighting leaves the LTC code out.
         defines_.clear();
-        if (d.method != 1 || d.polygon_count <= 0) defines_.push_back("FORWARD_NO_AREA_LIGHTS");
+        if (d.method != 1 || d.polygon_count <= 0) defines_.push_back("AREA_LIGHTS_OFF");
     }
     std::vector<std::string> shading_defines() const override { return defines_; }
     void bind_shading_inputs(const PassEnv&, FrameGraph::Context*) const override {
@@ -236,6 +236,7 @@ public:
         return {{"AreaLightsData", AREA_LIGHTS_BINDING, sizeof(gpu::AreaLightsData), "forward"}};
     }
     const char* shading_include() const override { return "effects/area_lights/area_lights_shading.glsl"; }
+    std::vector<ShadingHook> shading_hooks() const override { return {ShadingHook::direct_light, ShadingHook::shaded_light_count}; }
     std::unique_ptr<EffectRuntime> create_runtime() const override { return std::make_unique<AreaLightsRuntime>(); }
     std::vector<AccuracySweep> accuracy_sweeps(bool quick) const override { return area_lights_accuracy_sweeps(quick); }
 };

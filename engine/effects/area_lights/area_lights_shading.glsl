@@ -1,4 +1,5 @@
-// Polygon lights shaded by linearly transformed cosines (included by shaders/lighting/shading.glsl).
+// Polygon lights shaded by linearly transformed cosines (included by shaders/lighting/shading.glsl
+// through the registry: hooks direct_light and shaded_light_count).
 // Heitz, Dupuy, Hill & Neubelt 2016, "Real-Time Polygonal-Light Shading with Linearly
 // Transformed Cosines": the integral of a GGX lobe times the cosine over a polygon equals the
 // integral of a clamped cosine over the polygon transformed by M^-1, which has a closed form
@@ -14,8 +15,9 @@ layout(std430, binding = AREA_POLYGONS_BINDING) readonly buffer PolygonLights { 
 layout(binding = LTC_MATRIX_UNIT) uniform sampler2D t_ltc_matrix;
 layout(binding = LTC_AMPLITUDE_UNIT) uniform sampler2D t_ltc_amplitude;
 
-// The lights the per-light loops shade one by one: with LTC the pieces only cast shadows.
-int shaded_light_count() { return area_lights.method == 1 ? frame.punctual_light_count : frame.light_count; }
+// The lights the per-light loops shade one by one (hook shaded_light_count): with LTC the pieces
+// only cast shadows.
+int area_lights_shaded_light_count() { return area_lights.method == 1 ? frame.punctual_light_count : frame.light_count; }
 
 // The vector form factor of the great-circle edge a->b (any non-zero lengths):
 // theta * normalize(a x b), theta the angle between a and b, stable near 0.
@@ -105,7 +107,7 @@ float area_visibility(int first, int count, vec3 p, vec3 n, vec2 pixel) {
         light_incidence(light, p, l, E, dist);
         float w = max(dot(n, l), 0.0) * (E.r + E.g + E.b);
         if (any_weight && !(w > 0.0)) continue;
-        float s = shadow_factor(light, p, n, l, pixel);
+        float s = effect_light_visibility(light, p, n, l, pixel);
         shadowed += w * s;
         unshadowed += w;
         plain += s;
@@ -160,8 +162,11 @@ float ltc_residual(vec3 a, vec3 b, vec3 c, vec3 d, float two_sided, vec3 n, vec3
     return sum;
 }
 
-// Light from the polygon lights towards v, with each emitter's visibility ratio.
-vec3 shade_area_lights(BrdfInput bi, vec3 p, vec3 n, vec3 v, vec2 pixel, float transmission) {
+// Light from the polygon lights towards v, with each emitter's visibility ratio (hook direct_light).
+vec3 area_lights_direct_light(BrdfInput bi, vec3 p, vec3 n, vec3 v, vec2 pixel, float transmission) {
+#ifdef AREA_LIGHTS_OFF
+    return vec3(0.0);  // no polygon to shade (area_lights.cpp)
+#else
     if (area_lights.method != 1 || area_lights.polygon_count == 0) return vec3(0.0);
     float NdotV = saturate(dot(n, v));
     // The frame of the table: z = n, x towards v (v in the xz plane).
@@ -230,4 +235,5 @@ vec3 shade_area_lights(BrdfInput bi, vec3 p, vec3 n, vec3 v, vec2 pixel, float t
         group_sum += pl.radiance * light;
     }
     return sum;
+#endif
 }

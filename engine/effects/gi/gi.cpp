@@ -226,7 +226,7 @@ private:
     void upload(const gpu::GiData& d) {
         block_.update(0, sizeof d, &d);
         defines_.clear();
-        if (d.on < 0.5f) defines_.push_back("FORWARD_NO_GI");  // no probe data to read yet
+        if (d.on < 0.5f) defines_.push_back("GI_OFF");  // no probe data to read yet
     }
 
     // The weight of iteration k's estimate: the first `bounces_` replace (each adds a bounce),
@@ -441,6 +441,7 @@ public:
     }
     std::vector<GpuBlockInfo> gpu_blocks() const override { return {{"GiData", GI_BINDING, sizeof(gpu::GiData), "forward"}}; }
     const char* shading_include() const override { return "effects/gi/gi_shading.glsl"; }
+    std::vector<ShadingHook> shading_hooks() const override { return {ShadingHook::indirect_light, ShadingHook::carries_sky}; }
     std::unique_ptr<EffectRuntime> create_runtime() const override { return std::make_unique<GiRuntime>(); }
     std::vector<AccuracySweep> accuracy_sweeps(bool quick) const override { return gi_accuracy_sweeps(quick); }
     std::vector<std::string> interactive_defaults() const override { return {"gi.budget=" + std::to_string(kGiInteractiveBudget)}; }

@@ -70,8 +70,8 @@ void ReflectionsRuntime::prepare(const FramePrep& p) {
     // The defines follow block_, the block the lighting passes bind. The probe capture binds
     // capture_block_ instead and draws with the unspecialised forward program.
     defines_.clear();
-    if (d.refraction == 0) defines_.push_back("FORWARD_NO_REFRACTION");
-    if (d.probes <= 0) defines_.push_back("FORWARD_NO_PROBES");
+    if (d.refraction == 0) defines_.push_back("REFLECTIONS_NO_REFRACTION");
+    if (d.probes <= 0) defines_.push_back("REFLECTIONS_NO_PROBES");
     gpu::ReflectionsData capture = d;
     capture.probes = 0;  // shading inside a probe reads the static environment
     capture.capture = 1;
@@ -385,6 +385,7 @@ public:
         return {{"ReflectionsData", REFLECTIONS_BINDING, sizeof(gpu::ReflectionsData), "forward"}};
     }
     const char* shading_include() const override { return "effects/reflections/reflections_shading.glsl"; }
+    std::vector<ShadingHook> shading_hooks() const override { return {ShadingHook::reflection_source, ShadingHook::reflection_radiance, ShadingHook::refraction, ShadingHook::capture_view}; }
     std::unique_ptr<EffectRuntime> create_runtime() const override { return std::make_unique<ReflectionsRuntime>(); }
     std::vector<AccuracySweep> accuracy_sweeps(bool quick) const override { return reflections_accuracy_sweeps(quick); }
     // The probes as the first frame from this view places them.

@@ -17,7 +17,7 @@ GPU_BLOCK(ReflectionsData, REFLECTIONS_BINDING) {
     int levels;      // mip levels of their prefiltered cubes
     int refraction;  // 1: transmissive surfaces refract (the effect is planned)
     int capture;     // 1 inside a probe's capture: the forward pass writes in alpha the luminance
-                     // of the emission that the area lights also add (see probe_radiance)
+                     // of the emission that the area lights also add (see reflections_reflection_radiance)
     int parallax;    // 1: lookups of probes without a box march their distance cube
     int pad0;
     int pad1;

@@ -1,5 +1,8 @@
-// What the lighting reads from the reflections effect (included by shaders/lighting/shading.glsl):
-// the probes captured by the env_probe pass and prefiltered like the static environment.
+// What the reflections effect adds to the lighting (included by shaders/lighting/shading.glsl
+// through the registry): the probes captured by the env_probe pass and prefiltered like the
+// static environment as reflection sources (hooks reflection_source and reflection_radiance),
+// refraction through transmissive surfaces (hook refraction) and the capture views (hook
+// capture_view).
 #include "effects/reflections/reflections_data.h"
 
 layout(binding = REFLECTIONS_PROBES_UNIT) uniform samplerCubeArray t_probes;   // bound when reflections.probes > 0
@@ -9,7 +12,10 @@ layout(binding = REFLECTIONS_DISTANCE_UNIT) uniform samplerCubeArray t_probe_dis
 
 // The probe that lights p on a surface with these properties: of those whose box (or radius)
 // contains p and that light such a surface, the nearest; -1 if none.
-int probe_at(vec3 p, BrdfInput bi, float transmission) {
+int reflections_reflection_source(vec3 p, BrdfInput bi, float transmission) {
+#ifdef REFLECTIONS_NO_PROBES
+    return -1;  // reflections.probes 0 (reflections.cpp)
+#else
     int best = -1;
     float best_d = 3.0e38;
     for (int k = 0; k < reflections.probes; ++k) {
@@ -25,6 +31,7 @@ int probe_at(vec3 p, BrdfInput bi, float transmission) {
         }
     }
     return best;
+#endif
 }
 
 // Where the ray p + t r meets the surroundings probe k saw, as a direction from the probe.
@@ -88,10 +95,23 @@ vec3 probe_direction(int k, vec3 p, vec3 r) {
 // stored their luminance in alpha, filtered as the colour was, and the colour is scaled to
 // take it away. Light seen through a transmissive surface keeps them (the area lights only
 // reflect).
-vec3 probe_radiance(int k, vec3 p, vec3 r, float roughness, bool reflected) {
+vec3 reflections_reflection_radiance(int k, vec3 p, vec3 r, float roughness, bool reflected) {
     vec4 c = textureLod(t_probes, vec4(probe_direction(k, p, r), float(k)),
                         roughness * float(max(reflections.levels - 1, 0)));
     if (!reflected || c.a <= 0.0) return c.rgb;
     float lum = dot(c.rgb, LUMINANCE_WEIGHTS);
     return lum > c.a ? c.rgb * (1.0 - c.a / lum) : vec3(0.0);
 }
+
+// Transmissive surfaces show what lies behind them, refracted (without: opaque dielectrics).
+bool reflections_refraction() {
+#ifdef REFLECTIONS_NO_REFRACTION
+    return false;  // reflections.refraction 0 (reflections.cpp)
+#else
+    return reflections.refraction != 0;
+#endif
+}
+
+// The env_probe pass draws this view into a probe: alpha carries the luminance of the emission
+// the area lights add analytically, which reflections_reflection_radiance leaves out.
+bool reflections_capture_view() { return reflections.capture != 0; }

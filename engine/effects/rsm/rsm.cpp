@@ -41,7 +41,7 @@ public:
         }
         block_.update(0, sizeof d, &d);
         defines_.clear();
-        if (d.on == 0) defines_.push_back("FORWARD_NO_RSM");  // the lighting leaves the gather's read out
+        if (d.on == 0) defines_.push_back("RSM_OFF");  // the lighting leaves the gather's read out
         if (on_) prepare_maps(p);
     }
     std::vector<std::string> shading_defines() const override { return defines_; }
@@ -373,6 +373,7 @@ public:
     }
     std::vector<GpuBlockInfo> gpu_blocks() const override { return {{"RsmData", RSM_BINDING, sizeof(gpu::RsmData), "forward"}}; }
     const char* shading_include() const override { return "effects/rsm/rsm_shading.glsl"; }
+    std::vector<ShadingHook> shading_hooks() const override { return {ShadingHook::indirect_light}; }
     std::unique_ptr<EffectRuntime> create_runtime() const override { return std::make_unique<RsmRuntime>(); }
     std::vector<AccuracySweep> accuracy_sweeps(bool quick) const override { return rsm_accuracy_sweeps(quick); }
 };

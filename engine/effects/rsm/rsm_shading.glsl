@@ -1,5 +1,5 @@
-// What the lighting reads from RSM (included by shaders/lighting/shading.glsl): the gathered
-// one-bounce irradiance.
+// What RSM adds to the lighting (included by shaders/lighting/shading.glsl through the registry):
+// the gathered one-bounce irradiance, reflected by the Lambert part (hook indirect_light).
 #include "effects/rsm/rsm_data.h"
 
 layout(binding = RSM_INDIRECT_UNIT) uniform sampler2D t_rsm_indirect;  // bound when rsm.on = 1 (camera views only)
@@ -7,7 +7,10 @@ layout(binding = RSM_INDIRECT_UNIT) uniform sampler2D t_rsm_indirect;  // bound 
 // gather at lower resolution is upsampled geometry-aware: the four nearest gather samples
 // weighted bilinearly and by how close their view depth (alpha) is to this pixel's, so light
 // does not leak across silhouettes (joint bilateral upsampling, Kopf et al. 2007).
-vec3 rsm_indirect(BrdfInput bi, vec2 pixel, vec3 p) {
+vec3 rsm_indirect_light(BrdfInput bi, vec3 p, vec3 n, vec3 v, vec2 pixel, float occlusion, float transmission) {
+#ifdef RSM_OFF
+    return vec3(0.0);  // rsm.on 0 (rsm.cpp): no gather to read
+#else
     if (rsm.on == 0 || frame.camera_view == 0) return vec3(0.0);
     int f = max(rsm.downscale, 1);
     vec3 E;
@@ -33,4 +36,5 @@ vec3 rsm_indirect(BrdfInput bi, vec2 pixel, vec3 p) {
         E = wsum > 0.0 ? sum / wsum : vec3(0.0);
     }
     return bi.base_color * (1.0 - bi.metallic) * INV_PI * E;
+#endif
 }

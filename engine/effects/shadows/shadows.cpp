@@ -265,6 +265,7 @@ public:
     }
     std::vector<GpuBlockInfo> gpu_blocks() const override { return {{"ShadowsData", SHADOWS_BINDING, sizeof(gpu::ShadowsData), "forward"}}; }
     const char* shading_include() const override { return "effects/shadows/shadows_shading.glsl"; }
+    std::vector<ShadingHook> shading_hooks() const override { return {ShadingHook::light_visibility}; }
     std::unique_ptr<EffectRuntime> create_runtime() const override { return std::make_unique<ShadowsRuntime>(); }
     std::vector<AccuracySweep> accuracy_sweeps(bool quick) const override { return shadows_accuracy_sweeps(quick); }
 };

@@ -1,5 +1,6 @@
 // Shadow-map lookups shared by the forward and deferred lighting (included by
-// shaders/lighting/shading.glsl; shadow_views.hpp builds the views). All maps are layers of one depth array, reversed-Z (1 near the light, 0 far):
+// shaders/lighting/shading.glsl through the registry: hook light_visibility; shadow_views.hpp
+// builds the views). All maps are layers of one depth array, reversed-Z (1 near the light, 0 far):
 // directional lights have one orthographic view per cascade, spot lights one perspective view,
 // point lights and area-light pieces six 90-degree views (+X, -X, +Y, -Y, +Z, -Z).
 // Biases are in shadow-map texels converted to world units at the receiver, so they hold at any
@@ -46,7 +47,7 @@ float shadow_linear_depth(ShadowView sv, float d) {
 }
 
 // Fraction of the light reaching p (1 lit, 0 shadowed). n: the shading normal, l: towards the light.
-float shadow_factor(LightData light, vec3 p, vec3 n, vec3 l, vec2 pixel) {
+float shadows_light_visibility(LightData light, vec3 p, vec3 n, vec3 l, vec2 pixel) {
     // SHADOW_FILTER_MODE: the mode as a constant (the forward program's variant, pass_env.cpp),
     // so only its code is compiled; llvmpipe would run the other modes' code masked.
 #ifdef SHADOW_FILTER_MODE

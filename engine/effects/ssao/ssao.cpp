@@ -172,6 +172,7 @@ public:
     }
     std::vector<GpuBlockInfo> gpu_blocks() const override { return {{"SsaoData", SSAO_BINDING, sizeof(gpu::SsaoData), "ssao"}}; }
     const char* shading_include() const override { return "effects/ssao/ssao_shading.glsl"; }
+    std::vector<ShadingHook> shading_hooks() const override { return {ShadingHook::occlusion}; }
     std::unique_ptr<EffectRuntime> create_runtime() const override { return std::make_unique<SsaoRuntime>(); }
     std::vector<AccuracySweep> accuracy_sweeps(bool quick) const override { return ssao_accuracy_sweeps(quick); }
 };

@@ -87,7 +87,7 @@ void begin_forward_shading(const PassEnv& env, FrameGraph::Context& ctx, const F
 // branch under a lane mask, so dead features cost per pixel, not only at compile time.
 static std::string lighting_defines(const PassEnv& env, std::string defines) {
     auto add = [&defines](const std::string& d) { defines += (defines.empty() ? "" : ",") + d; };
-    if (env.frame.debug_view == 0) add("FORWARD_NO_DEBUG");
+    if (env.frame.debug_view == DEBUG_VIEW_NONE) add("NO_DEBUG_VIEW");
     for (const EffectRuntime* e : env.effects)
         for (const std::string& d : e->shading_defines()) add(d);
     return defines;
@@ -97,8 +97,8 @@ bool material_layers_on(const PassEnv& env) { return env.scene.has_material_laye
 
 std::string forward_program_name(const PassEnv& env, bool may_peel) {
     std::string defines;
-    if (!may_peel) defines = "FORWARD_NO_PEEL";
-    if (!env.scene.has_material_textures()) defines += (defines.empty() ? "" : ",") + std::string("FORWARD_NO_TEXTURES");
+    if (!may_peel) defines = "NO_PEELING";
+    if (!env.scene.has_material_textures()) defines += (defines.empty() ? "" : ",") + std::string("NO_MATERIAL_TEXTURES");
     if (material_layers_on(env)) defines += (defines.empty() ? "" : ",") + std::string("MATERIAL_LAYERS");
     defines = lighting_defines(env, defines);
     return defines.empty() ? "forward" : "forward#" + defines;

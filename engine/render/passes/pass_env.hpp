@@ -85,7 +85,7 @@ void bind_effect_inputs(const PassEnv& env, FrameGraph::Context& ctx);
 void begin_forward_shading(const PassEnv& env, FrameGraph::Context& ctx, const FrameTargets& targets,
                            const gl::PipelineState& ps);
 // The forward program specialised to this frame (the blocks bind_scene_buffers binds): the
-// "forward" catalog program with the base's FORWARD_NO_* defines and every effect's
+// "forward" catalog program with the base's NO_* defines and every effect's
 // EffectRuntime::shading_defines (forward/forward.frag); `may_peel` false: u_peel stays 0.
 std::string forward_program_name(const PassEnv& env, bool may_peel);
 // The scene's materials have layers and render.material_layers is on: programs compile with
