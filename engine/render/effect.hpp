@@ -31,6 +31,7 @@ struct Camera;
 struct EffectDecision;
 struct Scene;
 struct Features;
+struct ViewInput;
 namespace gpu { struct FrameData; }
 using gpu::FrameData;
 struct FrameTargets;
@@ -164,6 +165,11 @@ public:
     virtual EffectDecision decide(const Features& f, const RenderSettings& s) const = 0;
     // The passes the planned effect adds at `stage`, in order, each with its reason and programs.
     virtual void plan(Stage stage, const Features& f, const RenderSettings& s, std::vector<PlannedPass>& out) const = 0;
+    // A number the effect decides from that changes with the view between frames without a
+    // settings change (dof: the lens's aperture; motion_blur: the draws in view that move during
+    // the shutter); 0 when the effect needs none. The renderer measures it every frame and
+    // re-plans when it turns zero or non-zero; decide() reads it as Features::view_amount(name()).
+    virtual double view_amount(const ViewInput& /*in*/) const { return 0.0; }
     // Non-empty when the planned effect reads the camera's depth and normals before shading (the
     // forward path then adds a depth/normal prepass; the text names it in the pass's reason).
     virtual const char* needs_depth_normals() const { return nullptr; }

@@ -66,19 +66,21 @@ FrameSampling frame_sampling(const Features& f, const RenderSettings& s) {
     return out;
 }
 
-Features analyze(const Scene& scene, const RenderSettings& s, const ViewEstimates* estimates, const Camera* camera, int moving_draws) {
+ViewAmounts view_amounts(const ViewInput& in) {
+    ViewAmounts out;
+    for (const Effect* e : effect_registry()) out.emplace(e->name(), e->view_amount(in));
+    return out;
+}
+
+double Features::view_amount(std::string_view name) const {
+    const auto it = view_amounts.find(name);
+    return it != view_amounts.end() ? it->second : 0.0;
+}
+
+Features analyze(const Scene& scene, const RenderSettings& s, const ViewEstimates* estimates, const Camera* camera, const ViewAmounts* amounts) {
     Features f;
     f.source = &scene;
-    f.moving_draws = moving_draws;
-    // The lens of the camera the frames use (without one: the settings' lens, else a pinhole).
-    if (camera) {
-        const Camera lens = with_lens(*camera, s);
-        f.lens_aperture = lens.aperture;
-        f.lens_focus_distance = lens.focus_distance;
-    } else {
-        f.lens_aperture = std::max(0.0f, s.camera.aperture);
-        f.lens_focus_distance = std::max(0.0f, s.camera.focus_distance);
-    }
+    f.view_amounts = amounts ? *amounts : view_amounts({scene, s, camera, nullptr, 1.0f});
     if (estimates) f.estimates = *estimates;
     f.scene = analyze_features(scene);
     f.environment = scene.environment.present();

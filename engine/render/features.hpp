@@ -2,6 +2,7 @@
 // analyze(scene, settings): which effects this scene calls for, and which passes therefore run
 // (docs/design.md, "The frame graph"). An effect that is switched on but not needed is not planned, and
 // the reason says why, for `candela info` and the stats.
+#include <map>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -29,6 +30,20 @@ struct EffectDecision {
 // effect even when the scene does not need it (the gating property test renders both ways).
 EffectDecision decide_effect(const char* name, bool enabled, bool needed, const std::string& need_reason, bool gating);
 
+class GpuScene;
+
+// What an effect reads of the frame's view to decide (Effect::view_amount).
+struct ViewInput {
+    const Scene& scene;
+    const RenderSettings& settings;
+    const Camera* camera = nullptr;  // the camera the frames use, before with_lens; nullptr: the settings' lens
+    const GpuScene* gpu = nullptr;   // the uploaded scene (its poses and motion); nullptr where none is (`info`)
+    float aspect = 1.0f;             // the frame's width / height
+};
+// Each registered effect's view amount (Effect::view_amount), by effect name.
+using ViewAmounts = std::map<std::string, double, std::less<>>;
+ViewAmounts view_amounts(const ViewInput& in);
+
 struct Features {
     // The registered effect modules' decisions (engine/effects/registry.cpp), in registry order.
     std::vector<EffectDecision> modules;
@@ -46,14 +61,11 @@ struct Features {
     ViewEstimates estimates;
     // The estimate the effect `name` made, or nullptr.
     const ViewEstimate* estimate(std::string_view name) const;
-    // The thin lens of the camera the frames are rendered from (with_lens: the settings override
-    // the camera's own); aperture 0 is a pinhole. The renderer re-plans when it changes.
-    float lens_aperture = 0.0f;
-    float lens_focus_distance = 0.0f;
-    // Motion during the shutter: the draws that move while camera.shutter is open and
-    // whose bounds (at open or close) meet the camera's view; the renderer counts them from
-    // GpuScene's motion (set_motion) and re-plans when the count turns zero or non-zero.
-    int moving_draws = 0;
+    // What each effect measured of the view it decides from (Effect::view_amount): the
+    // renderer re-plans when one turns zero or non-zero.
+    ViewAmounts view_amounts;
+    // The view amount of the effect `name`; 0 when it has none.
+    double view_amount(std::string_view name) const;
     std::vector<const EffectDecision*> effects() const {
         std::vector<const EffectDecision*> v;
         for (const EffectDecision& d : modules) v.push_back(&d);
@@ -64,11 +76,12 @@ struct Features {
     const EffectDecision& decision(std::string_view name) const;
 };
 
-// `camera`: the camera the frames use (its lens plans depth of field); nullptr: the settings' lens.
-// `moving_draws`: Features::moving_draws, counted by the renderer (the motion blur decides on it).
+// `camera`: the camera the frames use; nullptr: the settings' lens. `amounts`: the effects' view
+// amounts as the renderer measured them; nullptr: measured here from `camera`, without an uploaded
+// scene.
 // `estimates`: what the effects that ask for one measured of the view (Effect::view_estimate).
 Features analyze(const Scene& scene, const RenderSettings& settings, const ViewEstimates* estimates = nullptr,
-                 const Camera* camera = nullptr, int moving_draws = 0);
+                 const Camera* camera = nullptr, const ViewAmounts* amounts = nullptr);
 // The effects that decide from a measurement of the view with these settings (Effect::view_estimate).
 std::vector<const Effect*> effects_needing_view_estimate(const RenderSettings& settings);
 // Whether planning with these settings needs a GL context: a view estimate or a plan that

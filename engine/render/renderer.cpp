@@ -78,7 +78,9 @@ void Renderer::plan() {
     ViewEstimates asked;
     for (const Effect* e : effects_needing_view_estimate(settings_))
         if (auto it = estimates_.find(e->name()); it != estimates_.end()) asked.insert(*it);
-    features_ = analyze(scene_, settings_, &asked, camera_ ? &*camera_ : nullptr, moving_draws_);
+    const Camera* camera = camera_ ? &*camera_ : nullptr;
+    const ViewAmounts amounts = view_amounts({scene_, settings_, camera, &gpu_, aspect_});
+    features_ = analyze(scene_, settings_, &asked, camera, &amounts);
     const LightSetup& ls = features_.lights;
     gpu_.update_lights(ls.area_samples, ls.split_emitters, ls.shadows, ls.cascades, ls.max_shadowed);
     features_.area_light_pieces = gpu_.light_count() - gpu_.punctual_light_count();
@@ -101,36 +103,10 @@ ShaderReload Renderer::reload_shaders(const std::vector<std::filesystem::path>& 
     return report;
 }
 
-int Renderer::count_moving_draws(const Camera& camera, int width, int height) const {
-    if (!gpu_.has_motion()) return 0;
-    const glm::mat4 view_proj = projection_matrix(camera, static_cast<float>(width) / static_cast<float>(std::max(height, 1))) *
-                                glm::inverse(camera.world);
-    int count = 0;
-    for (const GpuScene::Draw& d : gpu_.draws()) {
-        if (!d.moves) continue;
-        const Node& node = scene_.nodes[static_cast<size_t>(d.node)];
-        const Bounds& local = scene_.meshes[static_cast<size_t>(node.mesh)].primitives[static_cast<size_t>(d.primitive)].bounds;
-        // Outside the view when all corners of the box at open, now and close lie beyond one clip plane.
-        int outside[6] = {0, 0, 0, 0, 0, 0};
-        int corners = 0;
-        for (const glm::mat4* m : {&d.model_open, &d.model, &d.model_close})
-            for (int c = 0; c < 8; ++c) {
-                const glm::vec4 p = view_proj * (*m) * glm::vec4(c & 1 ? local.max.x : local.min.x, c & 2 ? local.max.y : local.min.y,
-                                                                 c & 4 ? local.max.z : local.min.z, 1.0f);
-                outside[0] += p.x < -p.w, outside[1] += p.x > p.w, outside[2] += p.y < -p.w, outside[3] += p.y > p.w;
-                outside[4] += p.z > p.w, outside[5] += p.w <= 0.0f;  // reversed Z: z > w is in front of the near plane
-                ++corners;
-            }
-        bool culled = false;
-        for (int k = 0; k < 6; ++k) culled = culled || outside[k] == corners;
-        count += !culled;
-    }
-    return count;
-}
-
 void Renderer::render(const Camera& view_camera, int width, int height, FrameOutput output, float exposure_ev) {
     // The settings' lens over the camera's own; a lens that turns depth of field on or off re-plans
     // (a changed aperture or focus alone does not: the passes read them every frame).
+    aspect_ = static_cast<float>(width) / static_cast<float>(std::max(height, 1));
     set_view(view_camera, width, height);
     const Camera camera = with_lens(view_camera, settings_);
     // Animation: a new pose moves the bounds (shadow fitting, auto focus), the lights
@@ -150,10 +126,12 @@ void Renderer::render(const Camera& view_camera, int width, int height, FrameOut
         invalidate_captures();
         pose_replan = true;  // the light buffer and the effects' set-up (GI's traced geometry, its grid) follow the pose
     }
-    moving_draws_ = settings_.camera.shutter > 0.0f ? count_moving_draws(camera, width, height) : 0;
-    const bool replan = pose_replan || (camera.aperture > 0.0f) != (features_.lens_aperture > 0.0f) ||
-                        (moving_draws_ > 0) != (features_.moving_draws > 0);
-    features_.moving_draws = moving_draws_;
+    // What the effects decide from the view (the lens, what moves in it): a re-plan when one
+    // turns on or off (Effect::view_amount).
+    const ViewAmounts amounts = view_amounts({scene_, settings_, &view_camera, &gpu_, aspect_});
+    bool replan = pose_replan;
+    for (const auto& [name, amount] : amounts) replan = replan || (amount > 0.0) != (features_.view_amount(name) > 0.0);
+    features_.view_amounts = amounts;
     camera_ = view_camera;
     if (replan) plan();
     if (width != width_ || height != height_) {
@@ -171,10 +149,8 @@ void Renderer::render(const Camera& view_camera, int width, int height, FrameOut
     for (int sub = 0; sub < sampling.subframes; ++sub) render_subframe(camera, output, exposure_ev, sampling, sub);
 }
 
-void Renderer::render_subframe(const Camera& camera, FrameOutput output, float exposure_ev, const FrameSampling& sampling, int sub) {
+FrameData Renderer::frame_data(const Camera& camera, const FrameSampling& sampling, int sub) const {
     const int width = width_, height = height_;
-    const bool last = sub + 1 == sampling.subframes;
-    const auto t0 = std::chrono::steady_clock::now();
     const float aspect = static_cast<float>(width) / static_cast<float>(height);
     FrameData frame{};
     frame.view = glm::inverse(camera.world);
@@ -199,28 +175,24 @@ void Renderer::render_subframe(const Camera& camera, FrameOutput output, float e
     frame.light_count = gpu_.light_count();
     frame.env_mips = gpu_.environment_mips();
     frame.punctual_light_count = gpu_.punctual_light_count();
-    frame.debug_view = settings_.debug.view == DebugView::visibility ? 1 : settings_.debug.view == DebugView::ao ? 2 : 0;
+    frame.debug_view = settings_.debug.view == DebugView::visibility ? DEBUG_VIEW_VISIBILITY
+                       : settings_.debug.view == DebugView::ao       ? DEBUG_VIEW_OCCLUSION
+                       : settings_.debug.view == DebugView::indirect ? DEBUG_VIEW_INDIRECT
+                                                                     : DEBUG_VIEW_NONE;
     frame.debug_light = settings_.debug.light;
     frame.viewport = glm::vec4(static_cast<float>(width), static_cast<float>(height), 1.0f / static_cast<float>(width),
                                1.0f / static_cast<float>(height));
-    if (settings_.debug.view == DebugView::indirect) frame.debug_view = 3;
     frame.camera_view = 1;
     frame.specular_filter = sampling.specular_filter_variance;
     frame.env_cube_bound = env_cube_ ? 1 : 0;
     frame.env_mips = env_cube_ ? env_cube_levels_ : 1;
-    for (size_t i = 0; i < effects_.size(); ++i)
-        effects_[i]->prepare(
-            {settings_, features_, features_.modules[i], gpu_, camera, aspect, scene_bounds_, width, height, frame, effect_ptrs_});
-    frame_ubo_.update(0, sizeof(FrameData), &frame);
+    return frame;
+}
 
-    const PassEnv env{gpu_,       settings_,     frame, width,     height,      frame_ubo_, fbos_, programs_,
-                      empty_vao_, linear_clamp_, ibl_,  env_cube_, effect_ptrs_, sampling, sub};
-    FrameGraph graph;
-    // `targets`: what the scene is drawn into (FrameSampling::resolved: targets of their own,
-    // perhaps multisampled); `post`: the single-sample image the post filters and the tonemap
-    // read (render/effect.hpp, Stage::post).
-    FrameTargets targets, post;
-    const FrameGraph::ResourceId hdr_output = graph.import_texture("hdr", output_, {GL_RGBA32F, width, height});
+int Renderer::declare_passes(FrameGraph& graph, const PassEnv& env, FrameTargets& targets, FrameTargets& post, FrameOutput output,
+                             float exposure_ev, bool last) {
+    const FrameSampling& sampling = env.sampling;
+    const FrameGraph::ResourceId hdr_output = graph.import_texture("hdr", output_, {GL_RGBA32F, env.width, env.height});
     targets.hdr = sampling.resolved ? -1 : hdr_output;
     targets.samples = sampling.resolved ? sampling.samples : 1;
     bool post_started = false;
@@ -247,10 +219,7 @@ void Renderer::render_subframe(const Camera& camera, FrameOutput output, float e
     }
     // The tonemap pass is always declared; for an HDR-only frame nobody consumes its output and
     // the graph culls it.
-    if (!post_started) {
-        post = targets;
-        post_started = true;
-    }
+    if (!post_started) post = targets;
     add_tonemap_pass(graph, env, post, display_, exposure_ev);
     graph.mark_output(output == FrameOutput::display && last ? post.display : hdr_output);
     // An inspected resource is an output too: it lives to the end, unshared.
@@ -258,12 +227,10 @@ void Renderer::render_subframe(const Camera& camera, FrameOutput output, float e
     for (size_t i = 0; i < graph.resources().size(); ++i)
         if (!inspect_.empty() && graph.resources()[i].name == inspect_) inspected_id = static_cast<int>(i);
     if (inspected_id >= 0) graph.mark_output(inspected_id);
-    graph.compile(pool_);
-    const double graph_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    return inspected_id;
+}
 
-    // The cache cannot know what other code did since the last frame.
-    state_.reset();
-    const int calls_before = state_.real_calls(), skipped_before = state_.skipped_calls();
+std::string Renderer::execute_graph(FrameGraph& graph, std::map<std::string, double>& sync_ms) {
     // llvmpipe answers the first timer query of a context that covers rasterizer work with its
     // absolute clock (hours): spend that on a throwaway query around a clear.
     if (!timer_warmed_) {
@@ -278,7 +245,6 @@ void Renderer::render_subframe(const Camera& camera, FrameOutput output, float e
         timer_warmed_ = true;
     }
     std::string state_problem;
-    std::map<std::string, double> sync_ms;
     std::chrono::steady_clock::time_point pass_start;
     graph.execute(
         state_,
@@ -300,6 +266,10 @@ void Renderer::render_subframe(const Camera& camera, FrameOutput output, float e
                 if (!bad.empty()) state_problem = "pass '" + p.name + "' changed " + bad + " behind the state cache";
             }
         });
+    return state_problem;
+}
+
+void Renderer::collect_inspectables(const FrameGraph& graph, int inspected_id) {
     inspected_ = nullptr;
     inspectable_.clear();
     for (size_t i = 0; i < graph.resources().size(); ++i) {
@@ -314,23 +284,60 @@ void Renderer::render_subframe(const Camera& camera, FrameOutput output, float e
         inspectable_.push_back(name);
         if (inspect_ == name) inspected_ = texture;
     }
+}
+
+void Renderer::record_passes(const FrameGraph& graph, int sub, const std::map<std::string, double>& sync_ms) {
+    // Sub-frames after the first add their passes as "name#k" (the GPU timer's order).
+    std::string suffix;
+    if (sub > 0) suffix.append(1, '#').append(std::to_string(sub + 1));  // (not "#" + ...: GCC 12's -Wrestrict false positive)
+    for (const auto& p : graph.passes()) {
+        if (p.culled) {
+            if (sub == 0) report_.culled.emplace_back(p.name, p.cull_reason);
+        } else {
+            const auto synced = sync_ms.find(p.name);
+            report_.passes.push_back({p.name + suffix, -1.0, p.cpu_ms, p.counters, synced != sync_ms.end() ? synced->second : -1.0});
+        }
+    }
+    report_.pool_allocations = pool_.allocations();
+    report_.pool_slots = pool_.size();
+}
+
+void Renderer::render_subframe(const Camera& camera, FrameOutput output, float exposure_ev, const FrameSampling& sampling, int sub) {
+    const int width = width_, height = height_;
+    const bool last = sub + 1 == sampling.subframes;
+    const auto t0 = std::chrono::steady_clock::now();
+    // The frame's block, completed by the effects (each fills and uploads its own).
+    FrameData frame = frame_data(camera, sampling, sub);
+    const float aspect = static_cast<float>(width) / static_cast<float>(height);
+    for (size_t i = 0; i < effects_.size(); ++i)
+        effects_[i]->prepare(
+            {settings_, features_, features_.modules[i], gpu_, camera, aspect, scene_bounds_, width, height, frame, effect_ptrs_});
+    frame_ubo_.update(0, sizeof(FrameData), &frame);
+
+    // The frame graph: the planned passes, compiled.
+    const PassEnv env{gpu_,       settings_,     frame, width,     height,      frame_ubo_, fbos_, programs_,
+                      empty_vao_, linear_clamp_, ibl_,  env_cube_, effect_ptrs_, sampling, sub};
+    FrameGraph graph;
+    // `targets`: what the scene is drawn into (FrameSampling::resolved: targets of their own,
+    // perhaps multisampled); `post`: the single-sample image the post filters and the tonemap
+    // read (render/effect.hpp, Stage::post). The passes keep references to them until they ran.
+    FrameTargets targets, post;
+    const int inspected_id = declare_passes(graph, env, targets, post, output, exposure_ev, last);
+    graph.compile(pool_);
+    report_.graph_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+
+    // Run it. The cache cannot know what other code did since the last frame.
+    state_.reset();
+    const int calls_before = state_.real_calls(), skipped_before = state_.skipped_calls();
+    std::map<std::string, double> sync_ms;
+    const std::string state_problem = execute_graph(graph, sync_ms);
+    collect_inspectables(graph, inspected_id);
     graph.release(pool_);
     // Leave GL as other code (ImGui, readback) expects it.
     state_.apply(gl::PipelineState{.depth_test = false, .depth_func = GL_LESS, .reversed_z = false});
     state_.bind_framebuffer(0);
 
-    // Sub-frames after the first add their passes as "name#k" (the GPU timer's order).
-    std::string suffix;
-    if (sub > 0) suffix.append(1, '#').append(std::to_string(sub + 1));  // (not "#" + ...: GCC 12's -Wrestrict false positive)
-    report_.graph_ms += graph_ms;
-    for (const auto& p : graph.passes()) {
-        if (p.culled) {
-            if (sub == 0) report_.culled.emplace_back(p.name, p.cull_reason);
-        } else
-            report_.passes.push_back({p.name + suffix, -1.0, p.cpu_ms, p.counters, sync_timing_ ? sync_ms[p.name] : -1.0});
-    }
-    report_.pool_allocations = pool_.allocations();
-    report_.pool_slots = pool_.size();
+    record_passes(graph, sub, sync_ms);
     report_.state_calls += state_.real_calls() - calls_before;
     report_.state_calls_skipped += state_.skipped_calls() - skipped_before;
     if (!state_problem.empty()) throw Error(ExitCode::internal, state_problem);

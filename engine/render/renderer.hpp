@@ -2,6 +2,7 @@
 // The raster renderer: every frame, a frame graph of only the passes this scene and these
 // settings call for (features.hpp), compiled, executed with per-pass GPU/CPU timing and counters.
 #include <filesystem>
+#include <map>
 #include <memory>
 #include <optional>
 #include <set>
@@ -114,8 +115,22 @@ public:
 private:
     // Analyzes and configures for settings_ and the last camera (features_, effects, programs).
     void plan();
-    int count_moving_draws(const Camera& camera, int width, int height) const;
+    // One sub-frame: the frame's block, the planned passes as a frame graph, run and reported.
     void render_subframe(const Camera& camera, FrameOutput output, float exposure_ev, const FrameSampling& sampling, int sub);
+    // The base's part of the frame's block (the effects' prepare() completes it).
+    FrameData frame_data(const Camera& camera, const FrameSampling& sampling, int sub) const;
+    // Declares the planned passes (each calls its work) and the tonemap on `graph`, drawing into
+    // `targets` and filtering `post` (both must outlive the graph's execution), and marks the
+    // outputs; returns the id of the resource the inspector asked for (-1: none).
+    int declare_passes(FrameGraph& graph, const PassEnv& env, FrameTargets& targets, FrameTargets& post, FrameOutput output,
+                       float exposure_ev, bool last);
+    // Runs the compiled graph: GPU timers per pass, synchronous times into `sync_ms` when asked,
+    // the state cache checked after each pass when asked (returns what went wrong, or "").
+    std::string execute_graph(FrameGraph& graph, std::map<std::string, double>& sync_ms);
+    // What the viewer's buffer inspector can show after this frame, and the texture it asked for.
+    void collect_inspectables(const FrameGraph& graph, int inspected_id);
+    // The sub-frame's executed and culled passes into the frame's report.
+    void record_passes(const FrameGraph& graph, int sub, const std::map<std::string, double>& sync_ms);
 
     const ShaderLibrary& shaders_;
     std::optional<Camera> camera_;  // the last frame's camera (its lens plans depth of field)
@@ -147,6 +162,7 @@ private:
     gl::Texture output_;
     gl::Texture display_;
     int width_ = 0, height_ = 0;
+    float aspect_ = 1.0f;  // of the last frame asked for (the effects' view amounts: Effect::view_amount)
     TexturePool pool_;
     FramebufferCache fbos_;
     gl::StateCache state_;
@@ -160,7 +176,6 @@ private:
     bool timer_warmed_ = false;
     std::uint64_t pose_version_ = 0;  // GpuScene::pose_version() the bounds and captures are for
     std::uint64_t material_version_ = 0;  // GpuScene::material_version() the view estimates are for
-    int moving_draws_ = 0;
 };
 
 }  // namespace candela

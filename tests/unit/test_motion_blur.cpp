@@ -31,7 +31,7 @@ TEST(MotionBlur, DecisionFollowsTheShutterAndTheMovingDraws) {
     const Effect& e = motion_blur_effect();
     auto decide = [&](const RenderSettings& s, int moving) {
         Features f = analyze(scene, s);
-        f.moving_draws = moving;
+        f.view_amounts["motion_blur"] = moving;
         return e.decide(f, s);
     };
     EXPECT_EQ(decide(with("", {}), 3).reason, "off: camera.shutter is 0");

@@ -137,10 +137,16 @@ public:
             .while_moving("8")
             .rows;
     }
+    // The aperture of the lens the frames use (the settings' over the camera's own; without a
+    // camera, the settings' alone): a pinhole (0) needs no depth of field.
+    double view_amount(const ViewInput& in) const override {
+        return in.camera ? with_lens(*in.camera, in.settings).aperture : std::max(0.0f, in.settings.camera.aperture);
+    }
     EffectDecision decide(const Features& f, const RenderSettings& s) const override {
-        const bool needed = f.lens_aperture > 0.0f;
+        const auto aperture = static_cast<float>(f.view_amount(name()));
+        const bool needed = aperture > 0.0f;
         // decide_effect prefixes "on: " / "off: ".
-        const std::string reason = needed ? lens_reason(f.lens_aperture) : "pinhole camera (aperture 0)";
+        const std::string reason = needed ? lens_reason(aperture) : "pinhole camera (aperture 0)";
         return decide_effect(name(), s.on(name()) && s.debug.view == DebugView::none, needed, reason, s.gating);
     }
     void plan(Stage stage, const Features& f, const RenderSettings& s, std::vector<PlannedPass>& out) const override {

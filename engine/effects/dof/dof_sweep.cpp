@@ -32,7 +32,7 @@ std::vector<AccuracySweep> dof_accuracy_sweeps(bool quick) {
     if (!quick) s.variants.push_back({"32 samples max CoC 6", "shadows,dof", {"dof.samples=32", "dof.max_coc=6"}});
     s.variants.push_back({"pinhole (no DOF)", "shadows,dof", {"camera.aperture=0"}});
     s.shipped = "32 samples";
-    s.needed = [](const Features& f) { return f.lens_aperture > 0.0f; };
+    s.needed = [](const Features& f) { return f.view_amount("dof") > 0.0; };
     return {s};
 }
 

@@ -149,6 +149,32 @@ private:
     FrameGraph::ResourceId color_ = -1, velocity_ = -1, depth_ = -1, tiles_ = -1;
 };
 
+int moving_draws_in_view(const Scene& scene, const GpuScene& gpu, const Camera& camera, float aspect) {
+    if (!gpu.has_motion()) return 0;
+    const glm::mat4 view_proj = projection_matrix(camera, aspect) * glm::inverse(camera.world);
+    int count = 0;
+    for (const GpuScene::Draw& d : gpu.draws()) {
+        if (!d.moves) continue;
+        const Node& node = scene.nodes[static_cast<size_t>(d.node)];
+        const Bounds& local = scene.meshes[static_cast<size_t>(node.mesh)].primitives[static_cast<size_t>(d.primitive)].bounds;
+        // Outside the view when all corners of the box at open, now and close lie beyond one clip plane.
+        int outside[6] = {0, 0, 0, 0, 0, 0};
+        int corners = 0;
+        for (const glm::mat4* m : {&d.model_open, &d.model, &d.model_close})
+            for (int c = 0; c < 8; ++c) {
+                const glm::vec4 p = view_proj * (*m) * glm::vec4(c & 1 ? local.max.x : local.min.x, c & 2 ? local.max.y : local.min.y,
+                                                                 c & 4 ? local.max.z : local.min.z, 1.0f);
+                outside[0] += p.x < -p.w, outside[1] += p.x > p.w, outside[2] += p.y < -p.w, outside[3] += p.y > p.w;
+                outside[4] += p.z > p.w, outside[5] += p.w <= 0.0f;  // reversed Z: z > w is in front of the near plane
+                ++corners;
+            }
+        bool culled = false;
+        for (int k = 0; k < 6; ++k) culled = culled || outside[k] == corners;
+        count += !culled;
+    }
+    return count;
+}
+
 class MotionBlur final : public Effect {
 public:
     const char* name() const override { return "motion_blur"; }
@@ -163,14 +189,21 @@ public:
                   "soft depth comparison: surfaces within this fraction of the view depth count as one")
             .rows;
     }
+    // The draws that move while the shutter is open and whose bounds (at open, now or close) meet
+    // the camera's view; 0 with the shutter closed or nothing uploaded.
+    double view_amount(const ViewInput& in) const override {
+        if (!(in.settings.camera.shutter > 0.0f) || !in.camera || !in.gpu) return 0.0;
+        return moving_draws_in_view(in.scene, *in.gpu, with_lens(*in.camera, in.settings), in.aspect);
+    }
     EffectDecision decide(const Features& f, const RenderSettings& s) const override {
         std::string reason;
         bool needed = false;
+        const auto moving = static_cast<long>(f.view_amount(name()));
         if (!(s.camera.shutter > 0.0f)) reason = "camera.shutter is 0";
-        else if (f.moving_draws <= 0) reason = "nothing in view moves during the shutter";
+        else if (moving <= 0) reason = "nothing in view moves during the shutter";
         else {
             needed = true;
-            reason = std::to_string(f.moving_draws) + (f.moving_draws == 1 ? " draw moves" : " draws move");
+            reason = std::to_string(moving) + (moving == 1 ? " draw moves" : " draws move");
         }
         return decide_effect(name(), s.on(name()) && s.debug.view == DebugView::none, needed, reason, s.gating);
     }

@@ -7,7 +7,7 @@
 // Osman 2012, "A Reconstruction Filter for Plausible Motion Blur" (TileMax, NeighborMax and a
 // gather along the dominant velocity with soft depth comparisons and cone/cylinder weights)
 // blurs the HDR image (docs/effects/motion_blur.md). Planned only when the shutter is open and something
-// in view moves during it (Features::moving_draws).
+// in view moves during it (its view amount: the moving draws in view).
 #include "render/effect.hpp"
 
 namespace candela {

@@ -39,7 +39,7 @@ std::vector<AccuracySweep> motion_blur_accuracy_sweeps(bool quick) {
     s.variants.push_back({"no motion blur", "shadows", {shutter}});
     s.shipped = "15 samples";
     // A scene given to the bench calls for it when it is animated (the bench poses animation 0).
-    s.needed = [](const Features& f) { return f.moving_draws > 0 || (f.source && !f.source->animations.empty()); };
+    s.needed = [](const Features& f) { return f.view_amount("motion_blur") > 0.0 || (f.source && !f.source->animations.empty()); };
     return {s};
 }
 
