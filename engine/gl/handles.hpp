@@ -98,6 +98,14 @@ private:
     int samples_ = 1;
 };
 
+// Binds `texture_id` (0: none) to texture unit `unit` with no sampler object, so that it is read
+// with the texture's own filtering and wrapping.
+inline void bind_texture_unit(GLuint unit, GLuint texture_id) {
+    glBindTextureUnit(unit, texture_id);
+    glBindSampler(unit, 0);
+}
+inline void bind_texture_unit(GLuint unit, const Texture& texture) { bind_texture_unit(unit, texture.id()); }
+
 class Sampler : public Handle<detail::delete_sampler> {
 public:
     Sampler() = default;

@@ -107,8 +107,7 @@ gl::Texture ImageBasedLighting::cube_from_equirect(const gl::Texture& equirect, 
     gl::Texture source = create_cube_array(size, 1, 0);
     glUseProgram(to_cube_program_.id());
     glProgramUniform1i(to_cube_program_.id(), 0, size);
-    glBindTextureUnit(SOURCE_UNIT, equirect.id());
-    glBindSampler(SOURCE_UNIT, 0);
+    gl::bind_texture_unit(SOURCE_UNIT, equirect);
     glBindImageTexture(DST_IMAGE, source.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
     glDispatchCompute(static_cast<GLuint>((size + 7) / 8), static_cast<GLuint>((size + 7) / 8), 6);
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
@@ -166,8 +165,7 @@ void ImageBasedLighting::prefilter(const gl::Texture& source, const gl::Texture&
         prefilter_program_ = shaders_.build_or_throw(program_desc("prefilter"));
     const GLuint p = prefilter_program_.id();
     glUseProgram(p);
-    glBindTextureUnit(SOURCE_UNIT, source.id());
-    glBindSampler(SOURCE_UNIT, 0);
+    gl::bind_texture_unit(SOURCE_UNIT, source);
     glProgramUniform1i(p, 2, samples);
     glProgramUniform1i(p, 3, size);
     for (int level = 0; level < levels; ++level) {

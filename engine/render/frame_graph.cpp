@@ -54,6 +54,17 @@ FrameGraph::ResourceId FrameGraph::Builder::read(ResourceId id) {
     return id;
 }
 
+FrameGraph::ResourceId FrameGraph::Builder::read(ResourceId id, unsigned unit) {
+    read(id);
+    auto& units = graph_.passes_[static_cast<size_t>(pass_)].units;
+    for (const auto& [other, u] : units)
+        if (u == unit)
+            throw Error(ExitCode::internal, "frame graph: pass '" + graph_.passes_[static_cast<size_t>(pass_)].name +
+                                                "' binds two resources to texture unit " + std::to_string(unit));
+    units.emplace_back(id, unit);
+    return id;
+}
+
 FrameGraph::ResourceId FrameGraph::Builder::write(ResourceId id) {
     if (id < 0 || static_cast<size_t>(id) >= graph_.resources_.size())
         throw Error(ExitCode::internal, "frame graph: pass '" + graph_.passes_[static_cast<size_t>(pass_)].name +
@@ -158,7 +169,9 @@ void FrameGraph::execute(gl::StateCache& state, const std::function<void(PassRec
         if (before) before(pass);
         const auto t0 = std::chrono::steady_clock::now();
         Context ctx{state, pass.counters, *this};
+        for (const auto& [id, unit] : pass.units) gl::bind_texture_unit(unit, ctx.texture(id));
         pass.execute(ctx);
+        for (const auto& [id, unit] : pass.units) glBindTextureUnit(unit, 0);
         pass.cpu_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
         if (after) after(pass);
     }

@@ -67,6 +67,9 @@ public:
         // A transient texture this pass creates (and writes first).
         ResourceId create(const std::string& name, const TextureDesc& desc);
         ResourceId read(ResourceId id);
+        // A texture the pass samples at texture unit `unit`: the graph binds it there before the
+        // pass runs (with no sampler object: the texture's own filtering) and unbinds it after.
+        ResourceId read(ResourceId id, unsigned unit);
         // Writing a resource another pass made also reads it (the pass draws over it).
         ResourceId write(ResourceId id);
         // The pass must run even if no output depends on it (e.g. a readback).
@@ -93,6 +96,7 @@ public:
     struct PassRecord {
         std::string name;
         std::vector<ResourceId> creates, reads, writes;
+        std::vector<std::pair<ResourceId, unsigned>> units;  // reads bound to texture units (Builder::read)
         bool side_effect = false;
         bool culled = false;
         std::string cull_reason;

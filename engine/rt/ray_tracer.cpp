@@ -219,12 +219,9 @@ void bind_scene(const RtScene& rt_scene, GpuScene& gpu) {
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, MATERIALS_BINDING, gpu.materials().id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, LIGHTS_BINDING, gpu.lights().id());  // punctual lights come first
     rt_scene.bind();
-    glBindTextureUnit(ENVIRONMENT_UNIT, gpu.environment_map().id());
-    glBindSampler(ENVIRONMENT_UNIT, 0);
-    glBindTextureUnit(RT_IMAGES_UNIT, gpu.image_array().id());
-    glBindSampler(RT_IMAGES_UNIT, 0);
-    glBindTextureUnit(RT_IMAGES_SRGB_UNIT, gpu.image_array_srgb().id());
-    glBindSampler(RT_IMAGES_SRGB_UNIT, 0);
+    gl::bind_texture_unit(ENVIRONMENT_UNIT, gpu.environment_map());
+    gl::bind_texture_unit(RT_IMAGES_UNIT, gpu.image_array());
+    gl::bind_texture_unit(RT_IMAGES_SRGB_UNIT, gpu.image_array_srgb());
 }
 
 FrameGpu RayTracer::make_frame(const Camera& camera, int width, int height) const {

@@ -11,6 +11,7 @@
 #include "gltf_builder.hpp"
 #include "image/image.hpp"
 #include "platform/context.hpp"
+#include "render/frame_graph.hpp"
 #include "render/still.hpp"
 #include "scene/gltf_loader.hpp"
 
@@ -37,6 +38,52 @@ TEST_P(GlTest, DebugOutputCountsGlErrors) {
     glEnable(0x1234);  // GL_INVALID_ENUM
     EXPECT_EQ(gl::debug_error_count(), 1);
     gl::reset_debug_error_count();
+}
+
+// A texture a pass reads at a unit is bound there while the pass runs, with no sampler object,
+// and unbound after (the pool may attach it to a framebuffer next).
+TEST_P(GlTest, TheFrameGraphBindsAndUnbindsDeclaredInputs) {
+    const GLuint unit = 5;
+    gl::Sampler stale = gl::Sampler::create(GL_NEAREST, GL_NEAREST, GL_REPEAT, GL_REPEAT);
+    glBindSampler(unit, stale.id());
+    TexturePool pool;
+    FrameGraph graph;
+    FrameGraph::ResourceId made = -1;
+    graph.add_pass("make", [&](FrameGraph::Builder& b) { made = b.create("made", {GL_RGBA16F, 8, 8}); }, [](FrameGraph::Context&) {});
+    GLint bound_inside = -1, sampler_inside = -1;
+    GLuint expected = 0;
+    graph.add_pass(
+        "read",
+        [&](FrameGraph::Builder& b) {
+            b.read(made, unit);
+            b.side_effect();
+        },
+        [&](FrameGraph::Context& ctx) {
+            expected = ctx.texture(made).id();
+            glActiveTexture(GL_TEXTURE0 + unit);
+            glGetIntegerv(GL_TEXTURE_BINDING_2D, &bound_inside);
+            glGetIntegerv(GL_SAMPLER_BINDING, &sampler_inside);
+        });
+    graph.compile(pool);
+    gl::StateCache state;
+    graph.execute(state);
+    GLint bound_after = -1;
+    glActiveTexture(GL_TEXTURE0 + unit);
+    glGetIntegerv(GL_TEXTURE_BINDING_2D, &bound_after);
+    glActiveTexture(GL_TEXTURE0);
+    graph.release(pool);
+    EXPECT_NE(expected, 0u);
+    EXPECT_EQ(static_cast<GLuint>(bound_inside), expected);
+    EXPECT_EQ(sampler_inside, 0);
+    EXPECT_EQ(bound_after, 0);
+    // One unit, two inputs: a programmer error.
+    FrameGraph twice;
+    twice.add_pass("make", [&](FrameGraph::Builder& b) { made = b.create("made", {GL_RGBA16F, 8, 8}); }, [](FrameGraph::Context&) {});
+    auto bind_twice = [&](FrameGraph::Builder& b) {
+        b.read(made, unit);
+        b.read(made, unit);
+    };
+    EXPECT_THROW(twice.add_pass("read", bind_twice, [](FrameGraph::Context&) {}), Error);
 }
 
 TEST_P(GlTest, GlslDisplayTransformMatchesCpp) {

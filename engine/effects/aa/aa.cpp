@@ -62,8 +62,8 @@ public:
         const auto& d = graph.add_pass<Data>(
             "aa_resolve",
             [&](FrameGraph::Builder& b, Data& data) {
-                data.hdr = b.read(drawn->hdr);
-                data.depth = b.read(drawn->depth);
+                data.hdr = b.read(drawn->hdr, AA_HDR_UNIT);
+                data.depth = b.read(drawn->depth, AA_DEPTH_UNIT);
                 data.out = b.write(targets.hdr);
                 data.out_depth = b.create("depth_resolved", {GL_DEPTH_COMPONENT32F, env.width, env.height});
             },
@@ -84,10 +84,6 @@ public:
                 ctx.state.viewport(0, 0, env.width, env.height);
                 const GLuint program = env.programs.get(ms ? "aa_resolve" : "aa_resolve_single").id();
                 ctx.state.use_program(program);
-                glBindTextureUnit(AA_HDR_UNIT, ctx.texture(data.hdr).id());
-                glBindTextureUnit(AA_DEPTH_UNIT, ctx.texture(data.depth).id());
-                glBindSampler(AA_HDR_UNIT, 0);
-                glBindSampler(AA_DEPTH_UNIT, 0);
                 ctx.state.bind_vertex_array(env.empty_vao.id());
                 glDrawArrays(GL_TRIANGLES, 0, 3);
                 ++ctx.counters.draw_calls;

@@ -168,10 +168,8 @@ public:
         glBindBufferBase(GL_UNIFORM_BUFFER, AREA_LIGHTS_BINDING, block_.id());
         if (method_ != 1) return;
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, AREA_POLYGONS_BINDING, polygons_.id());
-        glBindTextureUnit(LTC_MATRIX_UNIT, ltc_matrix_.id());
-        glBindSampler(LTC_MATRIX_UNIT, 0);
-        glBindTextureUnit(LTC_AMPLITUDE_UNIT, ltc_amplitude_.id());
-        glBindSampler(LTC_AMPLITUDE_UNIT, 0);
+        gl::bind_texture_unit(LTC_MATRIX_UNIT, ltc_matrix_);
+        gl::bind_texture_unit(LTC_AMPLITUDE_UNIT, ltc_amplitude_);
     }
     void inspectables(std::vector<std::pair<std::string, const gl::Texture*>>& out) const override {
         if (ltc_matrix_) {

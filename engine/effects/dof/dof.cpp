@@ -58,19 +58,12 @@ private:
         const Data& data = graph.add_pass<Data>(
             "dof_coc",
             [&](FrameGraph::Builder& b, Data& d) {
-                d.in = b.read(targets.hdr);
-                d.in2 = b.read(targets.depth);
+                d.in = b.read(targets.hdr, DOF_IN_UNIT);
+                d.in2 = b.read(targets.depth, DOF_IN2_UNIT);
                 d.out = b.create("dof_color", {GL_RGBA32F, env.width, env.height});
             },
             [this, &env, program](const Data& d, FrameGraph::Context& ctx) {
-                glBindTextureUnit(DOF_IN_UNIT, ctx.texture(d.in).id());
-                glBindSampler(DOF_IN_UNIT, 0);
-                glBindTextureUnit(DOF_IN2_UNIT, ctx.texture(d.in2).id());
-                glBindSampler(DOF_IN2_UNIT, 0);
                 fullscreen(env, ctx, env.fbos.get({&ctx.texture(d.out)}, nullptr), env.width, env.height, program);
-                // The pool may attach these textures next frame: leave nothing bound to them.
-                glBindTextureUnit(DOF_IN_UNIT, 0);
-                glBindTextureUnit(DOF_IN2_UNIT, 0);
             });
         color_ = data.out;
     }
@@ -81,16 +74,13 @@ private:
         const Data& data = graph.add_pass<Data>(
             name,
             [&](FrameGraph::Builder& b, Data& d) {
-                d.in = b.read(dilate ? tiles_ : color_);
+                d.in = b.read(dilate ? tiles_ : color_, DOF_IN_UNIT);
                 d.out = b.create(dilate ? "dof_near_reach" : "dof_near_tiles",
                                  {GL_R32F, (env.width + kTile - 1) / kTile, (env.height + kTile - 1) / kTile});
             },
             [this, &env, program](const Data& d, FrameGraph::Context& ctx) {
-                glBindTextureUnit(DOF_IN_UNIT, ctx.texture(d.in).id());
-                glBindSampler(DOF_IN_UNIT, 0);
                 const TextureDesc& desc = ctx.desc(d.out);
                 fullscreen(env, ctx, env.fbos.get({&ctx.texture(d.out)}, nullptr), desc.width, desc.height, program);
-                glBindTextureUnit(DOF_IN_UNIT, 0);
             });
         tiles_ = data.out;
     }
@@ -100,18 +90,12 @@ private:
         graph.add_pass<Data>(
             "dof_gather",
             [&](FrameGraph::Builder& b, Data& d) {
-                d.in = b.read(color_);
-                d.in2 = b.read(tiles_);
+                d.in = b.read(color_, DOF_IN_UNIT);
+                d.in2 = b.read(tiles_, DOF_IN2_UNIT);
                 d.out = b.write(targets.hdr);
             },
             [this, &env, program](const Data& d, FrameGraph::Context& ctx) {
-                glBindTextureUnit(DOF_IN_UNIT, ctx.texture(d.in).id());
-                glBindSampler(DOF_IN_UNIT, 0);
-                glBindTextureUnit(DOF_IN2_UNIT, ctx.texture(d.in2).id());
-                glBindSampler(DOF_IN2_UNIT, 0);
                 fullscreen(env, ctx, env.fbos.get({&ctx.texture(d.out)}, nullptr), env.width, env.height, program);
-                glBindTextureUnit(DOF_IN_UNIT, 0);
-                glBindTextureUnit(DOF_IN2_UNIT, 0);
             });
     }
 

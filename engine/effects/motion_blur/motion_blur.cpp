@@ -108,16 +108,13 @@ private:
         const Data& data = graph.add_pass<Data>(
             name,
             [&](FrameGraph::Builder& b, Data& d) {
-                d.in = b.read(neighbor ? tiles_ : velocity_);
+                d.in = b.read(neighbor ? tiles_ : velocity_, MOTION_BLUR_IN_UNIT);
                 d.out = b.create(neighbor ? "motion_neighbormax" : "motion_tilemax",
                                  {GL_RG16F, (env.width + k - 1) / k, (env.height + k - 1) / k});
             },
             [this, &env, program](const Data& d, FrameGraph::Context& ctx) {
-                glBindTextureUnit(MOTION_BLUR_IN_UNIT, ctx.texture(d.in).id());
-                glBindSampler(MOTION_BLUR_IN_UNIT, 0);
                 const TextureDesc& desc = ctx.desc(d.out);
                 fullscreen(env, ctx, env.fbos.get({&ctx.texture(d.out)}, nullptr), desc.width, desc.height, program);
-                glBindTextureUnit(MOTION_BLUR_IN_UNIT, 0);  // the pool may attach it next frame
             });
         tiles_ = data.out;
     }
@@ -127,20 +124,14 @@ private:
         graph.add_pass<Gather>(
             "motion_gather",
             [&](FrameGraph::Builder& b, Gather& d) {
-                d.color = b.read(color_);
-                d.velocity = b.read(velocity_);
-                d.depth = b.read(depth_);
-                d.neighbor = b.read(tiles_);
+                d.color = b.read(color_, MOTION_BLUR_COLOR_UNIT);
+                d.velocity = b.read(velocity_, MOTION_BLUR_COLOR_UNIT + 1);
+                d.depth = b.read(depth_, MOTION_BLUR_COLOR_UNIT + 2);
+                d.neighbor = b.read(tiles_, MOTION_BLUR_COLOR_UNIT + 3);
                 d.out = b.write(targets.hdr);
             },
             [this, &env, program](const Gather& d, FrameGraph::Context& ctx) {
-                const FrameGraph::ResourceId in[4] = {d.color, d.velocity, d.depth, d.neighbor};
-                for (GLuint u = 0; u < 4; ++u) {
-                    glBindTextureUnit(MOTION_BLUR_COLOR_UNIT + u, ctx.texture(in[u]).id());
-                    glBindSampler(MOTION_BLUR_COLOR_UNIT + u, 0);
-                }
                 fullscreen(env, ctx, env.fbos.get({&ctx.texture(d.out)}, nullptr), env.width, env.height, program);
-                for (GLuint u = 0; u < 4; ++u) glBindTextureUnit(MOTION_BLUR_COLOR_UNIT + u, 0);
             });
     }
 

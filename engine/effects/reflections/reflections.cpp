@@ -176,10 +176,8 @@ void ReflectionsRuntime::read_shading_inputs(FrameGraph::Builder& b) const {
 void ReflectionsRuntime::bind_shading_inputs(const PassEnv&, FrameGraph::Context*) const {
     glBindBufferBase(GL_UNIFORM_BUFFER, REFLECTIONS_BINDING, block_.id());
     if (on_) {
-        glBindTextureUnit(REFLECTIONS_PROBES_UNIT, res_.filtered.id());
-        glBindSampler(REFLECTIONS_PROBES_UNIT, 0);
-        glBindTextureUnit(REFLECTIONS_DISTANCE_UNIT, res_.distance.id());
-        glBindSampler(REFLECTIONS_DISTANCE_UNIT, 0);
+        gl::bind_texture_unit(REFLECTIONS_PROBES_UNIT, res_.filtered);
+        gl::bind_texture_unit(REFLECTIONS_DISTANCE_UNIT, res_.distance);
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, REFLECTIONS_PROBES_BINDING, res_.data.id());
     }
 }
@@ -273,8 +271,7 @@ void ReflectionsRuntime::add_capture(FrameGraph& graph, const PassEnv& env) {
                         }
                         // The face's distances, before the next face reuses the depth buffer.
                         ctx.state.use_program(distance);
-                        glBindTextureUnit(REFLECTIONS_FACE_DEPTH_UNIT, pr.depth.id());
-                        glBindSampler(REFLECTIONS_FACE_DEPTH_UNIT, 0);
+                        gl::bind_texture_unit(REFLECTIONS_FACE_DEPTH_UNIT, pr.depth);
                         glBindImageTexture(REFLECTIONS_DISTANCE_IMAGE, pr.distance.id(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_R32F);
                         glProgramUniform1i(distance, 0, layer);
                         glProgramUniform1f(distance, 1, pr.znear);

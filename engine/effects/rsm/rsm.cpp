@@ -246,8 +246,8 @@ private:
         const Data& data = graph.add_pass<Data>(
             "rsm_indirect",
             [&](FrameGraph::Builder& b, Data& d) {
-                d.depth = b.read(targets.depth);
-                d.normals = b.read(targets.normals);
+                d.depth = b.read(targets.depth, RSM_DEPTH_UNIT);
+                d.normals = b.read(targets.normals, RSM_NORMALS_UNIT);
                 b.read(maps_);
                 const int f = downscale(options_.gather);
                 d.out = b.create("rsm_indirect", {GL_RGBA16F, (env.width + f - 1) / f, (env.height + f - 1) / f});
@@ -255,10 +255,6 @@ private:
             [this, &env](const Data& d, FrameGraph::Context& ctx) {
                 const Resources& r = res_;
                 bind_scene_buffers(env);
-                glBindTextureUnit(RSM_DEPTH_UNIT, ctx.texture(d.depth).id());
-                glBindSampler(RSM_DEPTH_UNIT, 0);
-                glBindTextureUnit(RSM_NORMALS_UNIT, ctx.texture(d.normals).id());
-                glBindSampler(RSM_NORMALS_UNIT, 0);
                 const gl::Texture* maps[3] = {&r.position, &r.normal, &r.flux};
                 for (int i = 0; i < 3; ++i) {
                     glBindTextureUnit(static_cast<GLuint>(RSM_POSITION_UNIT + i), maps[i]->id());

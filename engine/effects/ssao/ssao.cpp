@@ -74,20 +74,15 @@ private:
         const Data& data = graph.add_pass<Data>(
             "ssao",
             [&](FrameGraph::Builder& b, Data& d) {
-                d.depth = b.read(targets.depth);
-                d.normals = b.read(targets.normals);
+                d.depth = b.read(targets.depth, SSAO_DEPTH_UNIT);
+                d.normals = b.read(targets.normals, SSAO_NORMALS_UNIT);
                 const int f = downscale_;
                 d.ao = b.create("ssao", {GL_RG16F, (env.width + f - 1) / f, (env.height + f - 1) / f});
             },
             [this, &env, program](const Data& d, FrameGraph::Context& ctx) {
                 glBindBufferBase(GL_UNIFORM_BUFFER, FRAME_BINDING, env.frame_ubo.id());
                 glBindBufferBase(GL_UNIFORM_BUFFER, SSAO_BINDING, block_.id());
-                glBindTextureUnit(SSAO_DEPTH_UNIT, ctx.texture(d.depth).id());
-                glBindSampler(SSAO_DEPTH_UNIT, 0);
-                glBindTextureUnit(SSAO_NORMALS_UNIT, ctx.texture(d.normals).id());
-                glBindSampler(SSAO_NORMALS_UNIT, 0);
-                glBindTextureUnit(SSAO_NOISE_UNIT, noise_.id());
-                glBindSampler(SSAO_NOISE_UNIT, 0);
+                gl::bind_texture_unit(SSAO_NOISE_UNIT, noise_);
                 const TextureDesc& desc = ctx.desc(d.ao);
                 fullscreen(env, ctx, env.fbos.get({&ctx.texture(d.ao)}, nullptr), desc.width, desc.height, program);
             });
@@ -104,13 +99,11 @@ private:
         const Data& data = graph.add_pass<Data>(
             name,
             [&](FrameGraph::Builder& b, Data& d) {
-                d.in = b.read(ao_);
+                d.in = b.read(ao_, SSAO_BLUR_IN_UNIT);
                 d.out = b.create(name, graph.resources()[static_cast<size_t>(d.in)].desc);
             },
             [this, &env, axis, program](const Data& d, FrameGraph::Context& ctx) {
                 glBindBufferBase(GL_UNIFORM_BUFFER, SSAO_BINDING, block_.id());
-                glBindTextureUnit(SSAO_BLUR_IN_UNIT, ctx.texture(d.in).id());
-                glBindSampler(SSAO_BLUR_IN_UNIT, 0);
                 glProgramUniform2i(program, 0, axis == 0 ? 1 : 0, axis == 0 ? 0 : 1);
                 const TextureDesc& desc = ctx.desc(d.out);
                 fullscreen(env, ctx, env.fbos.get({&ctx.texture(d.out)}, nullptr), desc.width, desc.height, program);

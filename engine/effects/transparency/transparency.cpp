@@ -96,7 +96,7 @@ private:
         graph.add_pass<Data>(
             "transparent_peeling",
             [&](FrameGraph::Builder& b, Data& d) {
-                b.read(targets.depth);
+                b.read(targets.depth, OPAQUE_DEPTH_UNIT);
                 read_lighting_inputs(b, env);
                 b.write(targets.hdr);
                 d.ids[0] = b.create("peel_color", {GL_RGBA16F, env.width, env.height});
@@ -109,8 +109,7 @@ private:
                 const GLuint forward = env.programs.get("forward").id();
                 const GLuint copy = env.programs.get("copy").id();
                 auto fullscreen = [&](GLuint source) {
-                    glBindTextureUnit(SOURCE_UNIT, source);
-                    glBindSampler(SOURCE_UNIT, 0);
+                    gl::bind_texture_unit(SOURCE_UNIT, source);
                     ctx.state.use_program(copy);
                     ctx.state.bind_vertex_array(env.empty_vao.id());
                     glDrawArrays(GL_TRIANGLES, 0, 3);
@@ -121,8 +120,6 @@ private:
                 ctx.state.bind_framebuffer(env.fbos.get({&ctx.texture(accum)}, nullptr));
                 const float zero[4] = {0, 0, 0, 0};
                 glClearBufferfv(GL_COLOR, 0, zero);
-                glBindTextureUnit(OPAQUE_DEPTH_UNIT, ctx.texture(targets.depth).id());
-                glBindSampler(OPAQUE_DEPTH_UNIT, 0);
                 for (int layer = 0; layer < options_.layers; ++layer) {
                     const FrameGraph::ResourceId depth = layer % 2 == 0 ? depth_a : depth_b;
                     const FrameGraph::ResourceId previous = layer % 2 == 0 ? depth_b : depth_a;
@@ -135,8 +132,7 @@ private:
                     glClearBufferfv(GL_DEPTH, 0, &clear_depth);
                     bind_scene_buffers(env);
                     bind_effect_inputs(env, ctx);
-                    glBindTextureUnit(PREVIOUS_LAYER_UNIT, ctx.texture(previous).id());
-                    glBindSampler(PREVIOUS_LAYER_UNIT, 0);
+                    gl::bind_texture_unit(PREVIOUS_LAYER_UNIT, ctx.texture(previous));
                     ctx.state.use_program(forward);
                     glProgramUniform1i(forward, 8, layer == 0 ? 1 : 2);
                     ctx.state.bind_vertex_array(env.scene.vertex_array().id());
@@ -152,8 +148,8 @@ private:
                     fullscreen(ctx.texture(color).id());
                 }
                 glProgramUniform1i(forward, 8, 0);
-                // The pool may attach these depth textures next frame: leave no sampler on them.
-                glBindTextureUnit(OPAQUE_DEPTH_UNIT, 0);
+                // The pool may attach this depth texture next frame: leave no sampler on it (the
+                // graph unbinds the opaque depth, a declared input).
                 glBindTextureUnit(PREVIOUS_LAYER_UNIT, 0);
                 // hdr = accum + (1 - accum.a) * hdr: OVER the opaque image; hdr's alpha stays.
                 gl::PipelineState over;

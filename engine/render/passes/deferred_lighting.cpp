@@ -54,8 +54,8 @@ void add_deferred_lighting_pass(FrameGraph& graph, const PassEnv& env, FrameTarg
     graph.add_pass<Data>(
         "deferred_lighting",
         [&](FrameGraph::Builder& b, Data& d) {
-            for (int i = 0; i < 3; ++i) d.gbuffer[i] = b.read(targets.gbuffer[i]);
-            d.depth = b.read(targets.gbuffer_depth);
+            for (int i = 0; i < 3; ++i) d.gbuffer[i] = b.read(targets.gbuffer[i], static_cast<unsigned>(GBUFFER_BASE_UNIT + i));
+            d.depth = b.read(targets.gbuffer_depth, GBUFFER_DEPTH_UNIT);
             read_lighting_inputs(b, env);
             d.hdr = b.write(targets.hdr);
             // Room for N - 1 further groups per pixel (the most a pixel can have).
@@ -67,12 +67,6 @@ void add_deferred_lighting_pass(FrameGraph& graph, const PassEnv& env, FrameTarg
         [&env, n, positions = flat_positions(env.sampling)](const Data& d, FrameGraph::Context& ctx) {
             bind_scene_buffers(env);
             bind_effect_inputs(env, ctx);
-            for (int i = 0; i < 3; ++i) {
-                glBindTextureUnit(static_cast<GLuint>(GBUFFER_BASE_UNIT + i), ctx.texture(d.gbuffer[i]).id());
-                glBindSampler(static_cast<GLuint>(GBUFFER_BASE_UNIT + i), 0);
-            }
-            glBindTextureUnit(GBUFFER_DEPTH_UNIT, ctx.texture(d.depth).id());
-            glBindSampler(GBUFFER_DEPTH_UNIT, 0);
             glBindImageTexture(LIGHT_BUFFER_IMAGE, ctx.texture(d.hdr).id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
             const bool ms = n > 1;
             const GLuint program =

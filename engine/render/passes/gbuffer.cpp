@@ -76,8 +76,8 @@ void add_gbuffer_resolve_pass(FrameGraph& graph, const PassEnv& env, FrameTarget
     graph.add_pass<Data>(
         "gbuffer_resolve",
         [&](FrameGraph::Builder& b, Data& d) {
-            d.depth_ms = b.read(targets.gbuffer_depth);
-            d.normal_ms = b.read(targets.gbuffer[1]);
+            d.depth_ms = b.read(targets.gbuffer_depth, RESOLVE_DEPTH_UNIT);
+            d.normal_ms = b.read(targets.gbuffer[1], RESOLVE_NORMAL_UNIT);
             d.depth = targets.depth = b.create("depth", {GL_DEPTH_COMPONENT32F, env.width, env.height});
             d.normals = targets.normals = b.create("normals", {GL_RG16F, env.width, env.height});
         },
@@ -90,10 +90,6 @@ void add_gbuffer_resolve_pass(FrameGraph& graph, const PassEnv& env, FrameTarget
             ctx.state.bind_framebuffer(env.fbos.get({&ctx.texture(d.normals)}, &ctx.texture(d.depth)));
             ctx.state.viewport(0, 0, env.width, env.height);
             ctx.state.use_program(env.programs.get("gbuffer_resolve").id());
-            glBindTextureUnit(RESOLVE_DEPTH_UNIT, ctx.texture(d.depth_ms).id());
-            glBindTextureUnit(RESOLVE_NORMAL_UNIT, ctx.texture(d.normal_ms).id());
-            glBindSampler(RESOLVE_DEPTH_UNIT, 0);
-            glBindSampler(RESOLVE_NORMAL_UNIT, 0);
             ctx.state.bind_vertex_array(env.empty_vao.id());
             glDrawArrays(GL_TRIANGLES, 0, 3);
             ++ctx.counters.draw_calls;

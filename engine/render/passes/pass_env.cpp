@@ -47,19 +47,12 @@ void bind_scene_buffers(const PassEnv& env) {
     for (const EffectRuntime* e : env.effects) e->bind_shading_inputs(env, nullptr);  // their blocks
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, MATERIALS_BINDING, env.scene.materials().id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, LIGHTS_BINDING, env.scene.lights().id());
-    glBindTextureUnit(ENVIRONMENT_UNIT, env.scene.environment_map().id());
-    glBindSampler(ENVIRONMENT_UNIT, 0);
-    if (env.env_cube) {
-        glBindTextureUnit(ENV_CUBE_UNIT, env.env_cube.id());
-        glBindSampler(ENV_CUBE_UNIT, 0);
-    }
-    glBindTextureUnit(BRDF_LUT_UNIT, env.ibl.brdf_lut().id());
-    glBindSampler(BRDF_LUT_UNIT, 0);
+    gl::bind_texture_unit(ENVIRONMENT_UNIT, env.scene.environment_map());
+    if (env.env_cube) gl::bind_texture_unit(ENV_CUBE_UNIT, env.env_cube);
+    gl::bind_texture_unit(BRDF_LUT_UNIT, env.ibl.brdf_lut());
     if (material_layers_on(env)) {
-        glBindTextureUnit(MATERIAL_IMAGES_UNIT, env.scene.image_array().id());
-        glBindSampler(MATERIAL_IMAGES_UNIT, 0);
-        glBindTextureUnit(MATERIAL_IMAGES_SRGB_UNIT, env.scene.image_array_srgb().id());
-        glBindSampler(MATERIAL_IMAGES_SRGB_UNIT, 0);
+        gl::bind_texture_unit(MATERIAL_IMAGES_UNIT, env.scene.image_array());
+        gl::bind_texture_unit(MATERIAL_IMAGES_SRGB_UNIT, env.scene.image_array_srgb());
     }
 }
 

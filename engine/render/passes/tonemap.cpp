@@ -10,7 +10,7 @@ void add_tonemap_pass(FrameGraph& graph, const PassEnv& env, FrameTargets& targe
     graph.add_pass(
         "tonemap",
         [&](FrameGraph::Builder& b) {
-            b.read(targets.hdr);
+            b.read(targets.hdr, SOURCE_UNIT);
             targets.display = graph.import_texture("display", display, {GL_RGBA8, env.width, env.height});
             b.write(targets.display);
         },
@@ -20,8 +20,6 @@ void add_tonemap_pass(FrameGraph& graph, const PassEnv& env, FrameTargets& targe
             ctx.state.viewport(0, 0, env.width, env.height);
             ctx.state.use_program(env.programs.get("tonemap").id());
             glProgramUniform1f(env.programs.get("tonemap").id(), 0, exposure_ev);
-            glBindTextureUnit(SOURCE_UNIT, ctx.texture(targets.hdr).id());
-            glBindSampler(SOURCE_UNIT, 0);
             ctx.state.bind_vertex_array(env.empty_vao.id());
             glDrawArrays(GL_TRIANGLES, 0, 3);
             ++ctx.counters.draw_calls;
