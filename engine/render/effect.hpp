@@ -33,6 +33,7 @@ struct Scene;
 struct Features;
 struct ViewInput;
 namespace gpu { struct FrameData; }
+namespace rt { class RtScene; }
 using gpu::FrameData;
 struct FrameTargets;
 struct PassEnv;
@@ -119,6 +120,9 @@ struct ViewEstimateInput {
     GpuScene& gpu;
     const Camera& camera;
     float aspect;
+    // Optional, in and out: the tracer geometry of the caller's earlier measurements of this
+    // scene (rt::RayTracer::shared_scene), to use and keep, so that the BVH is built once.
+    std::shared_ptr<rt::RtScene>* tracer_scene = nullptr;
 };
 
 // What the light buffer holds (GpuScene::update_lights); effects fill in their part.

@@ -54,9 +54,10 @@ std::optional<Mode> parse_mode(const std::string& name) {
     return std::nullopt;
 }
 
-RayTracer::RayTracer(const ShaderLibrary& shaders, const Scene& scene, GpuScene& gpu, const Options& options)
+RayTracer::RayTracer(const ShaderLibrary& shaders, const Scene& scene, GpuScene& gpu, const Options& options,
+                     std::shared_ptr<RtScene> shared)
     : shaders_(shaders), scene_(scene), gpu_(gpu), options_(options), requested_max_depth_(options.max_depth),
-      rt_scene_(scene, static_cast<int>(scene.materials.size())) {
+      rt_scene_(shared ? std::move(shared) : std::make_shared<RtScene>(scene, static_cast<int>(scene.materials.size()))) {
     const Bounds b = scene.world_bounds();
     scene_diagonal_ = b.empty() ? 1.0f : glm::length(b.extent());
     if (options_.spp < 1 || options_.spp > (1 << 24)) throw bad_input("--spp must be in [1, 16777216]");
@@ -98,12 +99,12 @@ void RayTracer::select_program(Mode mode) {
     // is never compiled or run.
     const ModeProgram program = mode_program(mode);
     std::vector<std::string> defines;
-    if (!rt_scene_.geometry().emitters.empty()) defines.push_back("HAS_EMITTERS");
-    if (rt_scene_.geometry().has_transmission) defines.push_back("HAS_TRANSMISSION");
+    if (!rt_scene_->geometry().emitters.empty()) defines.push_back("HAS_EMITTERS");
+    if (rt_scene_->geometry().has_transmission) defines.push_back("HAS_TRANSMISSION");
     if (std::any_of(scene_.materials.begin(), scene_.materials.end(), [](const Material& m) { return m.has_layers(); })) defines.push_back("MATERIAL_LAYERS");
-    if (rt_scene_.geometry().has_blend) defines.push_back("HAS_BLEND");
-    if (rt_scene_.geometry().has_vertex_colors) defines.push_back("HAS_VERTEX_COLORS");
-    if (rt_scene_.geometry().has_mask) defines.push_back("HAS_MASK");
+    if (rt_scene_->geometry().has_blend) defines.push_back("HAS_BLEND");
+    if (rt_scene_->geometry().has_vertex_colors) defines.push_back("HAS_VERTEX_COLORS");
+    if (rt_scene_->geometry().has_mask) defines.push_back("HAS_MASK");
     if (options_.traversal_stats) defines.push_back("RT_STATS");
     // What the scene lacks is compiled out too: llvmpipe executes both sides of a branch, masked.
     const auto textured = [](const Material& m) {
@@ -111,7 +112,7 @@ void RayTracer::select_program(Mode mode) {
                m.occlusion_texture.present() || m.emissive_texture.present();
     };
     if (std::none_of(scene_.materials.begin(), scene_.materials.end(), textured)) defines.push_back("RT_NO_TEXTURES");
-    if (rt_scene_.geometry().spheres.empty()) defines.push_back("RT_NO_SPHERES");
+    if (rt_scene_->geometry().spheres.empty()) defines.push_back("RT_NO_SPHERES");
     gl::Buffer env_distribution;
     int env_width = 0, env_height = 0;
     if (gpu_.has_environment_map() && options_.env_importance && (mode == Mode::path || mode == Mode::direct)) {
@@ -164,7 +165,7 @@ int RayTracer::slice_of(int sample) const {
 }
 
 void RayTracer::refresh_counts(FrameGpu& f) const {
-    const RtGeometry& g = rt_scene_.geometry();
+    const RtGeometry& g = rt_scene_->geometry();
     f.triangle_count = static_cast<int>(g.triangles.size());
     f.sphere_count = static_cast<int>(g.spheres.size());
     f.emitter_count = static_cast<int>(g.emitters.size());
@@ -173,7 +174,7 @@ void RayTracer::refresh_counts(FrameGpu& f) const {
 }
 
 RtUpdateStats RayTracer::update_geometry(RtUpdate how) {
-    const RtUpdateStats stats = rt_scene_.update(scene_, how);
+    const RtUpdateStats stats = rt_scene_->update(scene_, how);
     posed_slice_ = -1;
     return stats;
 }
@@ -183,7 +184,7 @@ bool RayTracer::pose_slice(int slice, FrameGpu& f, Result* result) {
     const auto t0 = std::chrono::steady_clock::now();
     options_.pose_at(slice_time(slice));
     const auto t1 = std::chrono::steady_clock::now();
-    rt_scene_.update(scene_, RtUpdate::refit);
+    rt_scene_->update(scene_, RtUpdate::refit);
     posed_slice_ = slice;
     refresh_counts(f);
     if (result) {
@@ -225,7 +226,7 @@ void bind_scene(const RtScene& rt_scene, GpuScene& gpu) {
 }
 
 FrameGpu RayTracer::make_frame(const Camera& camera, int width, int height) const {
-    FrameGpu f = scene_frame_block(scene_, rt_scene_, gpu_);
+    FrameGpu f = scene_frame_block(scene_, *rt_scene_, gpu_);
     const float aspect = static_cast<float>(width) / static_cast<float>(height);
     // Camera-relative: the view without its translation, so that unprojected points stay near 0
     // and keep their precision when the camera is far from the origin (hard case
@@ -271,7 +272,7 @@ FrameGpu RayTracer::make_frame(const Camera& camera, int width, int height) cons
 
 void RayTracer::bind(const gl::Buffer& accum, const gl::Buffer& diagnostics) const {
     glUseProgram(program_.id());
-    bind_scene(rt_scene_, gpu_);
+    bind_scene(*rt_scene_, gpu_);
     glBindBufferBase(GL_UNIFORM_BUFFER, RT_FRAME_BINDING, frame_ubo_.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RT_ACCUM_BINDING, accum.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, RT_DIAGNOSTICS_BINDING, diagnostics.id());

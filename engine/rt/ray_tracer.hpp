@@ -143,8 +143,11 @@ class RayTracer {
 public:
     // Builds the BVH, uploads the scene, compiles the program specialised to the mode and the
     // scene's features. Throws candela::Error (internal) if the shader does not build. `shaders`,
-    // `scene` and `gpu` must outlive the tracer (set_mode builds from `shaders`).
-    RayTracer(const ShaderLibrary& shaders, const Scene& scene, GpuScene& gpu, const Options& options);
+    // `scene` and `gpu` must outlive the tracer (set_mode builds from `shaders`). `shared`: the
+    // BVH and geometry of another tracer of this scene in its present pose (shared_scene()), used
+    // instead of building them again; null: built here.
+    RayTracer(const ShaderLibrary& shaders, const Scene& scene, GpuScene& gpu, const Options& options,
+              std::shared_ptr<RtScene> shared = nullptr);
     ~RayTracer();
     Result render(const Camera& camera, int width, int height);
 
@@ -179,7 +182,10 @@ public:
     // The next render computes the samples s with s % count == shard (--spp-shard K/N): independent
     // batches from one tracer (the statistical tests). Throws bad_input unless 0 <= shard < count.
     void set_shard(int shard, int count);
-    const RtScene& scene() const { return rt_scene_; }
+    const RtScene& scene() const { return *rt_scene_; }
+    // The tracer's geometry, for another tracer of the same scene and pose (the planner's
+    // measurements share one: building the BVH of a million triangles is most of their time).
+    std::shared_ptr<RtScene> shared_scene() const { return rt_scene_; }
     // Rebuilds or refits the tracer's geometry from its Scene as it is now (after the caller posed
     // it), e.g. when the viewer's pose changes; render() does this itself with Options::pose_at.
     // The program stays (it was specialised to the features at construction). After a render with
@@ -192,7 +198,7 @@ private:
     GpuScene& gpu_;
     Options options_;
     int requested_max_depth_ = -1;  // Options::max_depth as asked (-1: the mode's default)
-    RtScene rt_scene_;
+    std::shared_ptr<RtScene> rt_scene_;
     float scene_diagonal_ = 1.0f;  // of the world bounds: sets the smallest ray offset
     gl::Program program_;
     gl::Buffer frame_ubo_;

@@ -56,7 +56,7 @@ glm::ivec2 measurement_size(float aspect, int pixels) {
 }  // namespace
 
 ViewLight measure_view_light(const ShaderLibrary& shaders, const Scene& scene, GpuScene& gpu, const Camera& camera, float aspect,
-                             int spp, int pixels) {
+                             int spp, int pixels, std::shared_ptr<rt::RtScene>* shared) {
     const auto t0 = std::chrono::steady_clock::now();
     ViewLight v;
     const glm::ivec2 size = measurement_size(aspect, pixels);
@@ -72,8 +72,9 @@ ViewLight measure_view_light(const ShaderLibrary& shaders, const Scene& scene, G
     // Sky visibility: AO rays that leave the scene's bounds are open to the sky.
     const Bounds bounds = scene.world_bounds();
     o.ao_radius = bounds.empty() ? 1e6f : std::max(1e-3f, 100.0f * glm::length(bounds.extent()));
-    // One tracer for every render: the BVH is built and uploaded once.
-    rt::RayTracer tracer(shaders, scene, gpu, o);
+    // One tracer for every render: the BVH is built and uploaded once (or taken from `shared`).
+    rt::RayTracer tracer(shaders, scene, gpu, o, shared ? *shared : nullptr);
+    if (shared) *shared = tracer.shared_scene();
     const size_t n = static_cast<size_t>(v.width) * static_cast<size_t>(v.height);
     // channel < 0: luminance; else that channel.
     auto channel = [&](const ImageF& img, int c) {
@@ -194,7 +195,7 @@ bool can_have_caustics(const Scene& scene) {
 }
 
 Caustics measure_caustics(const ShaderLibrary& shaders, const Scene& scene, GpuScene& gpu, const Camera& camera, float aspect,
-                          int spp, int pixels) {
+                          int spp, int pixels, std::shared_ptr<rt::RtScene>* shared) {
     const auto t0 = std::chrono::steady_clock::now();
     Caustics c;
     const glm::ivec2 size = measurement_size(aspect, pixels);
@@ -209,7 +210,8 @@ Caustics measure_caustics(const ShaderLibrary& shaders, const Scene& scene, GpuS
     o.spp = std::max(1, spp / kBatches);
     o.tile_rows = c.height;
     o.camera_sees_emission = false;  // the light the surfaces reflect, as measure_view_light
-    rt::RayTracer tracer(shaders, scene, gpu, o);
+    rt::RayTracer tracer(shaders, scene, gpu, o, shared ? *shared : nullptr);
+    if (shared) *shared = tracer.shared_scene();
     std::vector<double> shares;
     ImageF all_mean, caustic_mean;
     for (int b = 0; b < kBatches; ++b) {

@@ -16,11 +16,16 @@
 //   to the sky.
 // The sums run over the passive share of each pixel, so an emitter or the background in view
 // neither counts as lit surface nor hides one.
+#include <memory>
 #include <string>
 
 #include "scene/scene.hpp"
 
 namespace candela {
+
+namespace rt {
+class RtScene;
+}
 
 class GpuScene;
 class ShaderLibrary;
@@ -66,8 +71,11 @@ constexpr int kViewLightPixels = 1536;
 // The largest albedo with which a surface of the scene scatters light (every material, and the
 // glTF default material where a primitive has none): the share of a bounce the next can return.
 double scattering_albedo_bound(const Scene& scene);
+// `shared` (optional, in and out): the tracer geometry of an earlier measurement of this scene
+// (rt::RayTracer::shared_scene), used and then kept there, so that a caller measuring several
+// times builds the BVH once.
 ViewLight measure_view_light(const ShaderLibrary& shaders, const Scene& scene, GpuScene& gpu, const Camera& camera, float aspect,
-                             int spp = 8, int pixels = kViewLightPixels);
+                             int spp = 8, int pixels = kViewLightPixels, std::shared_ptr<rt::RtScene>* shared = nullptr);
 
 // Caustics, the light the raster cannot carry: the share of the light the surfaces in view
 // reflect that reaches them through glass or off a mirror (rt::Options::caustics_only: the first
@@ -88,7 +96,8 @@ struct Caustics {
 // Whether the scene has anything a caustic could pass: a transmissive material or a metal
 // smoother than rt::kCausticMirrorRoughness.
 bool can_have_caustics(const Scene& scene);
+// `shared`: as measure_view_light's.
 Caustics measure_caustics(const ShaderLibrary& shaders, const Scene& scene, GpuScene& gpu, const Camera& camera, float aspect,
-                          int spp = 32, int pixels = kViewLightPixels);
+                          int spp = 32, int pixels = kViewLightPixels, std::shared_ptr<rt::RtScene>* shared = nullptr);
 
 }  // namespace candela

@@ -10,7 +10,8 @@
 
 namespace candela {
 
-void complete_lighting(Scene& scene, LightingChoice& choice, const ShaderLibrary& shaders, const Camera& camera, float aspect) {
+void complete_lighting(Scene& scene, LightingChoice& choice, const ShaderLibrary& shaders, const Camera& camera, float aspect,
+                       std::shared_ptr<rt::RtScene>* shared) {
     if (!choice.check_view) return;
     choice.check_view = false;
     if (scene.triangle_count() == 0) return;
@@ -18,7 +19,7 @@ void complete_lighting(Scene& scene, LightingChoice& choice, const ShaderLibrary
     {
         GpuScene gpu(scene);
         try {
-            v = measure_view_light(shaders, scene, gpu, camera, aspect, 8);
+            v = measure_view_light(shaders, scene, gpu, camera, aspect, 8, kViewLightPixels, shared);
         } catch (const Error& e) {
             if (e.code() == ExitCode::internal) throw;
             return;  // nothing to trace

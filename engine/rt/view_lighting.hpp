@@ -6,10 +6,16 @@
 // never the key light, whose direction would compete with the file's - and the reason says so.
 // A closed room, or any view its lights reach, stays as the file has it; `--lighting file` is
 // never measured.
+#include <memory>
+
 #include "scene/lighting.hpp"
 #include "scene/scene.hpp"
 
 namespace candela {
+
+namespace rt {
+class RtScene;
+}
 
 class ShaderLibrary;
 
@@ -21,6 +27,8 @@ constexpr double kSkyReaches = 0.02;
 // Needs a current GL context; does nothing unless choice.check_view. Call before uploading the
 // scene (GpuScene) or building the tracer. Throws candela::Error (internal) if the tracer cannot
 // be built.
-void complete_lighting(Scene& scene, LightingChoice& choice, const ShaderLibrary& shaders, const Camera& camera, float aspect);
+// `shared`: as measure_view_light's (the caller's later measurements reuse the tracer geometry).
+void complete_lighting(Scene& scene, LightingChoice& choice, const ShaderLibrary& shaders, const Camera& camera, float aspect,
+                       std::shared_ptr<rt::RtScene>* shared = nullptr);
 
 }  // namespace candela

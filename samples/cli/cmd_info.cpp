@@ -2,6 +2,8 @@
 #include "commands.hpp"
 
 #include <cstdio>
+#include <memory>
+#include <optional>
 #include <string>
 
 #include "core/error.hpp"
@@ -50,7 +52,11 @@ int cmd_info(const Args& args) {
         ctx = create_context(Backend::auto_select);
     std::optional<ShaderLibrary> shaders;
     if (ctx.context) shaders.emplace(shader_dir_option(p));
-    if (lighting.check_view && shaders) complete_lighting(scene, lighting, *shaders, scene.select_camera(camera_choice, aspect), aspect);
+    // The view measurements share one tracer geometry: the BVH of a million triangles is most of
+    // their time.
+    std::shared_ptr<rt::RtScene> tracer_scene;
+    if (lighting.check_view && shaders)
+        complete_lighting(scene, lighting, *shaders, scene.select_camera(camera_choice, aspect), aspect, &tracer_scene);
     int directional = 0, point = 0, spot = 0;
     for (const auto& pl : scene.placed_lights()) {
         directional += pl.light->type == LightType::directional;
@@ -132,11 +138,16 @@ int cmd_info(const Args& args) {
         std::printf("error budget: no choice (no usable OpenGL: %s; the statistics need the tracer)\n", ctx.error.c_str());
     }
     ViewEstimates estimates;
+    // ... and one upload of the scene (after the lighting check, which may add a sky).
+    std::optional<GpuScene> measured;
+    auto measured_gpu = [&]() -> GpuScene& {
+        if (!measured) measured.emplace(scene);
+        return *measured;
+    };
     for (const Effect* e : effects_needing_view_estimate(settings)) {
         if (shaders) {
-            GpuScene gpu(scene);
             const Camera camera = scene.select_camera(camera_choice, aspect);
-            const ViewEstimate& v = estimates[e->name()] = e->estimate_view({*shaders, scene, gpu, camera, aspect});
+            const ViewEstimate& v = estimates[e->name()] = e->estimate_view({*shaders, scene, measured_gpu(), camera, aspect, &tracer_scene});
             std::printf("%s: %s\n", e->view_estimate(settings), v.text.c_str());
         } else {
             std::printf("%s: none (no usable OpenGL: %s)\n", e->view_estimate(settings), ctx.error.c_str());
@@ -145,8 +156,8 @@ int cmd_info(const Args& args) {
     // Caustics: what no raster effect carries, measured where glass or a mirror could pass one.
     if (shaders && can_have_caustics(scene)) {
         try {
-            GpuScene gpu(scene);
-            const Caustics c = measure_caustics(*shaders, scene, gpu, scene.select_camera(camera_choice, aspect), aspect);
+            const Caustics c = measure_caustics(*shaders, scene, measured_gpu(), scene.select_camera(camera_choice, aspect), aspect,
+                                                32, kViewLightPixels, &tracer_scene);
             std::printf("caustics: %s\n", c.text().c_str());
         } catch (const Error& error) {
             if (error.code() == ExitCode::internal) throw;

@@ -20,6 +20,7 @@
 #include "effects/gi/gi.hpp"
 #include "reference_fixture.hpp"
 #include "rt/view_lighting.hpp"
+#include "rt/ray_tracer.hpp"
 #include "rt/view_light.hpp"
 #include "scene/generate.hpp"
 #include "scene/gltf_loader.hpp"
@@ -95,6 +96,29 @@ protected:
         return gi.planned;
     }
 };
+
+// Measurements that share one tracer geometry (`info` does: the BVH is most of their time) give
+// what each gives with its own, bit for bit, and the geometry is built once.
+TEST_P(ViewLightTest, SharedTracerGeometryGivesTheSameMeasurements) {
+    const Scene scene = open_room_lit_by_an_emitter();
+    const float aspect = 1.5f;
+    const Camera camera = scene.select_camera("", aspect);
+    GpuScene gpu(scene);
+    const ViewLight alone = measure_view_light(lib_, scene, gpu, camera, aspect);
+    const IndirectEstimate alone_estimate = estimate_indirect(lib_, scene, gpu, camera, aspect);
+    std::shared_ptr<rt::RtScene> shared;
+    const ViewLight first = measure_view_light(lib_, scene, gpu, camera, aspect, 8, kViewLightPixels, &shared);
+    ASSERT_NE(shared, nullptr);
+    const rt::RtScene* built = shared.get();
+    const IndirectEstimate estimate = estimate_indirect(lib_, scene, gpu, camera, aspect, &shared);
+    EXPECT_EQ(shared.get(), built) << "the estimate built its own geometry";
+    EXPECT_EQ(first.direct_mean, alone.direct_mean);
+    EXPECT_EQ(first.unlit_share, alone.unlit_share);
+    EXPECT_EQ(first.surface_pixels, alone.surface_pixels);
+    EXPECT_EQ(estimate.fraction, alone_estimate.fraction);
+    EXPECT_EQ(estimate.per_bounce, alone_estimate.per_bounce);
+    EXPECT_EQ(estimate.lit_pixels, alone_estimate.lit_pixels);
+}
 
 TEST_P(ViewLightTest, EmitterLitRoomSeenFromOutsideHasItsBounce) {
     const Scene scene = open_room_lit_by_an_emitter();

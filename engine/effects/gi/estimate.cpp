@@ -18,18 +18,21 @@ std::string IndirectEstimate::text() const {
 }
 
 IndirectEstimate estimate_indirect(const ShaderLibrary& shaders, const Scene& scene, GpuScene& gpu, const Camera& camera,
-                                   float aspect) {
+                                   float aspect, std::shared_ptr<rt::RtScene>* shared) {
+    // The measurements share one tracer geometry (the caller's, if it keeps one).
+    std::shared_ptr<rt::RtScene> local;
+    if (!shared) shared = &local;
     // About 1536 pixels x 8 samples: each mean's standard error is a few tenths of a percent of
     // the image; the cost is the BVH and the programs. Where the lit surfaces in view are too
     // small at that size to hold kMinLitPixels pixels (a few objects against the sky), the view is
     // measured again at 4x and then 16x the pixels, so that the decision rests on a measurement
     // instead of the untrusted default. A view with no lit pixel at all is not measured again:
     // its light is all indirect (a room lit by what the camera does not see), and the probes run.
-    ViewLight v = measure_view_light(shaders, scene, gpu, camera, aspect, 8);
+    ViewLight v = measure_view_light(shaders, scene, gpu, camera, aspect, 8, kViewLightPixels, shared);
     double ms = v.ms;
     for (int pixels = 4 * kViewLightPixels, round = 0; round < 2 && v.lit_pixels > 0 && v.lit_pixels < kMinLitPixels;
          pixels *= 4, ++round) {
-        v = measure_view_light(shaders, scene, gpu, camera, aspect, 8, pixels);
+        v = measure_view_light(shaders, scene, gpu, camera, aspect, 8, pixels, shared);
         ms += v.ms;
     }
     v.ms = ms;

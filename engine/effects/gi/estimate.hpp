@@ -4,6 +4,7 @@
 // first three bounces, from the render's own camera at its aspect), the bounces after the second
 // extrapolated as a geometric series with the ratio the third had to the second. The GI effect
 // plans its probes from it (engine/effects/gi/gi.cpp).
+#include <memory>
 #include <string>
 
 #include "scene/scene.hpp"
@@ -11,6 +12,9 @@
 namespace candela {
 
 class GpuScene;
+namespace rt {
+class RtScene;
+}
 class ShaderLibrary;
 
 // Fewer directly lit pixels than this and the estimate is not trusted: the planner then runs the
@@ -33,7 +37,8 @@ struct IndirectEstimate {
 
 // From the render's camera at its aspect. Throws candela::Error if the tracer cannot be built
 // (internal) or the scene has no triangles (callers treat that as fraction 0).
+// `shared`: as measure_view_light's (rt/view_light.hpp).
 IndirectEstimate estimate_indirect(const ShaderLibrary& shaders, const Scene& scene, GpuScene& gpu, const Camera& camera,
-                                   float aspect);
+                                   float aspect, std::shared_ptr<rt::RtScene>* shared = nullptr);
 
 }  // namespace candela

@@ -387,7 +387,7 @@ public:
     ViewEstimate estimate_view(const ViewEstimateInput& in) const override {
         IndirectEstimate e;
         try {
-            e = estimate_indirect(in.shaders, in.scene, in.gpu, in.camera, in.aspect);
+            e = estimate_indirect(in.shaders, in.scene, in.gpu, in.camera, in.aspect, in.tracer_scene);
         } catch (const Error& error) {
             if (error.code() == ExitCode::internal) throw;
             e = IndirectEstimate{};  // nothing to trace (e.g. no triangles): none planned
