@@ -181,9 +181,10 @@ Primitive box_primitive(glm::vec3 lo, glm::vec3 hi) {
 
 }  // namespace
 
-Scene make_many_lights_scene(int lights) {
+Scene make_many_lights_scene(int lights, bool bounded) {
     Scene scene;
-    scene.source = "generated:lights:" + std::to_string(lights);
+    scene.source = std::string(bounded ? "generated:lights-bounded:" : "generated:lights:") + std::to_string(lights);
+    const float shrink = bounded && lights > 16 ? std::sqrt(16.0f / static_cast<float>(lights)) : 1.0f;
     Material grey;
     grey.name = "grey";
     grey.base_color = glm::vec4(0.7f, 0.7f, 0.7f, 1.0f);
@@ -223,12 +224,12 @@ Scene make_many_lights_scene(int lights) {
         const float hue = halton(i + 1, 5) * 6.0f;
         l.color = glm::clamp(glm::vec3(std::abs(hue - 3.0f) - 1.0f, 2.0f - std::abs(hue - 2.0f), 2.0f - std::abs(hue - 4.0f)), 0.0f, 1.0f);
         l.intensity = 2.0f;
-        l.range = 3.0f;
+        l.range = 3.0f * shrink;
         scene.lights.push_back(l);
         Node n;
         n.name = l.name;
         n.light = i;
-        n.local = glm::translate(glm::mat4(1.0f), glm::vec3(-9.5f + 19.0f * halton(i + 1, 2), 0.3f + 1.2f * halton(i + 1, 7),
+        n.local = glm::translate(glm::mat4(1.0f), glm::vec3(-9.5f + 19.0f * halton(i + 1, 2), (0.3f + 1.2f * halton(i + 1, 7)) * shrink,
                                                            -9.5f + 19.0f * halton(i + 1, 3)));
         scene.roots.push_back(static_cast<int>(scene.nodes.size()));
         scene.nodes.push_back(n);

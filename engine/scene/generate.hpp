@@ -31,8 +31,11 @@ Scene make_bumpy_sphere_scene(std::size_t triangles);
 
 // The forward-vs-deferred benchmark scene: a 20 x 20 floor with a grid of boxes, `lights` point
 // lights of range 3 scattered over it (deterministic colours and positions), a little ambient
-// light and a camera looking over it.
-Scene make_many_lights_scene(int lights);
+// light and a camera looking over it. `bounded` (generated:lights-bounded:N): the range shrinks as
+// 3 * sqrt(16 / N) from 16 lights on, and the heights with it, so that a point of the floor is
+// reached by about as many lights at any N (about one): the scene on which the cost of many lights
+// should follow what they add, not their number.
+Scene make_many_lights_scene(int lights, bool bounded = false);
 
 // generated:dof (generate_dof.cpp): the depth-of-field scene, a thin-lens camera focused on a
 // subject between a near and a far out-of-focus object, over a checkered floor and back wall.

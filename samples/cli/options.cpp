@@ -154,7 +154,9 @@ std::string usage_text() {
         "         frame: median frame time and per-pass GPU time of each --effects variant (default\n"
         "         all and none) or, with several --path values, of each render path, measured\n"
         "         interleaved in one run (default 1280x720, 20 frames, 3 warm-up). SCENE may be\n"
-        "         generated:lights:N (N point lights over a floor with boxes),\n"
+        "         generated:lights:N (N point lights of range 3 over a floor with boxes),\n"
+        "         generated:lights-bounded:N (the same with ranges that keep each point reached by\n"
+        "         about one light at any N),\n"
         "         generated:edges (thin, high-contrast edges: the anti-aliasing scene).\n"
         "         accuracy: every effect's knob sweep, timed and compared with the ray tracer's\n"
         "         reference: DIR/results.csv, report.md, plots and image strips (--quick: small, CI).\n"
@@ -325,11 +327,13 @@ Scene load_scene(const std::string& path, bool strict) {
             throw bad_input(path + ": expected generated:random:SEED with SEED an integer from 0 to 4294967295");
         return make_random_scene(static_cast<std::uint32_t>(std::stoull(n)));
     }
-    if (path.rfind("generated:lights:", 0) == 0) {
-        const std::string n = path.substr(17);
+    for (const bool bounded : {false, true}) {
+        const std::string prefix = bounded ? "generated:lights-bounded:" : "generated:lights:";
+        if (path.rfind(prefix, 0) != 0) continue;
+        const std::string n = path.substr(prefix.size());
         if (n.empty() || n.size() > 6 || n.find_first_not_of("0123456789") != std::string::npos || std::stoul(n) < 1)
-            throw bad_input(path + ": expected generated:lights:N with 1 <= N < 1e6 point lights");
-        return make_many_lights_scene(static_cast<int>(std::stoul(n)));
+            throw bad_input(path + ": expected " + prefix + "N with 1 <= N < 1e6 point lights");
+        return make_many_lights_scene(static_cast<int>(std::stoul(n)), bounded);
     }
     if (path.rfind("generated:", 0) == 0) {
         const std::string n = path.substr(10);

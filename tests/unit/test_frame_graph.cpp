@@ -1,4 +1,5 @@
-// The frame graph without GL: culling, lifetimes, pool reuse, no aliasing; and RenderSettings.
+// The frame graph without GL: culling, lifetimes, pool reuse, no aliasing; RenderSettings; the
+// many-lights generator.
 #include <gtest/gtest.h>
 
 #include "core/error.hpp"
@@ -6,6 +7,7 @@
 #include "effects/area_lights/area_lights.hpp"
 #include "effects/reflections/reflections.hpp"
 #include "render/settings.hpp"
+#include "scene/generate.hpp"
 
 namespace candela {
 namespace {
@@ -122,6 +124,26 @@ TEST(FrameGraph, ReadingAResourceNoPassMadeIsAProgrammerError) {
     Graph g;
     EXPECT_THROW(g.pass("early_reader", [&](FrameGraph::Builder& b) { b.read(0); }), Error);
     EXPECT_THROW(g.pass("bad_writer", [&](FrameGraph::Builder& b) { b.write(7); }), Error);
+}
+
+// generated:lights-bounded:N keeps the lights that reach a point of the floor about constant in
+// N (the scene on which the cost of many lights is judged); generated:lights:N does not.
+TEST(ManyLightsScene, BoundedLightsReachEachPointAboutAsOftenAtAnyCount) {
+    auto mean_reaching = [](const Scene& scene) {
+        double sum = 0.0;
+        int points = 0;
+        for (float x = -9.0f; x <= 9.0f; x += 0.5f)
+            for (float z = -9.0f; z <= 9.0f; z += 0.5f, ++points)
+                for (const auto& placed : scene.placed_lights())
+                    sum += glm::distance(placed.position, glm::vec3(x, 0.0f, z)) < placed.light->range;
+        return sum / points;
+    };
+    const double few = mean_reaching(make_many_lights_scene(16, true)), many = mean_reaching(make_many_lights_scene(256, true));
+    EXPECT_GT(few, 0.3);
+    EXPECT_LT(many, 2.0 * few);
+    EXPECT_GT(many, 0.5 * few);
+    EXPECT_GT(mean_reaching(make_many_lights_scene(256, false)), 8.0 * few);  // the unbounded scene grows with N
+    EXPECT_EQ(make_many_lights_scene(256, true).source, "generated:lights-bounded:256");
 }
 
 TEST(Settings, EffectsParsing) {
