@@ -23,6 +23,7 @@
 #define RT_ENV_DISTRIBUTION_BINDING 12 // environment-map importance sampling
 #define AA_EDGE_STATS_BINDING 14       // deferred lighting's edge statistics (light.comp)
 #define EDGE_DISPATCH_BINDING 15       // deferred lighting's indirect dispatch of edge groups
+#define LIGHT_TILES_BINDING 16         // the forward pass's per-tile light masks (forward/light_tiles.comp)
 
 // Texture units while the scene is drawn: the material's textures (a draw's slot s at unit
 // BASE_COLOR_UNIT + s), the environment, the BRDF table.

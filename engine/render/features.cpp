@@ -85,6 +85,8 @@ Features analyze(const Scene& scene, const RenderSettings& s, const ViewEstimate
     f.scene = analyze_features(scene);
     f.environment = scene.environment.present();
     f.punctual_lights = static_cast<int>(scene.placed_lights().size());
+    for (const auto& placed : scene.placed_lights())
+        f.ranged_lights += (placed.light->type == LightType::point || placed.light->type == LightType::spot) && placed.light->range > 0.0f;
     const SceneFeatures& sf = f.scene;
     // The effect modules decide in registry order (an effect may read the decisions before it),
     // then say what the light buffer holds (LightSetup).
@@ -103,6 +105,7 @@ Features analyze(const Scene& scene, const RenderSettings& s, const ViewEstimate
         f.path_reason = "auto: " + std::to_string(light_count) + " light(s) " + (f.deferred ? ">= " : "< ") +
                         std::to_string(s.deferred.auto_lights) + " (deferred.auto_lights)";
     }
+    f.forward_light_tiles = !f.deferred && s.forward.light_tiles && f.ranged_lights >= 2 && light_count <= kMaxTiledForwardLights;
     return f;
 }
 
@@ -114,6 +117,10 @@ PassWork base_pass(void (*add)(FrameGraph&, const PassEnv&, FrameTargets&)) {
 // ... and one that draws BLEND geometry as opaque unless a planned effect draws it blended.
 PassWork base_pass(void (*add)(FrameGraph&, const PassEnv&, FrameTargets&, bool), bool blended_drawn) {
     return [add, blended_drawn](const PassSite& p) { add(p.graph, p.env, p.targets, !blended_drawn); };
+}
+// ... and the forward pass, which may cull its lights per tile.
+PassWork base_pass(void (*add)(FrameGraph&, const PassEnv&, FrameTargets&, bool, bool), bool blended_drawn, bool tiles) {
+    return [add, blended_drawn, tiles](const PassSite& p) { add(p.graph, p.env, p.targets, !blended_drawn, tiles); };
 }
 }  // namespace
 
@@ -157,8 +164,14 @@ std::vector<PlannedPass> plan_passes(const Features& f, const RenderSettings& s)
             plan.push_back({"depth_prepass", "forward.depth_prepass=1", nullptr, {"depth_prepass", "depth_prepass_mask"}, false, false,
                             base_pass(add_depth_prepass)});
         add_stage(Stage::screen);
-        plan.push_back({"forward_opaque", what + "; forward path, " + f.path_reason, nullptr, {"forward"}, false, false,
-                        base_pass(add_forward_opaque_pass, f.blended_drawn)});
+        if (f.forward_light_tiles)
+            plan.push_back({"forward_opaque",
+                            what + "; forward path, " + f.path_reason + "; lights culled per 16x16 tile (" +
+                                std::to_string(f.ranged_lights) + " with a range)",
+                            nullptr, {"forward", "light_tiles"}, false, false, base_pass(add_forward_opaque_pass, f.blended_drawn, true)});
+        else
+            plan.push_back({"forward_opaque", what + "; forward path, " + f.path_reason, nullptr, {"forward"}, false, false,
+                            base_pass(add_forward_opaque_pass, f.blended_drawn, false)});
         add_stage(Stage::after_lighting);
     }
     if (f.environment) plan.push_back({"sky", "the scene has environment light", nullptr, {"sky"}, false, false, base_pass(add_sky_pass)});

@@ -16,6 +16,9 @@
 
 namespace candela {
 
+// The most lights the forward pass's per-tile light masks hold (forward/light_tiles.comp).
+inline constexpr int kMaxTiledForwardLights = 2048;
+
 struct EffectDecision {
     std::string name;
     bool enabled = false;      // the switch in RenderSettings
@@ -52,6 +55,10 @@ struct Features {
     bool environment = false;  // sky pass and ambient term
     bool blended_drawn = false;  // a planned effect draws the BLEND materials (else they are drawn opaque)
     int punctual_lights = 0;
+    // Point and spot lights with a range; with two or more (and at most kMaxTiledForwardLights
+    // lights in all) the forward pass culls the lights per 16x16 tile (light_tiles.comp).
+    int ranged_lights = 0;
+    bool forward_light_tiles = false;
     int area_light_pieces = 0;  // emissive primitives drawn * arealight.samples
     bool deferred = false;      // the render path
     std::string path_reason;

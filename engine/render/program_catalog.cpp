@@ -30,6 +30,7 @@ const std::vector<ProgramDesc>& raster_programs() {
         {"brdf_lut", {{S::compute, "env/brdf_lut.comp"}}, {}},
         {"equirect_to_cube", {{S::compute, "env/equirect_to_cube.comp"}}, {}},
         {"prefilter", {{S::compute, "env/prefilter.comp"}}, {}},
+        {"light_tiles", {{S::compute, "forward/light_tiles.comp"}}, {}},
         {"mip_downsample", {{S::vertex, "post/mip_downsample.vert"}, {S::fragment, "post/mip_downsample.frag"}}, {}},
         {"mip_halve_2d", {{S::compute, "env/mip_halve.comp"}}, {}},
         {"mip_halve_cube_array", {{S::compute, "env/mip_halve.comp"}}, {"CUBE_ARRAY"}},

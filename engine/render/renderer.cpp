@@ -316,7 +316,7 @@ void Renderer::render_subframe(const Camera& camera, FrameOutput output, float e
 
     // The frame graph: the planned passes, compiled.
     const PassEnv env{gpu_,       settings_,     frame, width,     height,      frame_ubo_, fbos_, programs_,
-                      empty_vao_, linear_clamp_, ibl_,  env_cube_, effect_ptrs_, sampling, sub};
+                      empty_vao_, linear_clamp_, ibl_,  env_cube_, effect_ptrs_, sampling, sub, &light_tiles_};
     FrameGraph graph;
     // `targets`: what the scene is drawn into (FrameSampling::resolved: targets of their own,
     // perhaps multisampled); `post`: the single-sample image the post filters and the tonemap

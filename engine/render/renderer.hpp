@@ -162,7 +162,8 @@ private:
     gl::Texture output_;
     gl::Texture display_;
     int width_ = 0, height_ = 0;
-    float aspect_ = 1.0f;  // of the last frame asked for (the effects' view amounts: Effect::view_amount)
+    float aspect_ = 1.0f;
+    gl::Buffer light_tiles_;  // the forward pass's per-tile light masks (PassEnv::light_tiles)  // of the last frame asked for (the effects' view amounts: Effect::view_amount)
     TexturePool pool_;
     FramebufferCache fbos_;
     gl::StateCache state_;

@@ -31,6 +31,8 @@ std::vector<Knob> base_knobs() {
             .rows);
     add(KnobRows<S::Forward>("forward", [](S& s) -> S::Forward& { return s.forward; })
             .boolean("depth_prepass", &S::Forward::depth_prepass, "draw depth first, then shade each pixel once")
+            .boolean("light_tiles", &S::Forward::light_tiles,
+                     "cull the point and spot lights that have a range per 16x16 tile before shading (the same image, faster with many)")
             .rows);
     add(KnobRows<S::Deferred>("deferred", [](S& s) -> S::Deferred& { return s.deferred; })
             .integer("auto_lights", &S::Deferred::auto_lights, 1, 100000, "--path auto renders deferred from this many lights (measured: see README)")

@@ -66,6 +66,7 @@ struct RenderSettings {
 
     struct Forward {
         bool depth_prepass = false;  // draw depth first, shade with depth test EQUAL
+        bool light_tiles = true;     // cull lights with a range per 16x16 tile (the image is the same)
     } forward;
     struct Deferred {
         // Light count from which `--path auto` renders deferred. Measured with

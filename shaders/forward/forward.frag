@@ -14,13 +14,17 @@ layout(binding = OPAQUE_DEPTH_UNIT) uniform sampler2D t_opaque_depth;
 layout(binding = PREVIOUS_LAYER_UNIT) uniform sampler2D t_previous_layer;
 // 1: MASK materials output their coverage alpha (surface.glsl) with GL_SAMPLE_ALPHA_TO_COVERAGE on.
 layout(location = 9) uniform int u_alpha_to_coverage;
+#ifdef TILED_LIGHTS
+// Per 16x16 tile, the lights that can reach it as bit sets (forward/light_tiles.comp).
+layout(std430, binding = LIGHT_TILES_BINDING) readonly buffer LightTiles { uint tile_masks[]; };
+#endif
 
 // Specialisation (render/passes/pass_env.hpp, forward_program_name): defines leave out the code
 // of a feature whose uniforms say it is off this frame, so that the image is the same: llvmpipe
 // executes both sides of a branch under a lane mask, so dead features cost per pixel.
 // NO_PEELING (u_peel is 0), NO_DEBUG_VIEW (frame.debug_view is 0), NO_MATERIAL_TEXTURES (no
 // material has a texture: lighting/surface.glsl); each effect's defines do the same inside its
-// shading include (EffectRuntime::shading_defines).
+// shading include (EffectRuntime::shading_defines). TILED_LIGHTS: the lights were culled per tile.
 #ifdef NO_PEELING
 #define PEELING false
 #else
@@ -70,7 +74,27 @@ void main() {
         if (mat.attenuation_distance > 0.0)
             g_volume_sigma = -log(max(mat.attenuation_color, vec3(1e-6))) / mat.attenuation_distance;
     }
+#ifdef TILED_LIGHTS
+    // The lights that can reach this 16x16 tile (light_tiles.comp), in index order: the sum of
+    // the loop below without the lights that add exactly nothing here.
+    {
+        int count = effect_shaded_light_count();
+        int words = (frame.light_count + 31) / 32;
+        ivec2 tile = ivec2(gl_FragCoord.xy) / 16;
+        int base = (tile.y * ((int(frame.viewport.x) + 15) / 16) + tile.x) * words;
+        for (int w = 0; w < (count + 31) / 32; ++w) {
+            uint bits = tile_masks[base + w];
+            while (bits != 0u) {
+                int b = findLSB(bits);
+                bits &= bits - 1u;
+                int i = w * 32 + b;
+                if (i < count) color += shade_light(i, s.brdf, s.p, s.n, v, pixel, transmission);
+            }
+        }
+    }
+#else
     for (int i = 0; i < effect_shaded_light_count(); ++i) color += shade_light(i, s.brdf, s.p, s.n, v, pixel, transmission);
+#endif
     effect_add_direct_light(color, s.brdf, s.p, s.n, v, pixel, transmission);
     color += shade_ambient(s.brdf, s.p, s.n, v, s.occlusion * effect_occlusion(pixel), transmission, s.thin);
     effect_add_indirect_light(color, s.brdf, s.p, s.n, v, pixel, s.occlusion, transmission);

@@ -17,10 +17,10 @@ namespace fs = std::filesystem;
 const char* const kEffectLightingDefines = "REFLECTIONS_NO_REFRACTION,REFLECTIONS_NO_PROBES,AREA_LIGHTS_OFF,RSM_OFF,GI_OFF";
 
 TEST(ForwardVariants, EverySpecialisationValidatesWithGlslang) {
-    const std::string all = std::string("NO_PEELING,NO_DEBUG_VIEW,") + kEffectLightingDefines + ",NO_MATERIAL_TEXTURES";
+    const std::string all = std::string("NO_PEELING,TILED_LIGHTS,NO_DEBUG_VIEW,") + kEffectLightingDefines + ",NO_MATERIAL_TEXTURES";
     const ProgramDesc& d = program_desc("forward#" + all);
     EXPECT_EQ(d.name, "forward#" + all);
-    ASSERT_EQ(d.defines.size(), 8u);
+    ASSERT_EQ(d.defines.size(), 9u);
     EXPECT_EQ(d.defines.front(), "NO_PEELING");
     EXPECT_EQ(d.defines.back(), "NO_MATERIAL_TEXTURES");
     EXPECT_EQ(&program_desc("forward#" + all), &d);  // built once, reference stays valid

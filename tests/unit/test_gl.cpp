@@ -13,6 +13,7 @@
 #include "platform/context.hpp"
 #include "render/frame_graph.hpp"
 #include "render/still.hpp"
+#include "scene/generate.hpp"
 #include "scene/gltf_loader.hpp"
 
 namespace candela {
@@ -171,6 +172,35 @@ TEST_P(GlTest, ConstantEnvironmentLightsLambertAndBackground) {
     EXPECT_NEAR(r.radiance.at(16, 16)[0], 0.5f, 1e-4f);
     EXPECT_NEAR(r.radiance.at(16, 16)[1], 0.25f, 1e-4f);
     EXPECT_NEAR(r.radiance.at(1, 1)[2], 0.125f, 1e-6f);  // background sees the environment
+}
+
+// The forward pass's per-tile light culling (forward.light_tiles, light_tiles.comp) leaves out
+// only lights that add exactly nothing to a tile: the image is the untiled one, bit for bit, at
+// a size whose tiles do not divide it and with multisampling.
+TEST_P(GlTest, ForwardLightTilesGiveTheUntiledImage) {
+    const Scene scene = make_many_lights_scene(64, true);
+    for (const char* aa : {"aa.mode=off", "aa.mode=msaa"}) {
+        SCOPED_TRACE(aa);
+        StillOptions tiled;
+        tiled.width = 100;
+        tiled.height = 60;
+        tiled.settings.path = RenderPath::forward;
+        apply_knob(tiled.settings, aa);
+        StillOptions untiled = tiled;
+        apply_knob(untiled.settings, "forward.light_tiles=0");
+        const StillResult a = render_still(scene, shaders(), tiled);
+        const StillResult b = render_still(scene, shaders(), untiled);
+        EXPECT_TRUE(a.features.forward_light_tiles);
+        EXPECT_FALSE(b.features.forward_light_tiles);
+        EXPECT_EQ(count_nonfinite(a.radiance), 0u);
+        ASSERT_EQ(a.radiance.pixels.size(), b.radiance.pixels.size());
+        size_t differ = 0;
+        for (size_t i = 0; i < a.radiance.pixels.size(); ++i) differ += a.radiance.pixels[i] != b.radiance.pixels[i];
+        EXPECT_EQ(differ, 0u);
+        double sum = 0.0;
+        for (float v : a.radiance.pixels) sum += v;
+        EXPECT_GT(sum, 0.0) << "the lights light the floor";
+    }
 }
 
 TEST_P(GlTest, MirroredNodeIsNotCulled) {

@@ -85,7 +85,7 @@ TEST(ShadingHooks, EveryLightingProgramBuildsWithAnyEffectTakenOut) {
                     std::none_of(lighting.begin(), lighting.end(), [&](const ProgramDesc& l) { return l.name == d.name; }))
                     lighting.push_back(d);
     ASSERT_GE(lighting.size(), 4u);  // forward and the three deferred lighting programs at least
-    lighting.push_back(program_desc("forward#NO_PEELING,NO_DEBUG_VIEW,REFLECTIONS_NO_REFRACTION,REFLECTIONS_NO_PROBES,"
+    lighting.push_back(program_desc("forward#NO_PEELING,TILED_LIGHTS,NO_DEBUG_VIEW,REFLECTIONS_NO_REFRACTION,REFLECTIONS_NO_PROBES,"
                                     "AREA_LIGHTS_OFF,RSM_OFF,GI_OFF,NO_MATERIAL_TEXTURES"));
 
     std::vector<std::pair<std::string, std::vector<const Effect*>>> cases = {{"no effect", {}}};

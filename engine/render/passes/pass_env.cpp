@@ -88,9 +88,10 @@ static std::string lighting_defines(const PassEnv& env, std::string defines) {
 
 bool material_layers_on(const PassEnv& env) { return env.scene.has_material_layers() && env.settings.material_layers; }
 
-std::string forward_program_name(const PassEnv& env, bool may_peel) {
+std::string forward_program_name(const PassEnv& env, bool may_peel, bool tiled_lights) {
     std::string defines;
     if (!may_peel) defines = "NO_PEELING";
+    if (tiled_lights) defines += (defines.empty() ? "" : ",") + std::string("TILED_LIGHTS");
     if (!env.scene.has_material_textures()) defines += (defines.empty() ? "" : ",") + std::string("NO_MATERIAL_TEXTURES");
     if (material_layers_on(env)) defines += (defines.empty() ? "" : ",") + std::string("MATERIAL_LAYERS");
     defines = lighting_defines(env, defines);

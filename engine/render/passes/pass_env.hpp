@@ -48,6 +48,8 @@ struct PassEnv {
     // coverage, sub-frames. This is sub-frame `subframe` of sampling.subframes.
     const FrameSampling& sampling;
     int subframe = 0;
+    // The forward pass's per-tile light masks (light_tiles.comp), grown as needed; owned by the renderer.
+    gl::Buffer* light_tiles = nullptr;
 };
 
 // The resources the forward chain passes along.
@@ -87,7 +89,7 @@ void begin_forward_shading(const PassEnv& env, FrameGraph::Context& ctx, const F
 // The forward program specialised to this frame (the blocks bind_scene_buffers binds): the
 // "forward" catalog program with the base's NO_* defines and every effect's
 // EffectRuntime::shading_defines (forward/forward.frag); `may_peel` false: u_peel stays 0.
-std::string forward_program_name(const PassEnv& env, bool may_peel);
+std::string forward_program_name(const PassEnv& env, bool may_peel, bool tiled_lights = false);
 // The scene's materials have layers and render.material_layers is on: programs compile with
 // MATERIAL_LAYERS and the image array is bound (shaders/common/material_layers.glsl).
 bool material_layers_on(const PassEnv& env);
@@ -107,7 +109,9 @@ void add_gbuffer_resolve_pass(FrameGraph& graph, const PassEnv& env, FrameTarget
 void add_deferred_lighting_pass(FrameGraph& graph, const PassEnv& env, FrameTargets& targets);
 void add_depth_prepass(FrameGraph& graph, const PassEnv& env, FrameTargets& targets);
 void add_depth_normal_prepass(FrameGraph& graph, const PassEnv& env, FrameTargets& targets, bool blend_as_opaque);
-void add_forward_opaque_pass(FrameGraph& graph, const PassEnv& env, FrameTargets& targets, bool blend_as_opaque);
+// `tiled_lights`: the lights are culled per 16x16 tile first (forward/light_tiles.comp into
+// env.light_tiles) and the forward program walks the tile's lights (TILED_LIGHTS).
+void add_forward_opaque_pass(FrameGraph& graph, const PassEnv& env, FrameTargets& targets, bool blend_as_opaque, bool tiled_lights);
 void add_sky_pass(FrameGraph& graph, const PassEnv& env, FrameTargets& targets);
 void add_tonemap_pass(FrameGraph& graph, const PassEnv& env, FrameTargets& targets, const gl::Texture& display,
                       float exposure_ev);
