@@ -16,6 +16,7 @@
 #include "../common/scene_data.glsl"
 #include "../lighting/gbuffer.glsl"
 #include "../lighting/shading.glsl"
+#include "../lighting/tile_frustum.glsl"
 
 #ifdef EDGE_GROUPS
 layout(local_size_x = 64) in;
@@ -66,21 +67,14 @@ shared uint s_mask[kMaxTiledLights / 32];
 shared vec4 s_planes[4];
 shared vec2 s_zrange;  // view-space z of the tile's far and near ends (negative)
 
-vec3 view_point(mat4 inv_proj, vec2 ndc, float depth) {
-    vec4 p = inv_proj * vec4(ndc, depth, 1.0);
-    return p.xyz / p.w;
-}
-
 // Conservative: a sphere that misses the tile's sub-frustum is dropped.
 bool light_in_tile(LightData light) {
     int type = int(light.type);
-    float range = light.range;
-    if ((type != LIGHT_POINT && type != LIGHT_SPOT) || range <= 0.0) return true;
-    vec3 c = (frame.view * vec4(light.position, 1.0)).xyz;
-    if (c.z - range > s_zrange.y || c.z + range < s_zrange.x) return false;
-    for (int i = 0; i < 4; ++i)
-        if (dot(s_planes[i].xyz, c) + s_planes[i].w < -range) return false;
-    return true;
+    if ((type == LIGHT_POINT || type == LIGHT_SPOT) && light.range > 0.0) {
+        float z = (frame.view * vec4(light.position, 1.0)).z;
+        if (z - light.range > s_zrange.y || z + light.range < s_zrange.x) return false;
+    }
+    return light_meets_planes(light, s_planes);
 }
 
 // Adds the light reflected at p towards v to `color` (the emission already there), in the order
@@ -257,21 +251,11 @@ void main() {
         vec2 lo = vec2(gl_WorkGroupID.xy * gl_WorkGroupSize.xy) / vec2(size) * 2.0 - 1.0;
         vec2 hi = vec2(min((gl_WorkGroupID.xy + 1u) * gl_WorkGroupSize.xy, uvec2(size))) / vec2(size) * 2.0 - 1.0;
         float dfar = uintBitsToFloat(s_depth_min), dnear = uintBitsToFloat(s_depth_max);
-        vec3 n00 = view_point(inv_proj, lo, dnear), n10 = view_point(inv_proj, vec2(hi.x, lo.y), dnear);
-        vec3 n01 = view_point(inv_proj, vec2(lo.x, hi.y), dnear), n11 = view_point(inv_proj, hi, dnear);
-        vec3 f00 = view_point(inv_proj, lo, dfar), f10 = view_point(inv_proj, vec2(hi.x, lo.y), dfar);
-        vec3 f01 = view_point(inv_proj, vec2(lo.x, hi.y), dfar), f11 = view_point(inv_proj, hi, dfar);
-        vec3 centre = (n00 + n10 + n01 + n11 + f00 + f10 + f01 + f11) * 0.125;
-        // Side planes through a near edge and the far point behind it; normals point inwards.
-        vec3 a[4] = vec3[4](n00, n10, n11, n01);
-        vec3 b[4] = vec3[4](n01, n00, n10, n11);
-        vec3 f[4] = vec3[4](f00, f10, f11, f01);
-        for (int i = 0; i < 4; ++i) {
-            vec3 nrm = normalize(cross(b[i] - a[i], f[i] - a[i]));
-            if (dot(nrm, centre - a[i]) < 0.0) nrm = -nrm;
-            s_planes[i] = vec4(nrm, -dot(nrm, a[i]));
-        }
-        s_zrange = vec2(min(f00.z, min(f10.z, min(f01.z, f11.z))), max(n00.z, max(n10.z, max(n01.z, n11.z))));
+        vec4 planes[4];
+        vec2 zrange;
+        tile_frustum(inv_proj, lo, hi, dnear, dfar, planes, zrange);
+        for (int i = 0; i < 4; ++i) s_planes[i] = planes[i];
+        s_zrange = zrange;
     }
     barrier();
     // The lights shaded one by one (with LTC area lights: the punctual ones; the polygons follow).
