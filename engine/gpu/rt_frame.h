@@ -41,7 +41,8 @@ GPU_BLOCK(RtFrame, RT_FRAME_BINDING) {
     float dielectric_highlights;  // 1: dielectric interfaces reflect the punctual lights
                                   // (path/direct: Options::dielectric_highlights)
     float caustics_only;          // 1: path counts caustic paths alone (Options::caustics_only)
-    float pad0, pad1, pad2;
+    float emitters_only;          // 1: path counts the emitters' light alone (Options::emitters_only)
+    float pad1, pad2;
     // The thin lens (depth of field): lens_x / lens_y.xyz the lens disk's axes (the camera's x and
     // y) scaled by its radius, lens_x.w the radius (0: a pinhole), lens_y.w the focus distance
     // along lens_axis.xyz (the view axis, unit length). Zero unless has_thin_lens(camera).

@@ -62,9 +62,11 @@ bool Renderer::estimate_if_needed() {
     // its aspect, once per renderer and effect.
     if (!view_) return false;
     bool traced = false;
+    std::shared_ptr<rt::RtScene> tracer_scene;  // one BVH for all of them
     for (const Effect* e : effects_needing_view_estimate(settings_)) {
         if (estimates_.count(e->name())) continue;
-        const ViewEstimate& v = estimates_[e->name()] = e->estimate_view({shaders_, scene_, gpu_, view_->camera, view_->aspect});
+        const ViewEstimate& v = estimates_[e->name()] =
+            e->estimate_view({shaders_, scene_, gpu_, view_->camera, view_->aspect, &tracer_scene});
         log::debug(std::string(e->view_estimate(settings_)) + ": " + v.text);
         traced = true;
     }

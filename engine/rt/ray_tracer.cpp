@@ -249,6 +249,7 @@ FrameGpu RayTracer::make_frame(const Camera& camera, int width, int height) cons
     f.camera_hides_emission = options_.camera_sees_emission ? 0.0f : 1.0f;
     f.dielectric_highlights = options_.dielectric_highlights ? 1.0f : 0.0f;
     f.caustics_only = options_.caustics_only ? 1.0f : 0.0f;
+    f.emitters_only = options_.emitters_only ? 1.0f : 0.0f;
     // The thin lens (docs/raytracing.md, "Depth of field"): an orthonormal frame of the camera
     // (its -Z the view axis), the disk's axes scaled by the radius. Orthographic cameras stay
     // pinholes (has_thin_lens).

@@ -81,6 +81,10 @@ struct Options {
     // and reach a light with nothing else between: the light the raster has no way to carry
     // (view_light.hpp, measure_caustics).
     bool caustics_only = false;
+    // path and direct: count only the light that left an emissive surface (no punctual light, no
+    // environment): what the emitters add to the image, for the area lights' planner
+    // (view_light.hpp, measure_emitter_light).
+    bool emitters_only = false;
     // visibility mode: the light (debug.light); >= the punctual count: all emissive triangles.
     int visibility_light = 0;
     bool progress = false;      // progress bar with ETA on stderr
@@ -167,6 +171,7 @@ public:
     void set_seed(std::uint32_t seed) { options_.seed = seed; }
     // Options::caustics_only for the next render (path mode).
     void set_caustics_only(bool on) { options_.caustics_only = on; }
+    void set_emitters_only(bool on) { options_.emitters_only = on; }
     // Changes the bounce limit of path mode for the next render (1: direct light only); a later
     // set_mode applies the mode's rules to it as the constructor does to Options::max_depth.
     void set_max_depth(int depth);

@@ -243,4 +243,44 @@ Caustics measure_caustics(const ShaderLibrary& shaders, const Scene& scene, GpuS
     return c;
 }
 
+std::string EmitterLight::text() const {
+    char buf[320];
+    std::snprintf(buf, sizeof buf,
+                  "the emitters give %.1f %% of the direct light on the image's surfaces, %.4f of display over 4x4 blocks at the "
+                  "99th percentile (mean %.4f; %dx%d px x %d spp; %.0f ms)",
+                  share * 100.0, display_p99, display_mean, width, height, spp, ms);
+    return buf;
+}
+
+EmitterLight measure_emitter_light(const ShaderLibrary& shaders, const Scene& scene, GpuScene& gpu, const Camera& camera,
+                                   float aspect, int spp, int pixels, std::shared_ptr<rt::RtScene>* shared) {
+    const auto t0 = std::chrono::steady_clock::now();
+    EmitterLight e;
+    const glm::ivec2 size = measurement_size(aspect, pixels);
+    e.width = size.x;
+    e.height = size.y;
+    e.spp = spp;
+    rt::Options o;
+    o.mode = rt::Mode::direct;
+    o.spp = std::max(1, spp);
+    o.tile_rows = e.height;
+    o.camera_sees_emission = false;
+    o.dielectric_highlights = false;  // as measure_view_light: a glass pixel is lit by what it shows
+    rt::RayTracer tracer(shaders, scene, gpu, o, shared ? *shared : nullptr);
+    if (shared) *shared = tracer.shared_scene();
+    const ImageF all = tracer.render(camera, e.width, e.height).image;
+    tracer.set_emitters_only(true);
+    const ImageF emitted = tracer.render(camera, e.width, e.height).image;
+    ImageF without = all;
+    for (size_t i = 0; i < without.pixels.size(); ++i)
+        if (i % static_cast<size_t>(all.channels) < 3) without.pixels[i] = std::max(0.0f, all.pixels[i] - emitted.pixels[i]);
+    const BlockAgreement b = block_agreement(without, all, std::min({4, e.width, e.height}));
+    e.display_mean = b.mean_abs;
+    e.display_p99 = b.p99_abs;
+    const double la = mean_luminance(all), le = mean_luminance(emitted);
+    e.share = la > 0.0 ? std::clamp(le / la, 0.0, 1.0) : 0.0;
+    e.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    return e;
+}
+
 }  // namespace candela

@@ -100,4 +100,27 @@ bool can_have_caustics(const Scene& scene);
 Caustics measure_caustics(const ShaderLibrary& shaders, const Scene& scene, GpuScene& gpu, const Camera& camera, float aspect,
                           int spp = 32, int pixels = kViewLightPixels, std::shared_ptr<rt::RtScene>* shared = nullptr);
 
+// What the emissive surfaces' light adds to the image where it falls on other surfaces: the
+// light the raster's area lights carry (engine/effects/area_lights/), measured to decide whether
+// they are worth their cost. Two `direct` renders (the seen surfaces' direct light, without what
+// the camera sees itself): every light, and the emitters' alone (rt::Options::emitters_only).
+// The image without the emitters' light is the first less the second; the measure is the display
+// difference between the two over 4x4 blocks (block_agreement, exposure 0). The direct light is
+// less than the image's light, so the display differences are those of a darker image: larger
+// (sRGB is steepest near black), a bound that errs towards keeping the lights. The emitters' own
+// emission seen through glass or in a mirror counts too, although the raster shows it without the
+// area lights: that errs the same way.
+struct EmitterLight {
+    int width = 0, height = 0, spp = 0;
+    double display_mean = 0.0;  // mean |display difference| over 4x4 blocks and channels
+    double display_p99 = 0.0;   // 99th percentile over blocks of the largest channel difference
+    double share = 0.0;         // the emitters' share of the direct light on the seen surfaces
+    double ms = 0.0;
+    std::string text() const;
+};
+// `shared`: as measure_view_light's.
+EmitterLight measure_emitter_light(const ShaderLibrary& shaders, const Scene& scene, GpuScene& gpu, const Camera& camera,
+                                   float aspect, int spp = 16, int pixels = kViewLightPixels,
+                                   std::shared_ptr<rt::RtScene>* shared = nullptr);
+
 }  // namespace candela

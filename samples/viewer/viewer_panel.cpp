@@ -2,6 +2,7 @@
 // the reference mode, animation, status.
 #include "viewer_internal.hpp"
 
+#include <algorithm>
 #include <cstdio>
 
 #include "rt/tracer_options.hpp"
@@ -297,6 +298,16 @@ void Viewer::draw_ui(double frame_ms) {
                 ImGui::TextWrapped("%s", p.line.c_str());
                 ImGui::PopStyleColor();
             }
+            ImGui::Unindent(ImGui::GetFrameHeightWithSpacing());
+        }
+        // The effects the scene and their knobs plan (not --effects switches): whether the
+        // emitters are lights or emission only, and why, as `info` lists them.
+        for (const EffectDecision& d : f.modules) {
+            if (std::find(effect_names().begin(), effect_names().end(), d.name) != effect_names().end()) continue;
+            ImGui::TextColored(d.planned ? ImVec4(0.45f, 0.85f, 0.45f, 1.0f) : ImGui::GetStyleColorVec4(ImGuiCol_TextDisabled), "%s",
+                               d.name.c_str());  // the reason starts with on: or off:
+            ImGui::Indent(ImGui::GetFrameHeightWithSpacing());
+            wrapped_disabled(d.reason);
             ImGui::Unindent(ImGui::GetFrameHeightWithSpacing());
         }
         if (changed) apply_settings(s);

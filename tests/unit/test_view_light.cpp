@@ -8,7 +8,10 @@
 //   the default sky and says why, `--lighting file` stays exact; the same model lit from the
 //   front, and the closed sample rooms, stay as their files have them;
 // - a model a few pixels wide: too few lit pixels to trust, so the GI effect runs;
-// - a closed room lit out of view: the bounces after the second follow the third's ratio.
+// - a closed room lit out of view: the bounces after the second follow the third's ratio;
+// - the emitters' light: a lamp that lights its room stays an area light, a small LED beside a
+//   sunlit room's window is emission only, and the raster image without its light differs from
+//   the one with it by less than the threshold the planner promises.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -16,6 +19,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "effects/area_lights/area_lights.hpp"
 #include "effects/gi/estimate.hpp"
 #include "effects/gi/gi.hpp"
 #include "reference_fixture.hpp"
@@ -371,6 +375,87 @@ TEST_P(ViewLightTest, CausticsAreTheLightThroughGlassOrOffAMirror) {
             EXPECT_EQ(k.display_error, 0.0);
         }
     }
+}
+
+// The open room, its lamp replaced by a 4 cm LED on the back wall (facing +Z, radiance 2), and
+// sunlight through the opening onto the floor and walls.
+Scene sunlit_room_with_an_led() {
+    Scene scene = open_room_lit_by_an_emitter();
+    scene.materials[1].emissive_strength = 2.0f;
+    Primitive& lamp = scene.meshes.back().primitives.front();
+    lamp.vertices.clear();
+    lamp.indices.clear();
+    append_quad(lamp, {-0.02f, 1.0f, -0.99f}, {0.04f, 0, 0}, {0, 0.04f, 0});  // facing +Z
+    add_sun(scene, glm::normalize(glm::vec3(0.3f, 0.8f, 1.0f)), 3.0f);
+    scene.update_world_transforms();
+    return scene;
+}
+
+// rt::Options::emitters_only counts the emitters' light and nothing else: with no other light
+// it is the whole image, bit for bit; with no emitter it is black.
+TEST_P(ViewLightTest, EmittersOnlyTracesTheEmittersLightAlone) {
+    rt::Options o;
+    o.mode = rt::Mode::direct;
+    o.spp = 8;
+    o.camera_sees_emission = false;
+    const Scene lamp_only = open_room_lit_by_an_emitter();
+    const ImageF all = traced(lamp_only, 32, 24, o).image;
+    o.emitters_only = true;
+    const ImageF emitted = traced(lamp_only, 32, 24, o).image;
+    EXPECT_GT(mean_luminance(all), 0.0);
+    EXPECT_EQ(all.pixels, emitted.pixels);
+    const Scene sun_only = model_lit_from({0.0f, -0.4f, -1.0f});
+    const ImageF none = traced(sun_only, 32, 24, o).image;
+    o.emitters_only = false;
+    EXPECT_GT(mean_luminance(traced(sun_only, 32, 24, o).image), 0.0);
+    EXPECT_EQ(mean_luminance(none), 0.0);
+}
+
+// The planner keeps a room's lamp as an area light and draws an LED that adds nothing visible as
+// emission only; the LED's light, measured on the raster at the frame's size, is below
+// arealight.negligible by the same metric (99th percentile over 4x4 blocks).
+TEST_P(ViewLightTest, EmittersAreLightsByWhatTheirLightAdds) {
+    const float aspect = 1.5f;
+    const int w = 96, h = 64;
+    auto decision = [&](const Scene& scene, const RenderSettings& s) {
+        GpuScene gpu(scene);
+        Renderer renderer(lib_, scene, gpu, s);
+        renderer.set_view(scene.select_camera("", aspect), w, h);
+        const EffectDecision d = renderer.features().decision("area_lights");
+        std::printf("%s: area_lights %s\n", scene.source.c_str(), d.reason.c_str());
+        return d;
+    };
+    const Scene lamp = open_room_lit_by_an_emitter();
+    {
+        GpuScene gpu(lamp);
+        const EmitterLight e = measure_emitter_light(lib_, lamp, gpu, lamp.select_camera("", aspect), aspect);
+        EXPECT_NEAR(e.share, 1.0, 1e-6) << "the lamp is the room's only light";
+        EXPECT_GT(e.display_p99, 0.1);
+    }
+    EXPECT_TRUE(decision(lamp, RenderSettings{}).planned);
+
+    Scene led = sunlit_room_with_an_led();
+    led.source = "test:led";
+    const float negligible = RenderSettings{}.get<AreaLightsOptions>().negligible;
+    GpuScene gpu(led);
+    const EmitterLight e = measure_emitter_light(lib_, led, gpu, led.select_camera("", aspect), aspect);
+    std::printf("led: %s\n", e.text().c_str());
+    EXPECT_GT(e.share, 0.0) << "the LED does light the wall around it";
+    EXPECT_LT(e.display_p99, negligible);
+    const EffectDecision off = decision(led, RenderSettings{});
+    EXPECT_FALSE(off.planned);
+    EXPECT_NE(off.reason.find("emission only"), std::string::npos);
+    RenderSettings always;
+    always.get<AreaLightsOptions>().negligible = 0.0f;
+    EXPECT_TRUE(decision(led, always).planned);
+    // What the planner promised, on the raster: the image without the LED's light is within the
+    // threshold of the image with it.
+    const ImageF without = raster(led, w, h, RenderSettings{});
+    const ImageF with = raster(led, w, h, always);
+    const BlockAgreement b = block_agreement(without, with, 4);
+    std::printf("raster without / with the LED's light: p99 %.5f mean %.6f\n", b.p99_abs, b.mean_abs);
+    EXPECT_LT(b.p99_abs, negligible);
+    EXPECT_GT(b.mean_abs, 0.0) << "the LED's light was drawn in one of them";
 }
 
 INSTANTIATE_TEST_SUITE_P(Backends, ViewLightTest, ::testing::Values(Backend::egl, Backend::osmesa), test::backend_name);

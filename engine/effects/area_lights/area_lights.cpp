@@ -3,16 +3,22 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <map>
 #include <unordered_map>
+
+#include <nlohmann/json.hpp>
 
 #include "effects/area_lights/area_lights_data.h"
 #include "effects/area_lights/area_lights_sweep.hpp"
 #include "effects/area_lights/ltc.hpp"
 #include "effects/area_lights/ltc_table.hpp"
 #include "render/features.hpp"
+#include "core/error.hpp"
 #include "render/gpu_scene.hpp"
+#include "rt/view_light.hpp"
+#include "scene/features.hpp"
 #include "scene/scene.hpp"
 
 namespace candela {
@@ -126,6 +132,11 @@ std::vector<PolygonLightGpu> merge_coplanar_pairs(const std::vector<PolygonLight
 }
 
 
+// Emitters whose share of the direct light on the view's surfaces is at least this stay lights,
+// whatever the display difference: a quarter of the random-scene suite's 8 % promise on the
+// image's mean.
+constexpr double kNegligibleShare = 0.02;
+
 // The most emissive triangles shaded as LTC polygons; more: the pieces shade (see prepare).
 constexpr int kMaxPolygons = 64;
 
@@ -137,7 +148,9 @@ public:
         d.method = o.method == AreaLightMethod::ltc ? 1 : 0;
         d.ltc_size = ltc::kTableSize;
         d.residual = o.residual ? 1 : 0;
-        if (d.method == 1) {
+        if (!p.decision.planned) {
+            d.method = 0;  // emission only: no piece in the light buffer, no polygon
+        } else if (d.method == 1) {
             // Built again when the emitters move (an animated emitter, the scene's origin moved).
             if (built_for_ != &p.gpu || built_samples_ != o.samples || built_pose_ != p.gpu.pose_version()) {
                 const std::vector<PolygonLightGpu> polys = polygon_lights(p.gpu.scene(), p.gpu, o.samples);
@@ -218,16 +231,61 @@ public:
                     "ltc: emissive triangles as polygon lights (exact unshadowed, LTC specular), pieces: point lights")
             .boolean("residual", &AreaLightsOptions::residual,
                      "ltc: add the specular the fitted lobe misses (tails, grazing views), measured on 3x3 cells of each polygon")
+            .real("negligible", &AreaLightsOptions::negligible, 0.0f, 1.0f,
+                  "emitters whose measured light changes the display by less (99th percentile of 4x4 blocks) are emission only; "
+                  "0: always lights")
             .rows;
     }
     std::vector<std::string> knob_groups() const override { return {"arealight"}; }
+    // The planner measures the emitters' light unless arealight.negligible is 0.
+    const char* view_estimate(const RenderSettings& s) const override {
+        return s.get<AreaLightsOptions>().negligible > 0.0f ? "emitter light" : nullptr;
+    }
+    ViewEstimate estimate_view(const ViewEstimateInput& in) const override {
+        if (analyze_features(in.scene).emissive_primitives == 0) return {};  // nothing to measure
+        try {
+            const EmitterLight e = measure_emitter_light(in.shaders, in.scene, in.gpu, in.camera, in.aspect, 16, kViewLightPixels,
+                                                         in.tracer_scene);
+            return {e, e.text()};
+        } catch (const Error& error) {
+            if (error.code() == ExitCode::internal) throw;
+            return {};  // nothing to trace: the emitters stay lights
+        }
+    }
+    void estimate_json(const ViewEstimate& v, nlohmann::json& j) const override {
+        if (const auto* e = std::any_cast<EmitterLight>(&v.value))
+            j["emitter_light"] = {{"display_p99", e->display_p99}, {"display_mean", e->display_mean}, {"share", e->share},
+                                  {"ms", e->ms}, {"width", e->width}, {"height", e->height}, {"spp", e->spp}};
+    }
     EffectDecision decide(const Features& f, const RenderSettings& s) const override {
-        return decide_effect(name(), true, f.scene.emissive_area_lights.needed, f.scene.emissive_area_lights.reason, s.gating);
+        const Feature& emitters = f.scene.emissive_area_lights;
+        const float negligible = s.get<AreaLightsOptions>().negligible;
+        const ViewEstimate* v = f.estimate(name());
+        const EmitterLight* e = v ? std::any_cast<EmitterLight>(&v->value) : nullptr;
+        if (!emitters.needed || negligible <= 0.0f || !e)
+            return decide_effect(name(), true, emitters.needed,
+                                 emitters.reason + (!emitters.needed     ? ""
+                                                    : negligible <= 0.0f ? "; arealight.negligible=0: always lights"
+                                                                         : "; their light is not measured (no tracer): lights"),
+                                 s.gating);
+        char limit[128];
+        std::snprintf(limit, sizeof limit, " arealight.negligible %.4f or %.0f %% of the light", static_cast<double>(negligible),
+                      kNegligibleShare * 100.0);
+        // Both measures must be small: the display difference at exposure 0, and the emitters'
+        // share of the light, which no exposure changes (a dark scene lit by its emitters alone is
+        // black at exposure 0, and its user raises the exposure).
+        // Always gated, as GI: emitters whose light is small but not zero would change the image
+        // if render.gating=off forced them to be lights.
+        const bool needed = e->display_p99 >= negligible || e->share >= kNegligibleShare;
+        return decide_effect(name(), true, needed,
+                             needed ? emitters.reason + ": " + e->text() + ", at least" + limit
+                                    : "emitters drawn as emission only: " + e->text() + ", below" + limit,
+                             true);
     }
     void plan(Stage, const Features&, const RenderSettings&, std::vector<PlannedPass>&) const override {}
-    // The pieces are in the light buffer whether or not the scene has emitters (none then).
-    void light_setup(const RenderSettings& s, const EffectDecision&, LightSetup& out) const override {
-        out.area_samples = s.get<AreaLightsOptions>().samples;
+    // The pieces are in the light buffer while the emitters are lights (none without emitters).
+    void light_setup(const RenderSettings& s, const EffectDecision& d, LightSetup& out) const override {
+        out.area_samples = d.planned ? s.get<AreaLightsOptions>().samples : 0;
         out.split_emitters = &area_light_pieces;
     }
     std::vector<GpuBlockInfo> gpu_blocks() const override {

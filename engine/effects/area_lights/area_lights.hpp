@@ -13,7 +13,10 @@
 // - pieces: the pieces themselves shade, as Lambertian point lights (the old approximation,
 //   kept for comparison in `bench accuracy`).
 // It has no pass of its own: the lighting passes read the light buffer and the polygons. It is
-// not switchable: emitters are lights whenever the scene has them.
+// not switchable, and it runs when the emitters' light matters: before planning, the tracer
+// measures what their light adds to the view (rt/view_light.hpp, measure_emitter_light); when
+// that changes the displayed image by less than arealight.negligible (labels, indicator LEDs),
+// the emitters are drawn as emission only, no light pieces, no polygons, and `info` says so.
 #include <glm/glm.hpp>
 
 #include <vector>
@@ -31,6 +34,12 @@ struct AreaLightsOptions {
     int samples = 4;  // [1, 64] shadowed pieces per emissive primitive
     AreaLightMethod method = AreaLightMethod::ltc;
     bool residual = true;  // ltc: add the lobe's part the fit misses, measured on cells of each polygon
+    // The emitters light the scene when their measured light changes the displayed image by at
+    // least this much (99th percentile over 4x4 blocks of the largest channel's difference,
+    // display values in [0, 1], exposure 0) or is at least 2 % of the direct light on the view's
+    // surfaces (a measure no exposure changes); else they are emission only. Half the goldens'
+    // per-pixel tolerance (2/255). 0: emitters are always lights.
+    float negligible = 1.0f / 255.0f;
 };
 
 const Effect& area_lights_effect();

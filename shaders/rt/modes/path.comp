@@ -56,6 +56,8 @@ PathState path_start(ivec2 pixel, uint index, uint sample_index) {
 const float kCausticMirrorRoughness = 0.3;
 // Whether light reaching the path now is counted: always, or only on a caustic path.
 bool counted(PathState p) { return rt.caustics_only == 0.0 || p.caustic_phase == 2; }
+// rt.emitters_only: the punctual lights, the environment and unlit colours add nothing; emission does.
+bool other_light(PathState p) { return counted(p) && rt.emitters_only == 0.0; }
 
 // One vertex of the path: the closest hit along p.ray, its emission, direct light and the next
 // direction. Returns true when the path has ended (p.sum is then the sample's radiance).
@@ -66,7 +68,7 @@ bool path_step(inout PathState p) {
     // light that surfaces reflect (the planner's view measurements).
     bool seen = p.depth > 0 || rt.camera_hides_emission == 0.0;
     if (hit.prim < 0) {
-        if (!seen || !counted(p)) return true;
+        if (!seen || !other_light(p)) return true;
         float w = 1.0;
 #ifdef HAS_ENV_MAP_SAMPLING
         if (p.last_brdf_pdf > 0.0) w = power_heuristic(p.last_brdf_pdf, env_pdf(p.ray.dir));
@@ -90,7 +92,7 @@ bool path_step(inout PathState p) {
 #endif
 #ifdef MATERIAL_LAYERS
     if (surface_unlit(s)) {
-        if (seen && counted(p)) p.sum += p.throughput * unlit_color(s);
+        if (seen && other_light(p)) p.sum += p.throughput * unlit_color(s);
         return true;
     }
 #endif
@@ -119,7 +121,7 @@ bool path_step(inout PathState p) {
         // left out like the caustic through the glass.
         BrdfInput mi = brdf_input(s);
         if (p.caustic_phase == 1) p.caustic_phase = 2;
-        if (rt.dielectric_highlights != 0.0 && counted(p) && p.last_brdf_pdf == 0.0 && (s.front || material_thin(s.material)))
+        if (rt.dielectric_highlights != 0.0 && other_light(p) && p.last_brdf_pdf == 0.0 && (s.front || material_thin(s.material)))
             p.sum += p.throughput * direct_punctual_specular(s, mi, v);
         vec3 l, w;
         bool below;
@@ -140,13 +142,13 @@ bool path_step(inout PathState p) {
         if (p.caustic_phase == 0 && !mirror) p.caustic_phase = 1;
     }
     if (counted(p)) {
-        p.sum += p.throughput * direct_punctual(s, m, v);
+        if (other_light(p)) p.sum += p.throughput * direct_punctual(s, m, v);
 #ifdef HAS_EMITTERS
         p.sum += p.throughput * direct_emitters(s, m, v, p.rng, true);
 #endif
     }
 #ifdef HAS_ENV_MAP_SAMPLING
-    if (counted(p)) {
+    if (other_light(p)) {
         float pdf_env;
         vec3 le = sample_env(p.rng, pdf_env);
         vec3 fc = pdf_env > 0.0 ? brdf_cos_folded(m, s, le, v) : vec3(0.0);
