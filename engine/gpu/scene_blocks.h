@@ -115,7 +115,7 @@ GPU_STRUCT(LightData) {
     float first_shadow_view;   // the light's first shadow view (engine/effects/shadows/), -1: none
     float shadow_view_count;
     float patch_two_sided;     // patch: 1 if it emits from both sides
-    float pad0;
+    float cutoff;              // point/spot without a range: the raster's reach (lights.cutoff), 0: none
     float pad1;
     float pad2;
 };

@@ -132,6 +132,7 @@ struct LightSetup {
     bool shadows = false;   // lights get shadow views
     int cascades = 1;       // views of a directional light
     int max_shadowed = 0;   // lights with shadow views at most
+    float cutoff = 0.0f;    // lights.cutoff: the reach of point and spot lights without a range
 };
 
 class Effect {

@@ -86,7 +86,8 @@ Features analyze(const Scene& scene, const RenderSettings& s, const ViewEstimate
     f.environment = scene.environment.present();
     f.punctual_lights = static_cast<int>(scene.placed_lights().size());
     for (const auto& placed : scene.placed_lights())
-        f.ranged_lights += (placed.light->type == LightType::point || placed.light->type == LightType::spot) && placed.light->range > 0.0f;
+        f.ranged_lights += (placed.light->type == LightType::point || placed.light->type == LightType::spot) &&
+                           (placed.light->range > 0.0f || s.lights.cutoff > 0.0f);
     const SceneFeatures& sf = f.scene;
     // The effect modules decide in registry order (an effect may read the decisions before it),
     // then say what the light buffer holds (LightSetup).
@@ -94,6 +95,7 @@ Features analyze(const Scene& scene, const RenderSettings& s, const ViewEstimate
         f.modules.push_back(e->decide(f, s));
         if (f.modules.back().planned && e->draws_blended_surfaces()) f.blended_drawn = true;
     }
+    f.lights.cutoff = s.lights.cutoff;
     for (size_t i = 0; i < effect_registry().size(); ++i) effect_registry()[i]->light_setup(s, f.modules[i], f.lights);
     f.area_light_pieces = sf.emissive_primitives * f.lights.area_samples;
     const int light_count = f.punctual_lights + f.area_light_pieces;

@@ -55,7 +55,7 @@ struct Features {
     bool environment = false;  // sky pass and ambient term
     bool blended_drawn = false;  // a planned effect draws the BLEND materials (else they are drawn opaque)
     int punctual_lights = 0;
-    // Point and spot lights with a range; with two or more (and at most kMaxTiledForwardLights
+    // Point and spot lights with a range (or a reach: lights.cutoff); with two or more (and at most kMaxTiledForwardLights
     // lights in all) the forward pass culls the lights per 16x16 tile (light_tiles.comp).
     int ranged_lights = 0;
     bool forward_light_tiles = false;

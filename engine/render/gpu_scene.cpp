@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstring>
 
+#include <glm/gtc/constants.hpp>
 #include <glm/gtc/matrix_inverse.hpp>
 
 #include "core/error.hpp"
@@ -306,15 +307,28 @@ void GpuScene::refresh_materials() {
     ++material_version_;  // and what it measures the view's light again on
 }
 
-void GpuScene::update_lights(int area_samples, EmitterSplitter split, bool shadows, int cascades, int max_shadowed) {
+float light_cutoff_distance(float peak_intensity, float fraction, int lights) {
+    if (!(fraction > 0.0f) || !(peak_intensity > 0.0f)) return 0.0f;
+    return std::sqrt(peak_intensity * static_cast<float>(std::max(lights, 1)) / (glm::pi<float>() * fraction * kDisplayQuantum));
+}
+
+void GpuScene::update_lights(int area_samples, EmitterSplitter split, bool shadows, int cascades, int max_shadowed, float cutoff) {
     if (!split) area_samples = 0;
-    const std::tuple<int, bool, int, int> key{area_samples, shadows, cascades, max_shadowed};
+    const std::tuple<int, bool, int, int, float> key{area_samples, shadows, cascades, max_shadowed, cutoff};
     if (key == light_key_) return;
     light_key_ = key;
     std::vector<LightData> lights;
     light_infos_.clear();
-    for (const auto& pl : scene_.placed_lights()) {
+    // The lights the cutoff shares its error among: point and spot lights without a range.
+    const auto unranged = [](const Scene::PlacedLight& pl) { return pl.light->type != LightType::directional && !(pl.light->range > 0.0f); };
+    const auto placed = scene_.placed_lights();
+    const int cut_lights = static_cast<int>(std::count_if(placed.begin(), placed.end(), unranged));
+    for (const auto& pl : placed) {
         lights.push_back(to_gpu(pl));
+        if (unranged(pl)) {
+            const glm::vec3 c = lights.back().color;
+            lights.back().cutoff = light_cutoff_distance(std::max({c.r, c.g, c.b}), cutoff, cut_lights);
+        }
         LightInfo info;
         info.kind = pl.light->type == LightType::directional ? LightInfo::Kind::directional
                     : pl.light->type == LightType::point     ? LightInfo::Kind::point
@@ -512,7 +526,7 @@ bool GpuScene::update_pose() {
     }
     // Lights on animated nodes and moving emitters: rebuild the light buffer at the next update_lights.
     if (changed) {
-        light_key_ = {-1, false, 0, 0};
+        light_key_ = {-1, false, 0, 0, 0.0f};
         ++pose_version_;
     }
     return changed;

@@ -58,6 +58,18 @@ struct AreaPiece {
     int draw = -1;
 };
 
+// The smallest change of linear radiance that can move the display (exposure 0, tonemap.glsl's
+// ACES fit and sRGB) by one 8-bit step: 1/255 over the transform's steepest slope, 6.397 at
+// radiance 0.0088 (where sRGB's linear segment meets the ACES toe; the test
+// LightCutoff.DisplayQuantumIsOneStepAtTheSteepestSlope measures it).
+inline constexpr float kDisplayQuantum = (1.0f / 255.0f) / 6.397f;
+// The distance at which a point light of this peak intensity (W/sr, the largest channel) lights
+// a white Lambertian surface at normal incidence with `fraction` of kDisplayQuantum, shared by
+// `lights` lights: I / (pi d^2) = fraction * kDisplayQuantum / lights. Each light's cut then
+// costs a point at most its share, and all of them together at most `fraction` of the quantum.
+// 0 for a fraction <= 0 or no intensity (no cutoff).
+float light_cutoff_distance(float peak_intensity, float fraction, int lights = 1);
+
 class GpuScene;
 // Splits the scene's emissive draws into `samples` pieces each (an effect provides it).
 using EmitterSplitter = std::vector<AreaPiece> (*)(const Scene& scene, const GpuScene& gpu, int samples);
@@ -134,7 +146,9 @@ public:
     // area piece: 6 cube faces) for at most `max_shadowed` lights: directional ones first, then the
     // brightest. No-op if nothing changed.
     // `split`: what turns emitters into pieces (nullptr or area_samples 0: none).
-    void update_lights(int area_samples, EmitterSplitter split, bool shadows, int cascades, int max_shadowed);
+    // `cutoff`: lights.cutoff, the reach of point and spot lights without a range
+    // (light_cutoff_distance; 0: none).
+    void update_lights(int area_samples, EmitterSplitter split, bool shadows, int cascades, int max_shadowed, float cutoff = 0.0f);
     int light_count() const { return light_count_; }
     int punctual_light_count() const { return punctual_count_; }
     const std::vector<LightInfo>& light_infos() const { return light_infos_; }
@@ -192,7 +206,7 @@ private:
     gl::VertexArray vao_, sorted_vao_;
     std::vector<Draw> draws_;
     int light_count_ = 0, punctual_count_ = 0, shadow_views_ = 0;
-    std::tuple<int, bool, int, int> light_key_{-1, false, 0, 0};
+    std::tuple<int, bool, int, int, float> light_key_{-1, false, 0, 0, 0.0f};
     std::vector<LightInfo> light_infos_;
     std::map<std::pair<int, bool>, gl::Texture> textures_;
     std::map<std::tuple<int, int, int, int>, gl::Sampler> samplers_;

@@ -84,7 +84,7 @@ void Renderer::plan() {
     const ViewAmounts amounts = view_amounts({scene_, settings_, camera, &gpu_, aspect_});
     features_ = analyze(scene_, settings_, &asked, camera, &amounts);
     const LightSetup& ls = features_.lights;
-    gpu_.update_lights(ls.area_samples, ls.split_emitters, ls.shadows, ls.cascades, ls.max_shadowed);
+    gpu_.update_lights(ls.area_samples, ls.split_emitters, ls.shadows, ls.cascades, ls.max_shadowed, ls.cutoff);
     features_.area_light_pieces = gpu_.light_count() - gpu_.punctual_light_count();
     // The static environment map as a prefiltered cube (start-up, and when its size changes).
     if (gpu_.has_environment_map() && env_cube_size_ != settings_.environment.resolution) {

@@ -32,7 +32,13 @@ std::vector<Knob> base_knobs() {
     add(KnobRows<S::Forward>("forward", [](S& s) -> S::Forward& { return s.forward; })
             .boolean("depth_prepass", &S::Forward::depth_prepass, "draw depth first, then shade each pixel once")
             .boolean("light_tiles", &S::Forward::light_tiles,
-                     "cull the point and spot lights that have a range per 16x16 tile before shading (the same image, faster with many)")
+                     "cull the point and spot lights by their reach (range or lights.cutoff) per 16x16 tile before shading (the same image, "
+                     "faster with many)")
+            .rows);
+    add(KnobRows<S::Lights>("lights", [](S& s) -> S::Lights& { return s.lights; })
+            .real("cutoff", &S::Lights::cutoff, 0.0f, 1e6f,
+                  "point/spot lights without a range stop where their light falls below this fraction of the darkest display step "
+                  "(exposure 0); 0: unbounded")
             .rows);
     add(KnobRows<S::Deferred>("deferred", [](S& s) -> S::Deferred& { return s.deferred; })
             .integer("auto_lights", &S::Deferred::auto_lights, 1, 100000, "--path auto renders deferred from this many lights (measured: see README)")

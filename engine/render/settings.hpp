@@ -68,6 +68,16 @@ struct RenderSettings {
         bool depth_prepass = false;  // draw depth first, shade with depth test EQUAL
         bool light_tiles = true;     // cull lights with a range per 16x16 tile (the image is the same)
     } forward;
+    struct Lights {
+        // Point and spot lights without a range (the glTF default) reach as far as their light
+        // off a white Lambertian surface stays above their share of this fraction of one 8-bit
+        // display step (exposure 0, at the display's steepest: kDisplayQuantum), shared by all
+        // of them: their 1/d^2 less its value there, so that it falls to exactly 0 at the reach,
+        // and all the cuts together change a white Lambertian surface's light by at most that
+        // fraction (gpu_scene.hpp, light_cutoff_distance). The tile culling of both paths skips
+        // them beyond. 0: no cutoff, unbounded reach.
+        float cutoff = 0.5f;  // [0, 1e6]
+    } lights;
     struct Deferred {
         // Light count from which `--path auto` renders deferred. Measured with
         // `candela bench frame generated:lights:N --path forward|deferred` (docs/cli.md, render paths).

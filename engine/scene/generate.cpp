@@ -181,6 +181,34 @@ Primitive box_primitive(glm::vec3 lo, glm::vec3 hi) {
 
 }  // namespace
 
+Scene make_street_scene(int lamps) {
+    Scene scene;
+    scene.source = "generated:street:" + std::to_string(lamps);
+    scene.materials.push_back(lambert_material("asphalt", glm::vec3(0.5f)));
+    const float length = 20.0f * static_cast<float>(lamps);
+    Primitive road;
+    road.material = 0;
+    append_box(road, {-10.0f, -0.1f, -10.0f}, {length, 0.0f, 10.0f});
+    add_mesh_node(scene, "road", std::move(road));
+    for (int i = 0; i < lamps; ++i) {
+        Light l;
+        l.name = "lamp" + std::to_string(i);
+        l.type = LightType::point;
+        l.intensity = 2.0f;  // 0.16 W/m^2/sr under the lamp, 2 m below it
+        l.range = 0.0f;
+        scene.lights.push_back(l);
+        Node n;
+        n.name = l.name;
+        n.light = i;
+        n.local = glm::translate(glm::mat4(1.0f), glm::vec3(20.0f * static_cast<float>(i), 2.0f, 0.0f));
+        scene.roots.push_back(static_cast<int>(scene.nodes.size()));
+        scene.nodes.push_back(n);
+    }
+    add_look_at_camera(scene, {-8.0f, 6.0f, 0.0f}, {60.0f, 0.0f, 0.0f}, 0.9f);
+    scene.update_world_transforms();
+    return scene;
+}
+
 Scene make_many_lights_scene(int lights, bool bounded) {
     Scene scene;
     scene.source = std::string(bounded ? "generated:lights-bounded:" : "generated:lights:") + std::to_string(lights);

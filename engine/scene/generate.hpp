@@ -36,6 +36,10 @@ Scene make_bumpy_sphere_scene(std::size_t triangles);
 // reached by about as many lights at any N (about one): the scene on which the cost of many lights
 // should follow what they add, not their number.
 Scene make_many_lights_scene(int lights, bool bounded = false);
+// generated:street:N: N point lamps without a range (the glTF default), 20 m apart and 2 m above a
+// road 20 m wide, seen along the road: the scene of lights.cutoff, where each lamp lights its
+// stretch of road and the far ones add nearly nothing.
+Scene make_street_scene(int lamps);
 
 // generated:dof (generate_dof.cpp): the depth-of-field scene, a thin-lens camera focused on a
 // subject between a near and a far out-of-focus object, over a checkered floor and back wall.

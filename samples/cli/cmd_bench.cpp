@@ -3,6 +3,7 @@
 // engine/accuracy/, through accuracy.hpp).
 #include "commands.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <fstream>
@@ -26,6 +27,8 @@
 #include "render/settings.hpp"
 #include "render/still.hpp"
 #include "rt/ray_rates.hpp"
+#include "rt/ray_tracer.hpp"
+#include "image/image.hpp"
 #include "shader/file_watcher.hpp"
 
 namespace candela::cli {
@@ -308,6 +311,72 @@ int bench_animation(const Args& args) {
     return 0;
 }
 
+
+// `candela bench lights`: the cost of lights against the number of lights, with the raster's
+// error against the tracer at each count: generated:lights-bounded:N (each point of the floor
+// reached by about one light at any N) or generated:street:N (lamps without a range,
+// lights.cutoff). For each N: the default frame's and the speed-of-light frame's median times,
+// and the block error (block_agreement, 4x4, display values) of the default frame's radiance
+// against `--raytrace path` at the same size and --spp samples.
+int bench_lights(const Args& args) {
+    std::vector<std::string> with_value = kSceneSetupOptions;
+    with_value.insert(with_value.end(), {"--counts", "--scene", "--spp"});
+    const Parsed p = parse(args, with_value, kSceneSetupFlags);
+    if (!p.positional.empty()) throw bad_input("bench lights takes no SCENE: --scene bounded|street chooses the generator");
+    const std::string which = p.has("--scene") ? p.get("--scene") : "bounded";
+    if (which != "bounded" && which != "street") throw bad_input("bench lights: --scene must be bounded or street, not '" + which + "'");
+    std::vector<int> counts;
+    {
+        const std::string list = p.has("--counts") ? p.get("--counts") : "4,16,64,256";
+        size_t start = 0;
+        while (start <= list.size()) {
+            const size_t comma = std::min(list.find(',', start), list.size());
+            counts.push_back(parse_int("--counts", list.substr(start, comma - start), 1, 100000));
+            start = comma + 1;
+        }
+    }
+    const int spp = p.has("--spp") ? parse_int("--spp", p.get("--spp"), 1, 1 << 16) : 32;
+    const std::string prefix = which == "bounded" ? "generated:lights-bounded:" : "generated:street:";
+    std::unique_ptr<Context> context;
+    std::printf("%-30s %8s %12s %12s %14s %12s %10s\n", "scene", "lights", "default ms", "light ms", "block error", "luminance", "trace ms");
+    for (const int n : counts) {
+        SceneSetup s = setup_scene(p, prefix + std::to_string(n), 320, 180);
+        if (!p.has("--frames")) s.options.frames = 3;
+        if (!p.has("--warmup")) s.options.warmup = 1;
+        if (!context) {
+            ContextResult ctx = open_context(s);
+            if (!ctx.context) return static_cast<int>(ExitCode::no_gl);
+            context = std::move(ctx.context);
+            std::printf("device: %s (%s); %dx%d, %d frames after %d warm-up, reference %d spp\n", context->device_string().c_str(),
+                        to_string(context->backend()), s.options.width, s.options.height, s.options.frames, s.options.warmup, spp);
+        }
+        const ShaderLibrary shaders(s.shader_dir);
+        finish_lighting(s, shaders);
+        StillOptions fast = s.options;
+        apply_effects(fast.settings, "none");
+        apply_knob(fast.settings, "render.path=forward");
+        apply_knob(fast.settings, "forward.depth_prepass=1");
+        apply_knobs(s.options.settings, p.all("--set"));
+        FrameLoop full(s.scene, shaders, s.options), light(s.scene, shaders, fast);
+        full.warmup(s.options.warmup);
+        light.warmup(s.options.warmup);
+        for (int f = 0; f < s.options.frames; ++f) full.measure_frame(), light.measure_frame();
+        const StillResult a = full.finish(), b = light.finish();
+        rt::Options o;
+        o.mode = rt::Mode::path;
+        o.spp = spp;
+        GpuScene gpu(s.scene);
+        rt::RayTracer tracer(shaders, s.scene, gpu, o);
+        const float aspect = static_cast<float>(s.options.width) / static_cast<float>(s.options.height);
+        const rt::Result r = tracer.render(s.scene.select_camera(s.options.camera, aspect), s.options.width, s.options.height);
+        const BlockAgreement e = block_agreement(a.radiance, r.image, 4);
+        std::printf("%-30s %8d %12.2f %12.2f %14.5f %12.4f %10.0f\n", (prefix + std::to_string(n)).c_str(), n, a.median_frame_ms(),
+                    b.median_frame_ms(), e.mean_abs, e.luminance_ratio, r.trace_ms);
+        if (count_nonfinite(a.radiance) != 0 || count_nonfinite(r.image) != 0) throw Error(ExitCode::internal, prefix + std::to_string(n) + ": non-finite pixels");
+    }
+    return 0;
+}
+
 }  // namespace
 
 int cmd_bench(const Args& args) {
@@ -318,6 +387,7 @@ int cmd_bench(const Args& args) {
     if (which == "reload") return bench_reload(rest);
     if (which == "accuracy") return bench_accuracy(rest);
     if (which == "animation") return bench_animation(rest);
+    if (which == "lights") return bench_lights(rest);
     if (which == "error-budget") return bench_error_budget(rest);
     throw bad_input("bench needs a benchmark: 'candela bench frame SCENE' or 'candela bench rays SCENE...'");
 }

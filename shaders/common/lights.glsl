@@ -17,6 +17,10 @@ float range_attenuation(float distance, float range) {
     return w * w;
 }
 
+// How far a point or spot light reaches in the raster: its range, else its cutoff distance
+// (lights.cutoff, render/gpu_scene.hpp); 0: unbounded.
+float light_reach(LightData light) { return light.range > 0.0 ? light.range : light.cutoff; }
+
 // Direction towards the light (l) and irradiance at normal incidence (E) for a surface point.
 void light_incidence(LightData light, vec3 p, out vec3 l, out vec3 E, out float distance) {
     int type = int(light.type);
@@ -38,6 +42,12 @@ void light_incidence(LightData light, vec3 p, out vec3 l, out vec3 E, out float 
         return;
     }
     float att = range_attenuation(distance, light.range) / dist2;
+#ifndef LIGHTS_UNBOUNDED
+    // A light without a range in the raster: 1/d^2 less its value at the cutoff distance, so that
+    // it reaches 0 there, and no point gets more than that constant less (the tracer, which
+    // defines LIGHTS_UNBOUNDED, keeps the whole 1/d^2).
+    if (light.range <= 0.0 && light.cutoff > 0.0) att = max(att - 1.0 / (light.cutoff * light.cutoff), 0.0);
+#endif
     if (type == LIGHT_SPOT) {
         float cd = dot(light.direction, -l);
         float s = saturate(cd * light.spot_scale + light.spot_offset);

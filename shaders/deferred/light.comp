@@ -1,7 +1,8 @@
 #version 450 core
 // Tiled deferred lighting (Andersson 2011, "DirectX 11 Rendering in Battlefield 3"): one 16x16
 // workgroup per screen tile finds the tile's depth range, culls the light list against the tile's
-// sub-frustum (range-limited point and spot lights; unbounded lights always pass), then shades
+// sub-frustum (point and spot lights by their reach, common/lights.glsl light_reach; unbounded
+// lights always pass), then shades
 // its pixels from the G-buffer with only the lights that survived. Adds to the light buffer,
 // which already holds the emission.
 //
@@ -70,9 +71,10 @@ shared vec2 s_zrange;  // view-space z of the tile's far and near ends (negative
 // Conservative: a sphere that misses the tile's sub-frustum is dropped.
 bool light_in_tile(LightData light) {
     int type = int(light.type);
-    if ((type == LIGHT_POINT || type == LIGHT_SPOT) && light.range > 0.0) {
+    float reach = light_reach(light);
+    if ((type == LIGHT_POINT || type == LIGHT_SPOT) && reach > 0.0) {
         float z = (frame.view * vec4(light.position, 1.0)).z;
-        if (z - light.range > s_zrange.y || z + light.range < s_zrange.x) return false;
+        if (z - reach > s_zrange.y || z + reach < s_zrange.x) return false;
     }
     return light_meets_planes(light, s_planes);
 }

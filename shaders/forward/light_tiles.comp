@@ -1,11 +1,12 @@
 #version 450 core
 // The forward pass's light culling (the light_tiles pass, render/passes/forward_opaque.cpp): one
-// workgroup per 16x16 screen tile finds the lights whose range can reach the tile's sub-frustum
-// (range-limited point and spot lights; lights without a range always pass) and writes them as a
-// bit set, which forward/forward.frag (TILED_LIGHTS) walks in index order. A culled light adds
-// exactly nothing to the tile's pixels (the range window is 0 beyond the range), so the image is
-// the one without culling. The test is that of the deferred lighting (deferred/light.comp) without
-// the tile's depth range: the forward pass has not drawn yet.
+// workgroup per 16x16 screen tile finds the lights that can reach the tile's sub-frustum (point
+// and spot lights by their range or cutoff, common/lights.glsl light_reach; the others always
+// pass) and writes them as a bit set, which forward/forward.frag (TILED_LIGHTS) walks in index
+// order. A culled light adds exactly nothing to the tile's pixels (the range window and the cutoff
+// are 0 beyond the reach), so the image is the one without culling. The test is that of the
+// deferred lighting (deferred/light.comp) without the tile's depth range: the forward pass has
+// not drawn yet.
 #include "../common/scene_data.glsl"
 #include "../lighting/tile_frustum.glsl"
 

@@ -177,6 +177,9 @@ float light_visibility(vec3 p, vec3 n, vec2 pixel) {
     float sum = 0.0, weight = 0.0;
     for (int i = first; i <= last; ++i) {
         LightData light = lights[i];
+        // Visibility is the shadows' answer: a point beyond the light's cutoff (lights.cutoff, an
+        // approximation of its energy) is still reached, as the tracer's visibility mode has it.
+        light.cutoff = 0.0;
         vec3 l, E;
         float dist;
         light_incidence(light, p, l, E, dist);

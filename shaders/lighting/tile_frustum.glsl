@@ -27,11 +27,11 @@ void tile_frustum(mat4 inv_proj, vec2 lo, vec2 hi, float dnear, float dfar, out 
     zrange = vec2(min(f00.z, min(f10.z, min(f01.z, f11.z))), max(n00.z, max(n10.z, max(n01.z, n11.z))));
 }
 
-// Whether a point or spot light can reach the sub-frustum: conservative (a sphere of its range
-// that misses a side plane cannot); lights without a range (and other types) always can.
+// Whether a point or spot light can reach the sub-frustum: conservative (a sphere of its reach
+// that misses a side plane cannot); lights without a reach (and other types) always can.
 bool light_meets_planes(LightData light, vec4 planes[4]) {
     int type = int(light.type);
-    float range = light.range;
+    float range = light_reach(light);
     if ((type != LIGHT_POINT && type != LIGHT_SPOT) || range <= 0.0) return true;
     vec3 c = (frame.view * vec4(light.position, 1.0)).xyz;
     for (int i = 0; i < 4; ++i)

@@ -16,6 +16,7 @@
 #extension GL_ARB_gpu_shader_int64 : enable
 #extension GL_ARB_shader_ballot : enable
 #endif
+#define LIGHTS_UNBOUNDED  // the tracer keeps every light's whole reach (lights.glsl)
 #include "../common/scene_data.glsl"
 #include "../common/brdf.glsl"
 #include "../common/sampling.glsl"

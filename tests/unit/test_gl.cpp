@@ -2,6 +2,7 @@
 // GLSL/C++ twins, and the forward path's physical units on analytic cases.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 
@@ -12,6 +13,7 @@
 #include "image/image.hpp"
 #include "platform/context.hpp"
 #include "render/frame_graph.hpp"
+#include "render/gpu_scene.hpp"
 #include "render/still.hpp"
 #include "scene/generate.hpp"
 #include "scene/gltf_loader.hpp"
@@ -200,6 +202,74 @@ TEST_P(GlTest, ForwardLightTilesGiveTheUntiledImage) {
         double sum = 0.0;
         for (float v : a.radiance.pixels) sum += v;
         EXPECT_GT(sum, 0.0) << "the lights light the floor";
+    }
+}
+
+// Point lights without a range (the glTF default) reach as far as their share of lights.cutoff
+// of one display step allows: beyond that the tiles of both paths skip them. A street of 64
+// lamps, 20 m apart, no range, seen along the street (generated:street:64): the image stays within lights.cutoff of a
+// display step of the unbounded one wherever the light is Lambertian (here: within one step, the
+// goldens' tolerance being two), and the forward tiles still give the untiled image.
+TEST(LightCutoff, DisplayQuantumIsOneStepAtTheSteepestSlope) {
+    double steepest = 0.0;
+    for (double x = 1e-5; x < 1.0; x *= 1.0005) {
+        const double h = x * 1e-3;
+        const double a = display_transform(glm::vec3(static_cast<float>(x)), 0.0f).x;
+        const double b = display_transform(glm::vec3(static_cast<float>(x + h)), 0.0f).x;
+        steepest = std::max(steepest, (b - a) / h);
+    }
+    EXPECT_NEAR((1.0 / 255.0) / steepest, kDisplayQuantum, 0.01 * kDisplayQuantum);
+    // The reach: a white Lambertian surface facing the light there gets its share of the fraction.
+    const float reach = light_cutoff_distance(2.0f, 0.5f, 64);
+    EXPECT_NEAR(2.0 / (3.14159265 * reach * reach), 0.5 * kDisplayQuantum / 64.0, 1e-3 * 0.5 * kDisplayQuantum / 64.0);
+    EXPECT_EQ(light_cutoff_distance(2.0f, 0.0f, 64), 0.0f) << "lights.cutoff=0: unbounded";
+}
+
+TEST_P(GlTest, LightsWithoutARangeStopWhereTheirLightIsBelowTheCutoff) {
+    const int lamps = 64;
+    const Scene scene = make_street_scene(lamps);
+    const float fraction = RenderSettings{}.lights.cutoff;
+    ASSERT_GT(fraction, 0.0f);
+    const float reach = light_cutoff_distance(2.0f, fraction, lamps);
+    std::printf("reach %.0f m along a %d m street\n", reach, 20 * lamps);
+    EXPECT_LT(reach, 0.5f * 20.0f * static_cast<float>(lamps)) << "the far lamps must be out of the near tiles' reach";
+    for (const RenderPath path : {RenderPath::forward, RenderPath::deferred}) {
+        SCOPED_TRACE(path == RenderPath::forward ? "forward" : "deferred");
+        StillOptions cut;
+        cut.width = 100;
+        cut.height = 60;
+        cut.settings.path = path;
+        StillOptions whole = cut;
+        apply_knob(whole.settings, "lights.cutoff=0");
+        const StillResult a = render_still(scene, shaders(), cut);
+        const StillResult b = render_still(scene, shaders(), whole);
+        EXPECT_EQ(a.features.ranged_lights, lamps);
+        EXPECT_EQ(b.features.ranged_lights, 0);
+        EXPECT_EQ(count_nonfinite(a.radiance), 0u);
+        double worst = 0.0, worst_linear = 0.0, brightest = 0.0;
+        for (int y = 0; y < a.radiance.height; ++y)
+            for (int x = 0; x < a.radiance.width; ++x) {
+                const glm::vec3 la(a.radiance.at(x, y)[0], a.radiance.at(x, y)[1], a.radiance.at(x, y)[2]);
+                const glm::vec3 lb(b.radiance.at(x, y)[0], b.radiance.at(x, y)[1], b.radiance.at(x, y)[2]);
+                const glm::vec3 d = glm::abs(display_transform(la, 0.0f) - display_transform(lb, 0.0f));
+                worst = std::max(worst, static_cast<double>(std::max({d.x, d.y, d.z})));
+                worst_linear = std::max(worst_linear, static_cast<double>(lb.x - la.x));
+                brightest = std::max(brightest, static_cast<double>(lb.x));
+                EXPECT_LE(la.x, lb.x) << "a cut only takes light away";
+            }
+        std::printf("largest display difference %.5f (one 8-bit step %.5f), linear %.3g (the cut's bound %.3g), brightest %.3f\n",
+                    worst, 1.0 / 255.0, worst_linear, fraction * kDisplayQuantum, brightest);
+        EXPECT_LE(worst_linear, fraction * kDisplayQuantum * 0.5 * 1.001) << "asphalt of albedo 0.5: half the white bound";
+        EXPECT_LE(worst, 1.0 / 255.0);
+        EXPECT_GT(worst_linear, 0.0) << "the cut changes something";
+        EXPECT_GT(brightest, 0.05) << "the lamps light the road";
+        if (path == RenderPath::forward) {
+            StillOptions untiled = cut;
+            apply_knob(untiled.settings, "forward.light_tiles=0");
+            const StillResult c = render_still(scene, shaders(), untiled);
+            EXPECT_TRUE(a.features.forward_light_tiles);
+            EXPECT_EQ(a.radiance.pixels, c.radiance.pixels) << "a light beyond its reach adds exactly 0";
+        }
     }
 }
 
