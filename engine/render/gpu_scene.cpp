@@ -131,8 +131,10 @@ GpuScene::GpuScene(const Scene& scene, GlWorker* mips, const ShaderLibrary* shad
     std::vector<std::uint32_t> indices;
     std::vector<std::vector<Range>>& ranges = ranges_;
     ranges.assign(scene.meshes.size(), {});
+    uploaded_vertices_.assign(scene.meshes.size(), {});
     for (size_t mi = 0; mi < scene.meshes.size(); ++mi)
         for (const Primitive& p : scene.meshes[mi].primitives) {
+            uploaded_vertices_[mi].push_back(p.deformable() ? p.vertices : std::vector<Vertex>{});
             ranges[mi].push_back({indices.size(), static_cast<GLint>(vertices.size())});
             vertices.insert(vertices.end(), p.vertices.begin(), p.vertices.end());
             indices.insert(indices.end(), p.indices.begin(), p.indices.end());
@@ -510,6 +512,14 @@ bool GpuScene::update_pose() {
         for (size_t pi = 0; pi < scene_.meshes[mi].primitives.size() && pi < ranges_[mi].size(); ++pi) {
             const Primitive& p = scene_.meshes[mi].primitives[pi];
             if (!p.deformable() || p.vertices.empty()) continue;
+            // A pose that leaves the vertices as they were (an animation holding still, the same
+            // time again) changes nothing: the captures and caches that follow pose_version stay.
+            if (uploaded_vertices_.size() <= mi) uploaded_vertices_.resize(scene_.meshes.size());
+            if (uploaded_vertices_[mi].size() <= pi) uploaded_vertices_[mi].resize(scene_.meshes[mi].primitives.size());
+            std::vector<Vertex>& last = uploaded_vertices_[mi][pi];
+            if (last.size() == p.vertices.size() && std::memcmp(last.data(), p.vertices.data(), p.vertices.size() * sizeof(Vertex)) == 0)
+                continue;
+            last = p.vertices;
             vertices_.update(static_cast<GLintptr>(static_cast<size_t>(ranges_[mi][pi].base_vertex) * sizeof(Vertex)),
                              static_cast<GLsizeiptr>(p.vertices.size() * sizeof(Vertex)), p.vertices.data());
             changed = true;

@@ -193,6 +193,9 @@ private:
     void set_material(Draw& d, const Primitive& p) const;
     struct Range { std::size_t first_index; GLint base_vertex; };
     std::vector<std::vector<Range>> ranges_;  // [mesh][primitive]
+    // The posed vertices last uploaded of each deformable primitive ([mesh][primitive]; empty for
+    // the others): update_pose uploads, and counts as a change, only what differs from them.
+    std::vector<std::vector<std::vector<Vertex>>> uploaded_vertices_;
     gl::Buffer motion_;
     gl::VertexArray motion_vao_;
     bool has_motion_ = false;

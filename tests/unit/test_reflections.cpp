@@ -6,6 +6,8 @@
 
 #include <cmath>
 
+#include <glm/gtc/matrix_transform.hpp>
+
 #include "core/error.hpp"
 #include "gltf_builder.hpp"
 #include "image/image.hpp"
@@ -455,6 +457,61 @@ TEST_P(ReflectionsTest, ProbePassRunsOnlyWhenCalledForAndWhenStale) {
     }
     // A probe never captures the object it sits in.
     for (const ProbePlacement& p : probes(r)) EXPECT_EQ(p.excluded_draws.size(), 1u) << p.origin;
+}
+
+// A capture kept while nothing moved (probe.update=once) gives the image a fresh renderer gives,
+// bit for bit; moving a box the probes see captures again, and that frame too is a fresh
+// renderer's; a pose that moves nothing keeps the capture.
+TEST_P(ReflectionsTest, KeptCaptureGivesAFreshRenderersImage) {
+    auto captured = [](const Renderer& r) {
+        for (const auto& p : r.last_frame().passes)
+            if (p.name == "env_probe") return true;
+        return false;
+    };
+    Scene scene = load_gltf(sample("reflections.gltf"));
+    const RenderSettings s = settings("reflections", {});
+    const Camera cam = scene.select_camera("", 1.0f);
+    const int w = 48;
+    auto fresh = [&]() {
+        GpuScene g(scene);
+        Renderer f(lib_, scene, g, s);
+        f.render(cam, w, w);
+        EXPECT_TRUE(captured(f));
+        return f.read_radiance();
+    };
+    GpuScene gpu(scene);
+    Renderer r(lib_, scene, gpu, s);
+    r.render(cam, w, w);
+    ASSERT_TRUE(captured(r));
+    r.render(cam, w, w);
+    EXPECT_FALSE(captured(r)) << "nothing changed: the capture is kept";
+    const ImageF kept = r.read_radiance();
+    EXPECT_EQ(count_nonfinite(kept), 0u);
+    EXPECT_EQ(kept.pixels, fresh().pixels) << "the kept capture gives a fresh renderer's image";
+
+    // The same pose again moves nothing: no new pose, the capture stays.
+    const std::uint64_t pose = gpu.pose_version();
+    EXPECT_FALSE(gpu.update_pose());
+    EXPECT_EQ(gpu.pose_version(), pose);
+    r.render(cam, w, w);
+    EXPECT_FALSE(captured(r));
+
+    // The orange box, which both spheres show, moves: the probes capture again.
+    int box = -1;
+    for (size_t i = 0; i < scene.nodes.size(); ++i)
+        if (scene.nodes[i].name == "orange_box") box = static_cast<int>(i);
+    ASSERT_GE(box, 0);
+    scene.nodes[static_cast<size_t>(box)].local = glm::translate(glm::mat4(1.0f), glm::vec3(0.3f, 0.0f, 0.2f)) * scene.nodes[static_cast<size_t>(box)].local;
+    scene.update_world_transforms();
+    EXPECT_TRUE(gpu.update_pose());
+    r.render(cam, w, w);
+    EXPECT_TRUE(captured(r)) << "a box the probes see moved";
+    const ImageF moved = r.read_radiance();
+    EXPECT_NE(moved.pixels, kept.pixels);
+    EXPECT_EQ(moved.pixels, fresh().pixels) << "after the move, a fresh renderer's image";
+    r.render(cam, w, w);
+    EXPECT_FALSE(captured(r));
+    EXPECT_EQ(r.read_radiance().pixels, moved.pixels);
 }
 
 // A smooth metal sphere under a small emitter, and nothing else. The emitter's reflection is the
