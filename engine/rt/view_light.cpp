@@ -53,22 +53,36 @@ glm::ivec2 measurement_size(float aspect, int pixels) {
     const int width = std::max(4, static_cast<int>(std::lround(std::sqrt(target * a))));
     return {width, std::max(4, static_cast<int>(std::lround(target / static_cast<double>(width))))};
 }
+// Sets a measurement's size (measurement_size) and sample count; returns the size.
+template <class Measurement>
+glm::ivec2 size_measurement(Measurement& m, float aspect, int pixels, int spp) {
+    const glm::ivec2 size = measurement_size(aspect, pixels);
+    m.width = size.x;
+    m.height = size.y;
+    m.spp = spp;
+    return size;
+}
+
+// The options of the planner's `direct` renders of `size`: the light the seen surfaces reflect,
+// without what the camera sees itself and without the highlights on glass (ray_tracer.hpp: a
+// highlight does not light the glass).
+rt::Options seen_surfaces_direct(glm::ivec2 size, int spp) {
+    rt::Options o;
+    o.mode = rt::Mode::direct;
+    o.spp = std::max(1, spp);
+    o.tile_rows = size.y;
+    o.camera_sees_emission = false;
+    o.dielectric_highlights = false;
+    return o;
+}
 }  // namespace
 
 ViewLight measure_view_light(const ShaderLibrary& shaders, const Scene& scene, GpuScene& gpu, const Camera& camera, float aspect,
                              int spp, int pixels, std::shared_ptr<rt::RtScene>* shared) {
     const auto t0 = std::chrono::steady_clock::now();
     ViewLight v;
-    const glm::ivec2 size = measurement_size(aspect, pixels);
-    v.width = size.x;
-    v.height = size.y;
-    v.spp = spp;
-    rt::Options o;
-    o.mode = rt::Mode::direct;
-    o.spp = spp;
-    o.tile_rows = v.height;
-    o.camera_sees_emission = false;
-    o.dielectric_highlights = false;  // ray_tracer.hpp: a highlight does not light the glass
+    const glm::ivec2 size = size_measurement(v, aspect, pixels, spp);
+    rt::Options o = seen_surfaces_direct(size, spp);
     // Sky visibility: AO rays that leave the scene's bounds are open to the sky.
     const Bounds bounds = scene.world_bounds();
     o.ao_radius = bounds.empty() ? 1e6f : std::max(1e-3f, 100.0f * glm::length(bounds.extent()));
@@ -198,10 +212,7 @@ Caustics measure_caustics(const ShaderLibrary& shaders, const Scene& scene, GpuS
                           int spp, int pixels, std::shared_ptr<rt::RtScene>* shared) {
     const auto t0 = std::chrono::steady_clock::now();
     Caustics c;
-    const glm::ivec2 size = measurement_size(aspect, pixels);
-    c.width = size.x;
-    c.height = size.y;
-    c.spp = spp;
+    size_measurement(c, aspect, pixels, spp);
     // kBatches independent batches (seeds) of spp / kBatches samples: the share of each, their
     // mean, and its standard error from their spread.
     constexpr int kBatches = 4;
@@ -256,16 +267,8 @@ EmitterLight measure_emitter_light(const ShaderLibrary& shaders, const Scene& sc
                                    float aspect, int spp, int pixels, std::shared_ptr<rt::RtScene>* shared) {
     const auto t0 = std::chrono::steady_clock::now();
     EmitterLight e;
-    const glm::ivec2 size = measurement_size(aspect, pixels);
-    e.width = size.x;
-    e.height = size.y;
-    e.spp = spp;
-    rt::Options o;
-    o.mode = rt::Mode::direct;
-    o.spp = std::max(1, spp);
-    o.tile_rows = e.height;
-    o.camera_sees_emission = false;
-    o.dielectric_highlights = false;  // as measure_view_light: a glass pixel is lit by what it shows
+    const glm::ivec2 size = size_measurement(e, aspect, pixels, spp);
+    const rt::Options o = seen_surfaces_direct(size, spp);
     rt::RayTracer tracer(shaders, scene, gpu, o, shared ? *shared : nullptr);
     if (shared) *shared = tracer.shared_scene();
     const ImageF all = tracer.render(camera, e.width, e.height).image;
