@@ -338,7 +338,6 @@ int bench_lights(const Args& args) {
     const int spp = p.has("--spp") ? parse_int("--spp", p.get("--spp"), 1, 1 << 16) : 32;
     const std::string prefix = which == "bounded" ? "generated:lights-bounded:" : "generated:street:";
     std::unique_ptr<Context> context;
-    std::printf("%-30s %8s %12s %12s %14s %12s %10s\n", "scene", "lights", "default ms", "light ms", "block error", "luminance", "trace ms");
     for (const int n : counts) {
         SceneSetup s = setup_scene(p, prefix + std::to_string(n), 320, 180);
         if (!p.has("--frames")) s.options.frames = 3;
@@ -349,6 +348,8 @@ int bench_lights(const Args& args) {
             context = std::move(ctx.context);
             std::printf("device: %s (%s); %dx%d, %d frames after %d warm-up, reference %d spp\n", context->device_string().c_str(),
                         to_string(context->backend()), s.options.width, s.options.height, s.options.frames, s.options.warmup, spp);
+            std::printf("%-30s %8s %12s %12s %14s %12s %10s\n", "scene", "lights", "default ms", "light ms", "block error", "luminance",
+                        "trace ms");
         }
         const ShaderLibrary shaders(s.shader_dir);
         finish_lighting(s, shaders);
