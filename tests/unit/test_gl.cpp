@@ -246,6 +246,7 @@ TEST_P(GlTest, LightsWithoutARangeStopWhereTheirLightIsBelowTheCutoff) {
         EXPECT_EQ(a.features.ranged_lights, lamps);
         EXPECT_EQ(b.features.ranged_lights, 0);
         EXPECT_EQ(count_nonfinite(a.radiance), 0u);
+        EXPECT_EQ(count_nonfinite(b.radiance), 0u);
         double worst = 0.0, worst_linear = 0.0, brightest = 0.0;
         for (int y = 0; y < a.radiance.height; ++y)
             for (int x = 0; x < a.radiance.width; ++x) {
@@ -267,6 +268,7 @@ TEST_P(GlTest, LightsWithoutARangeStopWhereTheirLightIsBelowTheCutoff) {
             StillOptions untiled = cut;
             apply_knob(untiled.settings, "forward.light_tiles=0");
             const StillResult c = render_still(scene, shaders(), untiled);
+            EXPECT_EQ(count_nonfinite(c.radiance), 0u);
             EXPECT_TRUE(a.features.forward_light_tiles);
             EXPECT_EQ(a.radiance.pixels, c.radiance.pixels) << "a light beyond its reach adds exactly 0";
         }

@@ -477,7 +477,9 @@ TEST_P(ReflectionsTest, KeptCaptureGivesAFreshRenderersImage) {
         Renderer f(lib_, scene, g, s);
         f.render(cam, w, w);
         EXPECT_TRUE(captured(f));
-        return f.read_radiance();
+        ImageF img = f.read_radiance();
+        EXPECT_EQ(count_nonfinite(img), 0u);
+        return img;
     };
     GpuScene gpu(scene);
     Renderer r(lib_, scene, gpu, s);
@@ -507,6 +509,7 @@ TEST_P(ReflectionsTest, KeptCaptureGivesAFreshRenderersImage) {
     r.render(cam, w, w);
     EXPECT_TRUE(captured(r)) << "a box the probes see moved";
     const ImageF moved = r.read_radiance();
+    EXPECT_EQ(count_nonfinite(moved), 0u);
     EXPECT_NE(moved.pixels, kept.pixels);
     EXPECT_EQ(moved.pixels, fresh().pixels) << "after the move, a fresh renderer's image";
     r.render(cam, w, w);
