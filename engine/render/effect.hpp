@@ -132,6 +132,8 @@ struct LightSetup {
     bool shadows = false;   // lights get shadow views
     int cascades = 1;       // views of a directional light
     int max_shadowed = 0;   // lights with shadow views at most
+    int shadow_resolution = 1024;     // texels a side of a full-resolution shadow view
+    double shadow_budget_mb = 512.0;  // the shadow maps' memory at most (GpuScene::shadow_atlas)
     float cutoff = 0.0f;    // lights.cutoff: the reach of point and spot lights without a range
 };
 

@@ -60,6 +60,9 @@ struct Features {
     int ranged_lights = 0;
     bool forward_light_tiles = false;
     int area_light_pieces = 0;  // emissive primitives drawn * arealight.samples
+    // With shadows planned: how the shadow budget shared the maps (ShadowAtlas::text); set by the
+    // renderer's plan, which sees the light buffer.
+    std::string shadow_budget;
     bool deferred = false;      // the render path
     std::string path_reason;
     SceneFeatures scene;

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <limits>
 
 #include <glm/gtc/constants.hpp>
 #include <glm/gtc/matrix_inverse.hpp>
@@ -314,9 +315,11 @@ float light_cutoff_distance(float peak_intensity, float fraction, int lights) {
     return std::sqrt(peak_intensity * static_cast<float>(std::max(lights, 1)) / (glm::pi<float>() * fraction * kDisplayQuantum));
 }
 
-void GpuScene::update_lights(int area_samples, EmitterSplitter split, bool shadows, int cascades, int max_shadowed, float cutoff) {
+void GpuScene::update_lights(int area_samples, EmitterSplitter split, bool shadows, int cascades, int max_shadowed, float cutoff,
+                             int shadow_resolution, double shadow_budget_mb, const glm::vec3* viewer) {
     if (!split) area_samples = 0;
-    const std::tuple<int, bool, int, int, float> key{area_samples, shadows, cascades, max_shadowed, cutoff};
+    const std::tuple<int, bool, int, int, float, int, double, bool, glm::vec3> key{
+        area_samples, shadows, cascades, max_shadowed, cutoff, shadow_resolution, shadow_budget_mb, viewer != nullptr, viewer ? *viewer : glm::vec3(0.0f)};
     if (key == light_key_) return;
     light_key_ = key;
     std::vector<LightData> lights;
@@ -360,26 +363,42 @@ void GpuScene::update_lights(int area_samples, EmitterSplitter split, bool shado
         info.double_sided = piece.double_sided;
         light_infos_.push_back(info);
     }
-    // The shadow budget: directional lights first, then the brightest (rgb sum of the intensity).
+    // The shadow budget: directional lights first, then by what they add to the view (rgb sum of
+    // the intensity over the squared distance from the viewer; without one, the brightest). The
+    // distance is kept from zero by a thousandth of the scene's size, so it scales with the scene.
+    const Bounds wb = scene_.world_bounds();
+    const float eps = wb.empty() ? 1e-3f : std::max(1e-3f * glm::length(wb.max - wb.min), 1e-30f);
+    auto priority = [&](size_t i) {
+        if (light_infos_[i].kind == LightInfo::Kind::directional) return std::numeric_limits<float>::max();
+        const float intensity = lights[i].color.r + lights[i].color.g + lights[i].color.b;
+        if (!viewer) return intensity;
+        const glm::vec3 d = light_infos_[i].position - *viewer;
+        return intensity / (glm::dot(d, d) + eps * eps);
+    };
     std::vector<size_t> order(lights.size());
     for (size_t i = 0; i < order.size(); ++i) order[i] = i;
-    auto priority = [&](size_t i) {
-        if (light_infos_[i].kind == LightInfo::Kind::directional) return 1e30f;
-        return lights[i].color.r + lights[i].color.g + lights[i].color.b;
-    };
     std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return priority(a) > priority(b); });
-    std::vector<bool> shadowed(lights.size(), false);
-    for (size_t k = 0; k < order.size() && k < static_cast<size_t>(std::max(max_shadowed, 0)); ++k) shadowed[order[k]] = true;
-    // Shadow views: consecutive layers of one depth array.
-    shadow_views_ = 0;
+    std::vector<ShadowRequest> requests(lights.size());
+    for (size_t k = 0; k < order.size() && k < static_cast<size_t>(std::max(max_shadowed, 0)); ++k) {
+        const size_t i = order[k];
+        const LightInfo& info = light_infos_[i];
+        requests[i].views = !shadows ? 0
+                            : info.kind == LightInfo::Kind::directional ? cascades
+                            : info.kind == LightInfo::Kind::spot        ? 1
+                                                                        : 6;
+        requests[i].priority = priority(i);
+    }
+    // The layers the budget and the context allow.
+    GLint max_layers = 256;
+    glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &max_layers);
+    const double budget_layers = std::floor(shadow_budget_mb * 1024.0 * 1024.0 / shadow_layer_bytes(shadow_resolution));
+    const int layers = static_cast<int>(std::clamp(budget_layers, 1.0, static_cast<double>(std::max(max_layers, 1))));
+    shadow_atlas_ = allocate_shadow_atlas(requests, shadow_resolution, layers);
+    shadow_views_ = static_cast<int>(shadow_atlas_.tiles.size());
     for (size_t i = 0; i < lights.size(); ++i) {
         LightInfo& info = light_infos_[i];
-        info.view_count = !shadows || !shadowed[i] ? 0
-                          : info.kind == LightInfo::Kind::directional ? cascades
-                          : info.kind == LightInfo::Kind::spot        ? 1
-                                                                      : 6;
-        info.first_view = info.view_count > 0 ? shadow_views_ : -1;
-        shadow_views_ += info.view_count;
+        info.first_view = shadow_atlas_.first_view[i];
+        info.view_count = info.first_view >= 0 ? requests[i].views : 0;
         lights[i].first_shadow_view = static_cast<float>(info.first_view);
         lights[i].shadow_view_count = static_cast<float>(info.view_count);
     }
@@ -536,7 +555,7 @@ bool GpuScene::update_pose() {
     }
     // Lights on animated nodes and moving emitters: rebuild the light buffer at the next update_lights.
     if (changed) {
-        light_key_ = {-1, false, 0, 0, 0.0f};
+        std::get<0>(light_key_) = -1;
         ++pose_version_;
     }
     return changed;

@@ -12,6 +12,7 @@
 #include "gpu/scene_blocks.h"
 #include "image/image.hpp"
 #include "platform/gl_worker.hpp"
+#include "render/shadow_atlas.hpp"
 #include "scene/animation.hpp"
 #include "scene/scene.hpp"
 #include "shader/shader_library.hpp"
@@ -40,7 +41,7 @@ struct LightInfo {
     float size = 0.0f;                        // world units (area piece: sqrt of its area)
     int own_draw = -1;                        // an area piece's emitter: not drawn into its maps
     bool double_sided = false;                // an area piece that emits from both sides
-    int first_view = -1, view_count = 0;      // shadow views (layers), set by update_lights
+    int first_view = -1, view_count = 0;      // shadow views, set by update_lights (their tiles: shadow_atlas())
 };
 
 // The rasterizer's area-light approximation: each emissive draw split into `samples` pieces of
@@ -143,16 +144,22 @@ public:
     const gl::Buffer& lights() const { return lights_; }
     // Rebuilds the light buffer: punctual lights, then `area_samples` pieces per emissive draw;
     // with `shadows`, each light gets its shadow views (directional: `cascades`, spot: 1, point and
-    // area piece: 6 cube faces) for at most `max_shadowed` lights: directional ones first, then the
-    // brightest. No-op if nothing changed.
+    // area piece: 6 cube faces) for at most `max_shadowed` lights, by priority: directional ones
+    // first, then by peak intensity over the squared distance from `viewer` (when given; the
+    // brightest without), which approximates what each light adds to the view. The views are tiles
+    // of the shadow atlas (allocate_shadow_atlas): `shadow_resolution` texels at full resolution,
+    // at most `shadow_budget_mb` MiB of layers. No-op if nothing changed.
     // `split`: what turns emitters into pieces (nullptr or area_samples 0: none).
     // `cutoff`: lights.cutoff, the reach of point and spot lights without a range
     // (light_cutoff_distance; 0: none).
-    void update_lights(int area_samples, EmitterSplitter split, bool shadows, int cascades, int max_shadowed, float cutoff = 0.0f);
+    void update_lights(int area_samples, EmitterSplitter split, bool shadows, int cascades, int max_shadowed, float cutoff = 0.0f,
+                       int shadow_resolution = 1024, double shadow_budget_mb = 512.0, const glm::vec3* viewer = nullptr);
     int light_count() const { return light_count_; }
     int punctual_light_count() const { return punctual_count_; }
     const std::vector<LightInfo>& light_infos() const { return light_infos_; }
     int shadow_view_count() const { return shadow_views_; }
+    // Where each shadow view lies in the shadow maps' array, and what the budget left out.
+    const ShadowAtlas& shadow_atlas() const { return shadow_atlas_; }
     // Texture for a scene image, created on first use (sRGB or linear view of the same pixels).
     const gl::Texture& texture(int image, bool srgb);
     const gl::Sampler& sampler(const SamplerDesc& desc);
@@ -209,7 +216,8 @@ private:
     gl::VertexArray vao_, sorted_vao_;
     std::vector<Draw> draws_;
     int light_count_ = 0, punctual_count_ = 0, shadow_views_ = 0;
-    std::tuple<int, bool, int, int, float> light_key_{-1, false, 0, 0, 0.0f};
+    std::tuple<int, bool, int, int, float, int, double, bool, glm::vec3> light_key_{-1, false, 0, 0, 0.0f, 0, 0.0, false, glm::vec3(0.0f)};
+    ShadowAtlas shadow_atlas_;
     std::vector<LightInfo> light_infos_;
     std::map<std::pair<int, bool>, gl::Texture> textures_;
     std::map<std::tuple<int, int, int, int>, gl::Sampler> samplers_;

@@ -84,8 +84,11 @@ void Renderer::plan() {
     const ViewAmounts amounts = view_amounts({scene_, settings_, camera, &gpu_, aspect_});
     features_ = analyze(scene_, settings_, &asked, camera, &amounts);
     const LightSetup& ls = features_.lights;
-    gpu_.update_lights(ls.area_samples, ls.split_emitters, ls.shadows, ls.cascades, ls.max_shadowed, ls.cutoff);
+    const glm::vec3 viewer = camera ? glm::vec3(camera->world[3]) : glm::vec3(0.0f);
+    gpu_.update_lights(ls.area_samples, ls.split_emitters, ls.shadows, ls.cascades, ls.max_shadowed, ls.cutoff, ls.shadow_resolution,
+                       ls.shadow_budget_mb, camera ? &viewer : nullptr);
     features_.area_light_pieces = gpu_.light_count() - gpu_.punctual_light_count();
+    features_.shadow_budget = ls.shadows ? gpu_.shadow_atlas().text(ls.shadow_budget_mb) : std::string();
     // The static environment map as a prefiltered cube (start-up, and when its size changes).
     if (gpu_.has_environment_map() && env_cube_size_ != settings_.environment.resolution) {
         env_cube_size_ = settings_.environment.resolution;

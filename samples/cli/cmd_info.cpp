@@ -178,6 +178,15 @@ int cmd_info(const Args& args) {
             if ((e && e->switchable()) == switchable) std::printf("  %-22s %s\n", (d->name + ":").c_str(), d->reason.c_str());
         }
     }
+    // The shadow budget, as the renderer's light buffer shares it for this view.
+    if (shaders && features.decision("shadows").planned) {
+        const LightSetup& ls = features.lights;
+        const glm::vec3 viewer(view_camera.world[3]);
+        GpuScene& gpu = measured_gpu();
+        gpu.update_lights(ls.area_samples, ls.split_emitters, ls.shadows, ls.cascades, ls.max_shadowed, ls.cutoff, ls.shadow_resolution,
+                          ls.shadow_budget_mb, &viewer);
+        std::printf("shadow budget: %s\n", gpu.shadow_atlas().text(ls.shadow_budget_mb).c_str());
+    }
     std::printf("planned passes:\n");
     for (const PlannedPass& pass : plan_passes(features, settings))
         std::printf("  %-22s %s\n", pass.name.c_str(), pass.why.c_str());

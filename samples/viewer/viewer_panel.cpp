@@ -310,6 +310,8 @@ void Viewer::draw_ui(double frame_ms) {
             wrapped_disabled(d.reason);
             ImGui::Unindent(ImGui::GetFrameHeightWithSpacing());
         }
+        // How many lights the shadow budget shadowed, at what resolution, and which it left out.
+        if (!f.shadow_budget.empty()) wrapped_disabled("shadow budget: " + f.shadow_budget);
         if (changed) apply_settings(s);
     }
     if (ImGui::CollapsingHeader("Reference (ray tracer)", ref_.on ? ImGuiTreeNodeFlags_DefaultOpen : 0)) {

@@ -14,6 +14,7 @@
 #include "gltf_builder.hpp"
 #include "reference_fixture.hpp"
 #include "render/still.hpp"
+#include "scene/generate.hpp"
 #include "scene/gltf_loader.hpp"
 
 namespace candela {
@@ -211,7 +212,9 @@ TEST_P(ShadowTest, PeterPanningIsBoundedInTexels) {
 TEST_P(ShadowTest, PointLightCubeHasNoSeams) {
     // A point light 1 above a floor with posts around it: the cube faces meet along |x| = 1,
     // |z| = 1 and |x| = |z| on the floor. Along those lines the raster agrees with the ray tracer
-    // as well as anywhere else.
+    // as well as anywhere else. With a budget of 4 layers the six faces do not fit at full
+    // resolution: they become half-size tiles, four to a layer, side by side in the atlas, and
+    // a filter tap that read a neighbouring tile would show at the borders.
     test::GltfBuilder b;
     b.json()["materials"] = {lambert(glm::vec3(0.8f))};
     add_floor(b, 3.0f);
@@ -224,26 +227,33 @@ TEST_P(ShadowTest, PointLightCubeHasNoSeams) {
     const Scene scene = load_gltf(b.write(test::test_dir("cube"), "cube"));
     const int n = 200;
     const ImageF reference = traced_visibility(scene, n, n);
-    const Visibility v = visibility(scene, n, n);
-    int border = 0, border_differ = 0, other = 0, other_differ = 0;
-    for (int y = 0; y < n; ++y)
-        for (int x = 0; x < n; ++x) {
-            // Pixel to floor point; image top is -Z.
-            const float wx = -3.0f + 6.0f * (static_cast<float>(x) + 0.5f) / n, wz = -3.0f + 6.0f * (static_cast<float>(y) + 0.5f) / n;
-            const glm::vec3 d = glm::abs(glm::vec3(wx, -1.0f, wz));
-            const float major = std::max({d.x, d.y, d.z});
-            const float second = d.x + d.y + d.z - major - std::min({d.x, d.y, d.z});
-            const bool near_border = major - second < 0.03f * major;
-            const bool differ = (v.image.at(x, y)[0] > 0.5f) != (reference.at(x, y)[0] > 0.5f);
-            (near_border ? border : other) += 1;
-            (near_border ? border_differ : other_differ) += differ;
-        }
-    ASSERT_GT(border, 500);
-    const double border_rate = static_cast<double>(border_differ) / border;
-    const double other_rate = static_cast<double>(other_differ) / other;
-    EXPECT_LT(border_rate, 0.01) << border_differ << " of " << border << " border pixels differ";
-    EXPECT_LT(other_rate, 0.01);
-    std::printf("cube seams: border %d pixels, %.5f differ; elsewhere %.5f\n", border, border_rate, other_rate);
+    for (const int budget_mb : {512, 16}) {
+        SCOPED_TRACE("shadows.budget_mb=" + std::to_string(budget_mb));
+        const Visibility v = visibility(scene, n, n, {"shadows.resolution=1024", "shadows.budget_mb=" + std::to_string(budget_mb)});
+        ASSERT_EQ(v.views.views.size(), 6u);
+        EXPECT_EQ(v.views.views[0].tile_texels, budget_mb == 16 ? 512.0f : 1024.0f);
+        EXPECT_EQ(count_nonfinite(v.image), 0u);
+        int border = 0, border_differ = 0, other = 0, other_differ = 0;
+        for (int y = 0; y < n; ++y)
+            for (int x = 0; x < n; ++x) {
+                // Pixel to floor point; image top is -Z.
+                const float wx = -3.0f + 6.0f * (static_cast<float>(x) + 0.5f) / n, wz = -3.0f + 6.0f * (static_cast<float>(y) + 0.5f) / n;
+                const glm::vec3 d = glm::abs(glm::vec3(wx, -1.0f, wz));
+                const float major = std::max({d.x, d.y, d.z});
+                const float second = d.x + d.y + d.z - major - std::min({d.x, d.y, d.z});
+                const bool near_border = major - second < 0.03f * major;
+                const bool differ = (v.image.at(x, y)[0] > 0.5f) != (reference.at(x, y)[0] > 0.5f);
+                (near_border ? border : other) += 1;
+                (near_border ? border_differ : other_differ) += differ;
+            }
+        ASSERT_GT(border, 500);
+        const double border_rate = static_cast<double>(border_differ) / border;
+        const double other_rate = static_cast<double>(other_differ) / other;
+        EXPECT_LT(border_rate, 0.01) << border_differ << " of " << border << " border pixels differ";
+        EXPECT_LT(other_rate, 0.01);
+        std::printf("cube seams, %.0f-texel faces: border %d pixels, %.5f differ; elsewhere %.5f\n", v.views.views[0].tile_texels, border,
+                    border_rate, other_rate);
+    }
 }
 
 // shadow_test.gltf under a root node scaled by `s` (the camera too: the same picture).
@@ -306,6 +316,61 @@ TEST_P(ShadowTest, CachedViewsGiveTheImageOfFreshOnes) {
         std::printf("%s: %d views, %d redrawn after the camera moved, %zu values differ from a fresh render\n", name, views,
                     redrawn, differ);
     }
+}
+
+// The shadow budget: 64 shadowed point lights (384 views) in 128, 32 and 16 MiB of 512-texel
+// layers (1 MiB each). The atlas stays within the budget, lower-priority lights get
+// smaller tiles and then none, the frame and `info` say so, and the shadows it keeps are closer
+// to the full shadows than no shadows for those lights are.
+TEST_P(ShadowTest, ManyShadowedLightsShareTheBudget) {
+    const Scene scene = make_many_lights_scene(64, true);
+    const int w = 96, h = 54;
+    const Camera camera = scene.select_camera("", static_cast<float>(w) / h);
+    auto frame = [&](const std::vector<std::string>& knobs, ShadowAtlas* atlas, std::string* text) {
+        GpuScene gpu(scene);
+        Renderer r(lib_, scene, gpu, settings("shadows", knobs));
+        r.render(camera, w, h);
+        if (atlas) *atlas = gpu.shadow_atlas();
+        if (text) *text = r.features().shadow_budget;
+        ImageF img = r.read_radiance();
+        EXPECT_EQ(count_nonfinite(img), 0u);
+        if (atlas) EXPECT_EQ(r.effect_runtime<ShadowsRuntime>()->views().views.size(), atlas->tiles.size());
+        return img;
+    };
+    const std::vector<std::string> base{"shadows.max_lights=4096", "shadows.resolution=512"};
+    auto with = [&](int budget_mb) {
+        std::vector<std::string> k = base;
+        k.push_back("shadows.budget_mb=" + std::to_string(budget_mb));
+        return k;
+    };
+    auto difference = [](const ImageF& a, const ImageF& b) {
+        double sum = 0.0;
+        for (size_t i = 0; i < a.pixels.size(); ++i) sum += std::abs(a.pixels[i] - b.pixels[i]);
+        return sum / static_cast<double>(a.pixels.size());
+    };
+    ShadowAtlas atlas;
+    std::string text;
+    const ImageF full = frame(with(1024), &atlas, &text);
+    EXPECT_EQ(atlas.requested, 64);
+    EXPECT_EQ(atlas.reduced, 0);
+    EXPECT_EQ(atlas.layers, 384);
+    const ImageF none = frame({"shadows.max_lights=0"}, nullptr, nullptr);
+    const double off = difference(none, full);
+    int last_shadowed = 65;
+    for (const int budget_mb : {128, 32, 16}) {
+        SCOPED_TRACE(budget_mb);
+        const ImageF img = frame(with(budget_mb), &atlas, &text);
+        EXPECT_LE(atlas.layers, budget_mb);
+        EXPECT_GT(atlas.reduced, 0);
+        EXPECT_EQ(text.find("unshadowed") != std::string::npos, atlas.unshadowed > 0) << text;
+        const int shadowed = atlas.requested - atlas.unshadowed;
+        EXPECT_LE(shadowed, last_shadowed);
+        last_shadowed = shadowed;
+        const double d = difference(img, full);
+        EXPECT_LT(d, off) << "the budget's shadows are closer to the full ones than none";
+        std::printf("budget %d MiB: %s; mean |difference| from full shadows %.5f (no shadows %.5f)\n", budget_mb, text.c_str(), d, off);
+    }
+    EXPECT_GT(atlas.unshadowed, 0) << "16 layers cannot hold 64 cubes of 128-texel faces";
 }
 
 INSTANTIATE_TEST_SUITE_P(Backends, ShadowTest, ::testing::Values(Backend::egl), test::backend_name);

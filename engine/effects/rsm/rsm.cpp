@@ -132,7 +132,6 @@ private:
     void prepare_maps(const FramePrep& p) {
         const ShadowsRuntime* shadows = p.runtime<ShadowsRuntime>();
         const ShadowViews& shadow_views = shadows->views();
-        const float shadow_resolution = static_cast<float>(p.settings.get<ShadowsOptions>().resolution);
 
         Resources& r = res_;
         const auto& infos = p.gpu.light_infos();
@@ -140,7 +139,6 @@ private:
         r.kind_texel.clear();
         r.own_draw.clear();
         r.light_first.clear();
-        const float scale = static_cast<float>(shadow_resolution) / static_cast<float>(options_.resolution);
         for (const RsmLight& rl : rsm_lights(p)) {
             const int first = static_cast<int>(r.views.size());
             for (int li : rl.lights) {
@@ -155,9 +153,11 @@ private:
                     const ShadowViewData sv =
                         directional ? directional_scene_view(info.direction, p.scene_bounds, options_.resolution) : shadow_views.views[layer];
                     // Cube faces: their tangent half-width (a guard band beyond 90 degrees), for the gather.
-                    const float half_width = count == 6 ? sv.texel_size * static_cast<float>(shadow_resolution) * 0.5f : 0.0f;
+                    // (A shadow view's texel size is that of its tile's resolution.)
+                    const float half_width = count == 6 ? sv.texel_size * sv.tile_texels * 0.5f : 0.0f;
+                    const float scale = directional ? 1.0f : sv.tile_texels / static_cast<float>(options_.resolution);
                     r.views.push_back({sv.view_proj, static_cast<float>(li), static_cast<float>(first), 0.0f, half_width});
-                    r.kind_texel.push_back(glm::vec4(sv.kind, directional ? sv.texel_size : sv.texel_size * scale, rl.flux_scale, 0.0f));
+                    r.kind_texel.push_back(glm::vec4(sv.kind, sv.texel_size * scale, rl.flux_scale, 0.0f));
                     r.own_draw.push_back(info.own_draw);
                 }
             }

@@ -94,7 +94,8 @@ ShadowViews build_shadow_views(const GpuScene& gpu, const Bounds& bounds, const 
     out.light.assign(static_cast<size_t>(total), -1);
     out.skip.assign(static_cast<size_t>(total), false);
     out.texel_world.assign(static_cast<size_t>(total), 0.0f);
-    const float res = static_cast<float>(settings.resolution);
+    const ShadowAtlas& atlas = gpu.shadow_atlas();
+    const float layer_res = static_cast<float>(std::max(atlas.resolution, 1));
     const auto corners = bounds_corners(bounds);
     const glm::vec3 cam_pos(camera.world[3]);
 
@@ -102,16 +103,23 @@ ShadowViews build_shadow_views(const GpuScene& gpu, const Bounds& bounds, const 
     for (size_t li = 0; li < infos.size(); ++li) {
         const LightInfo& info = infos[li];
         if (info.view_count == 0) continue;
+        // This light's tiles (all of one size): its views' resolution.
+        const float res = static_cast<float>(atlas.tiles[static_cast<size_t>(info.first_view)].size);
         // kind 0 orthographic, 1 perspective; `range`: the orthographic depth range or the near plane.
         auto set_view = [&](int k, const glm::mat4& vp, float kind, float texel_size, float range, float cascade_end) {
-            const size_t layer = static_cast<size_t>(info.first_view + k);
+            const size_t layer = static_cast<size_t>(info.first_view + k);  // the view's index
             ShadowViewData& v = out.views[layer];
             v = ShadowViewData{};
             v.view_proj = vp;
             v.kind = kind;
             v.texel_size = texel_size;
             v.depth_range = range;
-            v.layer = static_cast<float>(layer);
+            const ShadowTile& tile = atlas.tiles[layer];
+            v.layer = static_cast<float>(tile.layer);
+            v.tile_u = static_cast<float>(tile.x) / layer_res;
+            v.tile_v = static_cast<float>(tile.y) / layer_res;
+            v.tile_scale = static_cast<float>(tile.size) / layer_res;
+            v.tile_texels = static_cast<float>(tile.size);
             v.cascade_end = cascade_end;
             v.light_size = info.size;
             out.light[layer] = static_cast<int>(li);

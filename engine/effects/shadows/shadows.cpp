@@ -65,8 +65,9 @@ void ShadowsRuntime::prepare(const FramePrep& p) {
         cpu_ = {};
         return;
     }
-    const int res = options_.resolution;
-    const int layers = std::max(p.gpu.shadow_view_count(), 1);
+    const ShadowAtlas& atlas = p.gpu.shadow_atlas();
+    const int res = atlas.resolution;
+    const int layers = std::max(atlas.layers, 1);
     if (resolution_ != res || layers_ != layers) {
         GLuint id = 0;
         glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &id);
@@ -90,7 +91,7 @@ void ShadowsRuntime::prepare(const FramePrep& p) {
     drawn_gpu_ = &p.gpu;
     drawn_pose_ = p.gpu.pose_version();
     drawn_slope_bias_ = options_.slope_bias;
-    drawn_.resize(static_cast<size_t>(layers));
+    drawn_.resize(static_cast<size_t>(p.gpu.shadow_view_count()));
     if (!compare_) {
         compare_ = gl::Sampler::create(GL_LINEAR, GL_LINEAR, GL_CLAMP_TO_EDGE, GL_CLAMP_TO_EDGE);
         glSamplerParameteri(compare_.id(), GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
@@ -137,7 +138,6 @@ void ShadowsRuntime::add_maps(FrameGraph& graph, const PassEnv& env) {
             ps.polygon_offset_factor = -options_.slope_bias;
             ps.polygon_offset_units = -1.0f;
             ctx.state.apply(ps);
-            ctx.state.viewport(0, 0, resolution_, resolution_);
             bind_scene_buffers(env);
             ctx.state.bind_vertex_array(env.scene.vertex_array().id());
             const auto& infos = env.scene.light_infos();
@@ -162,16 +162,23 @@ void ShadowsRuntime::add_maps(FrameGraph& graph, const PassEnv& env) {
                 return !cullable[di] || !outside_view(view_proj, draws[di].world_bounds);
             };
             layers_drawn_ = 0;
-            for (size_t layer = 0; layer < cpu_.views.size(); ++layer) {
+            const auto& tiles = env.scene.shadow_atlas().tiles;
+            for (size_t layer = 0; layer < cpu_.views.size(); ++layer) {  // `layer`: the view's index
                 DrawnLayer& drawn = drawn_[layer];
-                if (drawn.valid && drawn.view_proj == cpu_.views[layer].view_proj && drawn.light == cpu_.light[layer] &&
-                    drawn.skip == cpu_.skip[layer])
-                    continue;  // the depth in the layer is this view's (shadows.cache)
-                drawn = {cpu_.views[layer].view_proj, cpu_.light[layer], cpu_.skip[layer], options_.cache};
+                const ShadowTile& tile = tiles[layer];
+                if (drawn.valid && drawn.view_proj == cpu_.views[layer].view_proj && drawn.tile == tile &&
+                    drawn.light == cpu_.light[layer] && drawn.skip == cpu_.skip[layer])
+                    continue;  // the depth in the tile is this view's (shadows.cache)
+                drawn = {cpu_.views[layer].view_proj, tile, cpu_.light[layer], cpu_.skip[layer], options_.cache};
                 ++layers_drawn_;
-                ctx.state.bind_framebuffer(layer_fbos_[layer].id());
+                ctx.state.bind_framebuffer(layer_fbos_[static_cast<size_t>(tile.layer)].id());
+                ctx.state.viewport(tile.x, tile.y, tile.size, tile.size);
+                // Clear the tile alone: the layer's other tiles may hold other views.
+                glEnable(GL_SCISSOR_TEST);
+                glScissor(tile.x, tile.y, tile.size, tile.size);
                 const float clear_depth = 0.0f;  // reversed-Z far: lit
                 glClearBufferfv(GL_DEPTH, 0, &clear_depth);
+                glDisable(GL_SCISSOR_TEST);
                 if (cpu_.skip[layer]) continue;
                 const int own = infos[static_cast<size_t>(cpu_.light[layer])].own_draw;
                 const glm::mat4& view_proj = cpu_.views[layer].view_proj;
@@ -212,7 +219,7 @@ public:
     std::vector<Knob> knobs() const override {
         using O = ShadowsOptions;
         return KnobRows<O>("shadows", [](RenderSettings& s) -> O& { return s.get<O>(); })
-            .integer("resolution", &O::resolution, 64, 8192, "texels per side of every shadow view")
+            .integer("resolution", &O::resolution, 64, 8192, "texels per side of a full-resolution shadow view (a layer of the atlas)")
             .choice("filter", &O::filter, kShadowFilters,
                     "hard: one 2x2 hardware PCF tap; pcf: pcf_size^2 taps; pcss: blocker search + variable kernel")
             .integer("pcf_size", &O::pcf_size, 1, 15, "PCF kernel width in taps (each tap is a 2x2 hardware PCF)")
@@ -228,7 +235,10 @@ public:
             .real("receiver_slope_bias", &O::receiver_slope_bias, 0.0f, 4.0f,
                   "extra depth bias of a filter tap r texels out: r * tan(theta) texels times this")
             .integer("cascades", &O::cascades, 1, 4, "cascades of a directional light's shadow map")
-            .integer("max_lights", &O::max_lights, 0, 4096, "shadow-casting lights at most: directional first, then the brightest")
+            .integer("max_lights", &O::max_lights, 0, 4096,
+                     "shadow-casting lights at most: directional first, then by intensity over squared distance from the camera")
+            .integer("budget_mb", &O::budget_mb, 16, 16384,
+                     "shadow-map memory at most; past it lower-priority lights get smaller tiles, then no shadow")
             .real("split_lambda", &O::split_lambda, 0.0f, 1.0f, "cascade split blend: 0 uniform, 1 logarithmic")
             .boolean("cache", &O::cache, "keep a shadow view's depth while its view, the pose and the caster settings are unchanged")
             .rows;
@@ -253,6 +263,8 @@ public:
         out.shadows = d.planned;
         out.cascades = o.cascades;
         out.max_shadowed = o.max_lights;
+        out.shadow_resolution = o.resolution;
+        out.shadow_budget_mb = o.budget_mb;
     }
     std::vector<ProgramDesc> programs() const override {
         using S = ShaderStage;

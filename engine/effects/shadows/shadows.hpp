@@ -12,7 +12,7 @@ inline constexpr ChoiceName<ShadowFilter> kShadowFilters[] = {
     {"hard", ShadowFilter::hard}, {"pcf", ShadowFilter::pcf}, {"pcss", ShadowFilter::pcss}};
 
 struct ShadowsOptions {
-    int resolution = 1024;                      // [64, 8192] texels per side of every shadow view
+    int resolution = 1024;                      // [64, 8192] texels per side of a full-resolution shadow view
     ShadowFilter filter = ShadowFilter::pcss;   // one 2x2 hardware PCF tap, pcf_size^2 taps, PCSS
     int pcf_size = 5;                           // [1, 15] taps per side of the PCF kernel
     int pcss_blocker_taps = 16;                 // [1, 128] blocker-search taps
@@ -25,7 +25,10 @@ struct ShadowsOptions {
     // texels deeper, times this factor (wide PCF/PCSS kernels on tilted receivers)
     float receiver_slope_bias = 1.0f;
     int cascades = 1;                           // [1, 4] directional-light cascades
-    int max_lights = 16;                        // [0, 4096] lights with shadow maps: directional first, then brightest
+    int max_lights = 16;                        // [0, 4096] lights with shadow maps: directional first, then by what they add to the view
+    // [16, 16384] MiB of shadow maps at most, shared by the shadowed lights (render/shadow_atlas.hpp):
+    // lower-priority lights get smaller tiles, and beyond the smallest none
+    int budget_mb = 512;
     float split_lambda = 0.7f;                  // [0, 1] cascade splits: 0 uniform, 1 logarithmic
     // Keep a view's depth from an earlier frame while its view, the scene's pose and the caster
     // settings are unchanged (a still light under a moving camera: only cascades follow the camera).
@@ -66,8 +69,9 @@ private:
     std::vector<std::string> defines_;  // shading_defines: from the block's filter mode
     FrameGraph::ResourceId maps_ = -1;
     // What each layer of array_ holds (shadows.cache): the view, light and skip it was drawn with.
-    struct DrawnLayer {
+    struct DrawnLayer {  // what a view's tile holds
         glm::mat4 view_proj{0.0f};
+        ShadowTile tile;
         int light = -1;
         bool skip = false;
         bool valid = false;

@@ -15,7 +15,7 @@ GPU_BLOCK(ShadowsData, SHADOWS_BINDING) {
     int pcss_taps;       // PCSS filter taps (shadows.pcss_taps)
     float normal_bias;   // receiver offset along its normal, texels (shadows.normal_bias)
     float depth_bias;    // reference moved towards the light, texels (shadows.depth_bias)
-    float resolution;    // texels per side of every shadow view (shadows.resolution)
+    float resolution;    // texels per side of a layer of the shadow atlas (shadows.resolution)
     float max_radius;    // largest PCSS search/filter radius, texels (shadows.max_radius)
     float receiver_slope_bias;  // multiple of tan(theta) per texel of filter taps (shadows.receiver_slope_bias)
     float pad0;
@@ -30,13 +30,17 @@ GPU_STRUCT(ShadowView) {
     float kind;          // 0 orthographic, 1 perspective
     float texel_size;    // orthographic: world units; perspective: tangent units (times the distance)
     float depth_range;   // orthographic: the depth range; perspective: the near plane
-    float layer;         // the array layer
+    float layer;         // the array layer of its tile
     float cascade_end;   // orthographic cascades: the view depth where this cascade ends
     float light_size;    // world units; directional: angular diameter in radians
+    float tile_u;        // the tile's corner in the layer (texture coordinates)
+    float tile_v;
+    float tile_scale;    // the tile's side over the layer's (1, 1/2, 1/4, ...)
+    float tile_texels;   // the tile's side in texels: the view's resolution
     float pad0;
     float pad1;
 };
-GPU_STRUCT_CHECK(ShadowView, 96)
+GPU_STRUCT_CHECK(ShadowView, 112)
 GPU_NAMESPACE_END
 
 #endif

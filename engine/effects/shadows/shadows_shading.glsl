@@ -1,6 +1,8 @@
 // Shadow-map lookups shared by the forward and deferred lighting (included by
 // shaders/lighting/shading.glsl through the registry: hook light_visibility; shadow_views.hpp
-// builds the views). All maps are layers of one depth array, reversed-Z (1 near the light, 0 far):
+// builds the views). All maps are square tiles of the layers of one depth array (the shadow
+// atlas: a full-resolution view fills a layer, a smaller one shares it), reversed-Z (1 near the
+// light, 0 far):
 // directional lights have one orthographic view per cascade, spot lights one perspective view,
 // point lights and area-light pieces six 90-degree views (+X, -X, +Y, -Y, +Z, -Z).
 // Biases are in shadow-map texels converted to world units at the receiver, so they hold at any
@@ -80,8 +82,13 @@ float shadows_light_visibility(LightData light, vec3 p, vec3 n, vec3 l, vec2 pix
     float layer = sv.layer;
     float res = shadows.resolution;
     vec2 texel_uv = vec2(1.0 / res);
+    // Into the atlas: taps stay half a texel inside the tile, so that the 2x2 filter never reads
+    // a neighbouring tile (at full resolution this is what clamping to the layer's edge gives).
+    vec2 tile_lo = vec2(sv.tile_u, sv.tile_v);
+    vec2 tap_lo = tile_lo + 0.5 * texel_uv, tap_hi = tile_lo + vec2(sv.tile_scale) - 0.5 * texel_uv;
+    uv = tile_lo + uv * sv.tile_scale;
 
-    if (mode == SHADOW_HARD) return texture(t_shadow, vec4(uv, layer, ref0 + slope_per_texel));
+    if (mode == SHADOW_HARD) return texture(t_shadow, vec4(clamp(uv, tap_lo, tap_hi), layer, ref0 + slope_per_texel));
     if (mode == SHADOW_PCF) {
         // size x size taps one texel apart, centred (half-texel offsets for an even size).
         int size = shadows.pcf_size;
@@ -89,7 +96,7 @@ float shadows_light_visibility(LightData light, vec3 p, vec3 n, vec3 l, vec2 pix
         float ref = ref0 + slope_per_texel * (h + 1.0);
         float sum = 0.0;
         for (int y = 0; y < size; ++y)
-            for (int x = 0; x < size; ++x) sum += texture(t_shadow, vec4(uv + (vec2(x, y) - h) * texel_uv, layer, ref));
+            for (int x = 0; x < size; ++x) sum += texture(t_shadow, vec4(clamp(uv + (vec2(x, y) - h) * texel_uv, tap_lo, tap_hi), layer, ref));
         return sum / float(size * size);
     }
     // PCSS (Fernando 2005): blocker search, penumbra estimate, variable-size PCF.
@@ -116,7 +123,7 @@ float shadows_light_visibility(LightData light, vec3 p, vec3 n, vec3 l, vec2 pix
     for (int i = 0; i < blocker_taps; ++i) {
         vec2 o = sqrt((float(i) + 0.5) / float(blocker_taps)) * dir * search_texels * texel_uv;
         dir = vec2(dir.x * golden_turn.x - dir.y * golden_turn.y, dir.y * golden_turn.x + dir.x * golden_turn.y);
-        float d = textureLod(t_shadow_depth, vec3(uv + o, layer), 0.0).r;
+        float d = textureLod(t_shadow_depth, vec3(clamp(uv + o, tap_lo, tap_hi), layer), 0.0).r;
         if (d > ref) {
             blocker_sum += shadow_linear_depth(sv, d);
             ++blockers;
@@ -134,7 +141,7 @@ float shadows_light_visibility(LightData light, vec3 p, vec3 n, vec3 l, vec2 pix
     for (int i = 0; i < taps; ++i) {
         vec2 o = sqrt((float(i) + 0.5) / float(taps)) * dir * radius * texel_uv;
         dir = vec2(dir.x * golden_turn.x - dir.y * golden_turn.y, dir.y * golden_turn.x + dir.x * golden_turn.y);
-        sum += texture(t_shadow, vec4(uv + o, layer, ref));
+        sum += texture(t_shadow, vec4(clamp(uv + o, tap_lo, tap_hi), layer, ref));
     }
     return sum / float(taps);
 }
