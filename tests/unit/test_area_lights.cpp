@@ -40,12 +40,14 @@ json emitter(float Le) {
 // A 0.6 x 0.6 quad light 1.2 above a 4 x 4 floor, facing down, seen from above at 40-60 degrees
 // from the normal (NdotV 0.55 to 0.85) so that the floor shows the light's reflection. Grazing
 // views are where the LTC fit is weakest (test_ltc.cpp measures the fit itself).
-Scene floor_under_quad(const std::string& name, glm::vec3 base, float metallic, float roughness, float Le) {
+// (`half`, `height`: the light's half side and height, for other tests.)
+Scene floor_under_quad(const std::string& name, glm::vec3 base, float metallic, float roughness, float Le, float half = 0.3f,
+                       float height = 1.2f) {
     test::GltfBuilder b;
     b.json()["materials"] = {material(base, metallic, roughness), emitter(Le)};
     const int quad0 = b.add_quad_mesh(0), quad1 = b.add_quad_mesh(1);
     b.add_node({{"mesh", quad0}, {"rotation", {-0.70710678, 0, 0, 0.70710678}}, {"scale", {2, 2, 2}}});  // floor facing +Y
-    b.add_node({{"mesh", quad1}, {"translation", {0, 1.2, -0.3}}, {"rotation", {0.70710678, 0, 0, 0.70710678}}, {"scale", {0.3, 0.3, 1}}});  // facing -Y
+    b.add_node({{"mesh", quad1}, {"translation", {0, height, -0.3}}, {"rotation", {0.70710678, 0, 0, 0.70710678}}, {"scale", {half, half, 1}}});  // facing -Y
     b.json()["cameras"] = {{{"type", "perspective"}, {"perspective", {{"yfov", 0.8}, {"znear", 0.05}}}}};
     b.add_node({{"camera", 0}, {"translation", {0, 2.4, 1.6}}, {"rotation", quat(glm::vec3(0, -2.4, -2.0))}});
     return load_gltf(b.write(test::test_dir(name), name));
@@ -296,6 +298,51 @@ TEST_P(AreaLightTest, CornellBoxDirectLightIsCloserToTheTracerThanThePieces) {
                 ltc.rmse, ltc.relative_mse, ltc_blocks.rmse, pieces.rmse, pieces.relative_mse, pieces_blocks.rmse);
     EXPECT_LT(ltc_blocks.rmse, pieces_blocks.rmse);
     EXPECT_LT(ltc.rmse, pieces.rmse * 1.02);  // no worse per pixel (the reference's noise dominates there)
+}
+
+// arealight.far_field: a 0.1 m square light 1.5 m above the floor is under 1/20 of a radian
+// wide from every floor point, so where the lobe is wide (roughness 0.5) it is shaded as a
+// point emitter; the image stays within the point's bound (the irradiance of a disk of angular
+// radius t is the point's times 1 / (1 + t^2): 0.25 % here) of the LTC's and as close to the
+// tracer. On a smooth metal (a lobe narrower than 4 t) the LTC still shades it: the same image
+// bit for bit.
+TEST_P(AreaLightTest, SmallFarLightsShadeAsPointsWithinTheirBound) {
+    struct Case {
+        const char* name;
+        glm::vec3 base;
+        float metallic, roughness;
+        bool far;  // the far field applies
+    };
+    const Case cases[] = {{"rough dielectric", glm::vec3(0.6f), 0.0f, 0.5f, true},
+                          {"rough metal", glm::vec3(0.9f), 1.0f, 0.5f, true},
+                          {"smooth metal", glm::vec3(0.9f), 1.0f, 0.15f, false}};
+    const int n = 64;
+    for (const Case& c : cases) {
+        SCOPED_TRACE(c.name);
+        const Scene scene = floor_under_quad("far_field", c.base, c.metallic, c.roughness, 400.0f, 0.05f, 1.5f);
+        const ImageF point = raster(scene, n, n, settings("none", {"arealight.far_field=8"}));
+        const ImageF ltc = raster(scene, n, n, settings("none", {"arealight.far_field=0"}));
+        const ImageF ref = direct(scene, n, 256);
+        EXPECT_EQ(count_nonfinite(point), 0u);
+        EXPECT_EQ(count_nonfinite(ltc), 0u);
+        size_t differ = 0;
+        for (size_t i = 0; i < point.pixels.size(); ++i) differ += point.pixels[i] != ltc.pixels[i];
+        const Errors against_ltc = relative_errors(point, ltc, 0.1);
+        const Errors point_ref = relative_errors(point, ref, 0.1), ltc_ref = relative_errors(ltc, ref, 0.1);
+        std::printf("%s: %zu values differ; point vs LTC p95 %.5f max %.5f sum %.5f; vs tracer point p95 %.4f sum %.4f, LTC p95 %.4f "
+                    "sum %.4f\n",
+                    c.name, differ, against_ltc.p95, against_ltc.max, against_ltc.sum, point_ref.p95, point_ref.sum, ltc_ref.p95,
+                    ltc_ref.sum);
+        if (!c.far) {
+            EXPECT_EQ(differ, 0u);
+            continue;
+        }
+        EXPECT_GT(differ, 0u) << "the far field shaded nothing";
+        EXPECT_LT(against_ltc.sum, 0.01);
+        EXPECT_LT(against_ltc.p95, 0.03);
+        EXPECT_LT(point_ref.p95, ltc_ref.p95 + 0.01);
+        EXPECT_LT(point_ref.sum, ltc_ref.sum + 0.01);
+    }
 }
 
 INSTANTIATE_TEST_SUITE_P(Backends, AreaLightTest, ::testing::Values(Backend::egl), test::backend_name);

@@ -148,6 +148,7 @@ public:
         d.method = o.method == AreaLightMethod::ltc ? 1 : 0;
         d.ltc_size = ltc::kTableSize;
         d.residual = o.residual ? 1 : 0;
+        d.far_field = o.far_field;
         if (!p.decision.planned) {
             d.method = 0;  // emission only: no piece in the light buffer, no polygon
         } else if (d.method == 1) {
@@ -231,6 +232,9 @@ public:
                     "ltc: emissive triangles as polygon lights (exact unshadowed, LTC specular), pieces: point lights")
             .boolean("residual", &AreaLightsOptions::residual,
                      "ltc: add the specular the fitted lobe misses (tails, grazing views), measured on 3x3 cells of each polygon")
+            .real("far_field", &AreaLightsOptions::far_field, 0.0f, 64.0f,
+                  "ltc: polygons farther than this many of their radii (and narrower than the specular lobe) shade as points; "
+                  "0: all by LTC")
             .real("negligible", &AreaLightsOptions::negligible, 0.0f, 1.0f,
                   "emitters whose measured light changes the display by less (99th percentile of 4x4 blocks) are emission only; "
                   "0: always lights")

@@ -34,6 +34,12 @@ struct AreaLightsOptions {
     int samples = 4;  // [1, 64] shadowed pieces per emissive primitive
     AreaLightMethod method = AreaLightMethod::ltc;
     bool residual = true;  // ltc: add the lobe's part the fit misses, measured on cells of each polygon
+    // ltc: a polygon seen from farther than this many of its bounding radii, and narrower than a
+    // quarter of the specular lobe's width, is shaded as a point emitter (its radiance times its
+    // solid angle through the BRDF) instead of by the LTC integrals: the irradiance of a uniform
+    // disk of angular radius t differs from the point's by a factor 1/(1 + t^2), 1.6 % at 8.
+    // [0, 64]; 0: every polygon by LTC.
+    float far_field = 8.0f;
     // The emitters light the scene when their measured light changes the displayed image by at
     // least this much (99th percentile over 4x4 blocks of the largest channel's difference,
     // display values in [0, 1], exposure 0) or is at least 2 % of the direct light on the view's

@@ -13,8 +13,12 @@ GPU_BLOCK(AreaLightsData, AREA_LIGHTS_BINDING) {
     int polygon_count;  // PolygonLight entries (method 1)
     int ltc_size;       // the LTC table's side
     int residual;       // 1: the LTC's residual measured on cells of each polygon (arealight.residual)
+    float far_field;    // a polygon farther than this many of its radii is shaded as a point (arealight.far_field; 0: never)
+    float pad0;
+    float pad1;
+    float pad2;
 } GPU_BLOCK_INSTANCE(area_lights);
-GPU_BLOCK_CHECK(AreaLightsData, 16)
+GPU_BLOCK_CHECK(AreaLightsData, 32)
 
 // One emissive triangle, or a convex quad of two coplanar triangles of the same radiance, as the
 // lighting reads it: the element of the AREA_POLYGONS_BINDING buffer.

@@ -92,6 +92,11 @@ mat3 ltc_matrix(float roughness, float NdotV, out vec2 amplitude) {
 // filtered shadow-map lookup) is only looked up when no piece has weight and the plain mean is
 // the answer; the sums, and so the ratio, are those of summing over every piece.
 float area_visibility(int first, int count, vec3 p, vec3 n, vec2 pixel) {
+    // No piece with a shadow map (shadows off, or the emitter beyond shadows.max_lights or the
+    // shadow budget): every piece's visibility is 1, and so is the ratio.
+    bool any_shadowed = false;
+    for (int k = first; k < first + count && !any_shadowed; ++k) any_shadowed = lights[k].shadow_view_count > 0.5;
+    if (!any_shadowed) return 1.0;
     bool any_weight = false;
     for (int k = first; k < first + count && !any_weight; ++k) {
         vec3 l, E;
@@ -209,6 +214,28 @@ vec3 area_lights_direct_light(BrdfInput bi, vec3 p, vec3 n, vec3 v, vec2 pixel, 
         // One-sided: only the side the winding's normal points to emits.
         float facing = dot(cross(b - a, c - a), -a);
         if (pl.double_sided < 0.5 && facing <= 0.0) continue;
+        // Far field (arealight.far_field): a polygon of angular radius t = R / d below 1 / far_field
+        // and below a quarter of the lobe's width alpha is a point emitter: radiance times its
+        // solid angle (area times cosine over d^2) through the BRDF. For a uniform disk the
+        // irradiance is the point's times 1 / (1 + t^2); across a quarter of the lobe's width the
+        // GGX lobe changes by a few per cent. It skips the two polygon integrals and the residual.
+        if (area_lights.far_field > 0.0) {
+            vec3 centre = quad ? 0.25 * (a + b + c + d) : (a + b + c) * (1.0 / 3.0);
+            float d2 = dot(centre, centre);
+            float r2 = max(max(dot(a - centre, a - centre), dot(b - centre, b - centre)),
+                           max(dot(c - centre, c - centre), quad ? dot(d - centre, d - centre) : 0.0));
+            float t_max = min(1.0 / area_lights.far_field, 0.25 * alpha);
+            if (r2 < t_max * t_max * d2) {
+                vec3 area_vector = quad ? 0.5 * cross(c - a, d - b) : 0.5 * cross(b - a, c - a);  // the winding's side
+                vec3 l = centre * inversesqrt(d2);
+                float cos_e = -dot(area_vector, l);
+                if (pl.double_sided > 0.5) cos_e = abs(cos_e);
+                float NdotL = dot(n, l);
+                if (cos_e > 0.0 && NdotL > 0.0)
+                    group_sum += pl.radiance * brdf_eval_base(bi, n, l, v, 1.0 - transmission) * (NdotL * cos_e / d2);
+                continue;
+            }
+        }
         vec3 form = ltc_polygon_vector(to_local * a, to_local * b, to_local * c, to_local * d, quad);
         float diffuse = abs(form.z);
         vec3 spec_form = ltc_polygon_vector(m_inv * a, m_inv * b, m_inv * c, m_inv * d, quad);
