@@ -209,6 +209,55 @@ Scene make_street_scene(int lamps) {
     return scene;
 }
 
+Scene make_emitters_scene(int emitters) {
+    // The floor and boxes of generated:lights-bounded:N without its point lights.
+    Scene scene = make_many_lights_scene(1, true);
+    scene.source = "generated:emitters:" + std::to_string(emitters);
+    scene.lights.clear();
+    for (auto it = scene.roots.begin(); it != scene.roots.end();)
+        if (scene.nodes[static_cast<size_t>(*it)].light >= 0) it = scene.roots.erase(it);
+        else ++it;
+    for (Node& n : scene.nodes) n.light = -1;
+    const float shrink = emitters > 16 ? std::sqrt(16.0f / static_cast<float>(emitters)) : 1.0f;
+    auto halton = [](int index, int base) {
+        float f = 1.0f, r = 0.0f;
+        for (int i = index; i > 0; i /= base) {
+            f /= static_cast<float>(base);
+            r += f * static_cast<float>(i % base);
+        }
+        return r;
+    };
+    // Eight hues, one emissive material and one quad mesh each (a 0.2 m square facing down).
+    const int first_material = static_cast<int>(scene.materials.size());
+    for (int k = 0; k < 8; ++k) {
+        const float hue = static_cast<float>(k) * 0.75f;
+        Material m = lambert_material("emitter", glm::vec3(0.8f));
+        m.emissive = glm::clamp(glm::vec3(std::abs(hue - 3.0f) - 1.0f, 2.0f - std::abs(hue - 2.0f), 2.0f - std::abs(hue - 4.0f)), 0.0f, 1.0f);
+        // 50 W/m^2/sr over 0.04 m^2: 2 W/sr straight down, a point light of generated:lights-bounded:N.
+        m.emissive_strength = 50.0f * shrink * shrink;
+        scene.materials.push_back(m);
+    }
+    const int first_mesh = static_cast<int>(scene.meshes.size());
+    for (int k = 0; k < 8; ++k) {
+        Primitive q;
+        q.material = first_material + k;
+        append_quad(q, {-0.1f, 0.0f, -0.1f}, {0.2f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.2f});  // normal -y: emits down
+        compute_bounds(q);
+        scene.meshes.push_back({"emitter", {std::move(q)}});
+    }
+    for (int i = 0; i < emitters; ++i) {
+        Node n;
+        n.name = "emitter" + std::to_string(i);
+        n.mesh = first_mesh + static_cast<int>(halton(i + 1, 5) * 8.0f) % 8;
+        n.local = glm::translate(glm::mat4(1.0f), glm::vec3(-9.5f + 19.0f * halton(i + 1, 2), (0.3f + 1.2f * halton(i + 1, 7)) * shrink,
+                                                           -9.5f + 19.0f * halton(i + 1, 3)));
+        scene.roots.push_back(static_cast<int>(scene.nodes.size()));
+        scene.nodes.push_back(n);
+    }
+    scene.update_world_transforms();
+    return scene;
+}
+
 Scene make_many_lights_scene(int lights, bool bounded) {
     Scene scene;
     scene.source = std::string(bounded ? "generated:lights-bounded:" : "generated:lights:") + std::to_string(lights);

@@ -40,6 +40,11 @@ Scene make_many_lights_scene(int lights, bool bounded = false);
 // road 20 m wide, seen along the road: the scene of lights.cutoff, where each lamp lights its
 // stretch of road and the far ones add nearly nothing.
 Scene make_street_scene(int lamps);
+// generated:emitters:N: the floor and boxes of generated:lights-bounded:N lit by N emissive
+// 0.2 m squares facing down instead of point lights, at the same places and heights, each with
+// the power of one of its lights (2 W/sr straight down, times 16 / N from 16 on, as the heights
+// shrink): the scene of many small emitters (arealight.far_field).
+Scene make_emitters_scene(int emitters);
 
 // generated:dof (generate_dof.cpp): the depth-of-field scene, a thin-lens camera focused on a
 // subject between a near and a far out-of-focus object, over a checkered floor and back wall.

@@ -314,20 +314,22 @@ int bench_animation(const Args& args) {
 
 // `candela bench lights`: the cost of lights against the number of lights, with the raster's
 // error against the tracer at each count: generated:lights-bounded:N (each point of the floor
-// reached by about one light at any N) or generated:street:N (lamps without a range,
-// lights.cutoff). For each N: the default frame's and the speed-of-light frame's median times,
+// reached by about one light at any N), generated:street:N (lamps without a range,
+// lights.cutoff) or generated:emitters:N (small emitters in the lights' places). For each N: the default frame's and the speed-of-light frame's median times,
 // and the block error (block_agreement, 4x4, display values) of the default frame's radiance
 // against `--raytrace path` at the same size and --spp samples.
 int bench_lights(const Args& args) {
     std::vector<std::string> with_value = kSceneSetupOptions;
     with_value.insert(with_value.end(), {"--counts", "--scene", "--spp"});
     const Parsed p = parse(args, with_value, kSceneSetupFlags);
-    if (!p.positional.empty()) throw bad_input("bench lights takes no SCENE: --scene bounded|street chooses the generator");
+    if (!p.positional.empty()) throw bad_input("bench lights takes no SCENE: --scene bounded|street|emitters chooses the generator");
     const std::string which = p.has("--scene") ? p.get("--scene") : "bounded";
-    if (which != "bounded" && which != "street") throw bad_input("bench lights: --scene must be bounded or street, not '" + which + "'");
+    if (which != "bounded" && which != "street" && which != "emitters")
+        throw bad_input("bench lights: --scene must be bounded, street or emitters, not '" + which + "'");
     std::vector<int> counts;
     {
-        const std::string list = p.has("--counts") ? p.get("--counts") : "4,16,64,256";
+        // (More than 64 emissive polygons are shaded by the pieces, not by LTC: area_lights.cpp.)
+        const std::string list = p.has("--counts") ? p.get("--counts") : which == "emitters" ? "4,16,64" : "4,16,64,256";
         size_t start = 0;
         while (start <= list.size()) {
             const size_t comma = std::min(list.find(',', start), list.size());
@@ -336,7 +338,7 @@ int bench_lights(const Args& args) {
         }
     }
     const int spp = p.has("--spp") ? parse_int("--spp", p.get("--spp"), 1, 1 << 16) : 32;
-    const std::string prefix = which == "bounded" ? "generated:lights-bounded:" : "generated:street:";
+    const std::string prefix = which == "bounded" ? "generated:lights-bounded:" : which == "street" ? "generated:street:" : "generated:emitters:";
     std::unique_ptr<Context> context;
     for (const int n : counts) {
         SceneSetup s = setup_scene(p, prefix + std::to_string(n), 320, 180);

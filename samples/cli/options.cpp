@@ -54,7 +54,7 @@ std::string usage_text() {
         "                    [--variant V]\n"
         "  candela bench rays SCENE|generated:N ... [--size WxH] [--spp N] [--repeat N]\n"
         "  candela bench reload SCENE [--size WxH] [--count N] [--shader-dir DIR]\n"
-        "  candela bench lights [--scene bounded|street] [--counts N,N,...] [--size WxH] [--spp N] [--set KNOB=VALUE ...]\n"
+        "  candela bench lights [--scene bounded|street|emitters] [--counts N,N,...] [--size WxH] [--spp N] [--set KNOB=VALUE ...]\n"
         "  candela bench accuracy [SCENE...] -o DIR [--report FILE.md] [--quick] [--effect NAME...]\n"
         "  candela bench error-budget SCENE... --csv OUT.csv [--size WxH] [--spp N] [--frames N]\n"
         "  candela bench error-budget --fit CSV... -o MODEL.json|MODEL.inc | --evaluate CSV... [--budgets E,...]\n"
@@ -159,9 +159,11 @@ std::string usage_text() {
         "         generated:lights-bounded:N (the same with ranges that keep each point reached by\n"
         "         about one light at any N),\n"
         "         generated:street:N (N lamps without a range along a road: lights.cutoff's scene),\n"
+        "         generated:emitters:N (N small emissive squares in place of lights-bounded's lights),\n"
         "         generated:edges (thin, high-contrast edges: the anti-aliasing scene).\n"
         "         lights: for each of --counts (default 4,16,64,256) lights of generated:lights-bounded:N\n"
-        "         (--scene bounded) or generated:street:N (--scene street): the default and the\n"
+        "         (--scene bounded), generated:street:N (--scene street) or generated:emitters:N\n"
+        "         (--scene emitters; default counts 4,16,64): the default and the\n"
         "         speed-of-light frames' median times and the default frame's block error (4x4,\n"
         "         display) against --raytrace path at --spp (default 32) samples (default 320x180).\n"
         "         accuracy: every effect's knob sweep, timed and compared with the ray tracer's\n"
@@ -340,6 +342,12 @@ Scene load_scene(const std::string& path, bool strict) {
         if (n.empty() || n.size() > 6 || n.find_first_not_of("0123456789") != std::string::npos || std::stoul(n) < 1)
             throw bad_input(path + ": expected " + prefix + "N with 1 <= N < 1e6 point lights");
         return make_many_lights_scene(static_cast<int>(std::stoul(n)), bounded);
+    }
+    if (path.rfind("generated:emitters:", 0) == 0) {
+        const std::string n = path.substr(19);
+        if (n.empty() || n.size() > 6 || n.find_first_not_of("0123456789") != std::string::npos || std::stoul(n) < 1)
+            throw bad_input(path + ": expected generated:emitters:N with 1 <= N < 1e6 emitters");
+        return make_emitters_scene(static_cast<int>(std::stoul(n)));
     }
     if (path.rfind("generated:street:", 0) == 0) {
         const std::string n = path.substr(17);
