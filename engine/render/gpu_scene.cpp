@@ -533,8 +533,6 @@ bool GpuScene::update_pose() {
             if (!p.deformable() || p.vertices.empty()) continue;
             // A pose that leaves the vertices as they were (an animation holding still, the same
             // time again) changes nothing: the captures and caches that follow pose_version stay.
-            if (uploaded_vertices_.size() <= mi) uploaded_vertices_.resize(scene_.meshes.size());
-            if (uploaded_vertices_[mi].size() <= pi) uploaded_vertices_[mi].resize(scene_.meshes[mi].primitives.size());
             std::vector<Vertex>& last = uploaded_vertices_[mi][pi];
             if (last.size() == p.vertices.size() && std::memcmp(last.data(), p.vertices.data(), p.vertices.size() * sizeof(Vertex)) == 0)
                 continue;
