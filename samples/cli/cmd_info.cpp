@@ -154,10 +154,13 @@ int cmd_info(const Args& args) {
         }
     }
     // Caustics: what no raster effect carries, measured where glass or a mirror could pass one.
+    // 16 samples (4 batches of 4): info reports the share with its standard error, which stays
+    // far below the share on the shared models (TransmissionTest: 4.2 % +- 0.1 %; 4.4 % +- 0.0 %
+    // at 32), for about 0.45 s less of info's time there (the caustics took half of it).
     if (shaders && can_have_caustics(scene)) {
         try {
             const Caustics c = measure_caustics(*shaders, scene, measured_gpu(), scene.select_camera(camera_choice, aspect), aspect,
-                                                32, kViewLightPixels, &tracer_scene);
+                                                16, kViewLightPixels, &tracer_scene);
             std::printf("caustics: %s\n", c.text().c_str());
         } catch (const Error& error) {
             if (error.code() == ExitCode::internal) throw;
