@@ -291,6 +291,9 @@ void Viewer::draw_ui(double frame_ms) {
             ImGui::TextColored(colour, "%s", status.label.c_str());
             ImGui::Indent(ImGui::GetFrameHeightWithSpacing());
             wrapped_disabled(status.detail);
+            // Under shadows: how many lights the shadow budget shadowed, at what resolution, and
+            // how many it left out.
+            if (name == "shadows" && !f.shadow_budget.empty()) wrapped_disabled("shadow budget: " + f.shadow_budget);
             // An effect that converges over frames says how far it has got (GI's probes).
             if (const EffectProgress p = renderer_.effect_progress(name); p.active && !p.line.empty()) {
                 const ImVec4 c = p.converged ? ImVec4(0.45f, 0.85f, 0.45f, 1.0f) : ImVec4(0.95f, 0.75f, 0.35f, 1.0f);
@@ -310,8 +313,6 @@ void Viewer::draw_ui(double frame_ms) {
             wrapped_disabled(d.reason);
             ImGui::Unindent(ImGui::GetFrameHeightWithSpacing());
         }
-        // How many lights the shadow budget shadowed, at what resolution, and which it left out.
-        if (!f.shadow_budget.empty()) wrapped_disabled("shadow budget: " + f.shadow_budget);
         if (changed) apply_settings(s);
     }
     if (ImGui::CollapsingHeader("Reference (ray tracer)", ref_.on ? ImGuiTreeNodeFlags_DefaultOpen : 0)) {
