@@ -171,6 +171,16 @@ void append_box(Primitive& p, glm::vec3 lo, glm::vec3 hi) {
 
 namespace {
 
+// The radical inverse of `index` in `base`: one coordinate of a Halton sequence.
+float halton(int index, int base) {
+    float f = 1.0f, r = 0.0f;
+    for (int i = index; i > 0; i /= base) {
+        f /= static_cast<float>(base);
+        r += f * static_cast<float>(i % base);
+    }
+    return r;
+}
+
 Primitive box_primitive(glm::vec3 lo, glm::vec3 hi) {
     Primitive p;
     p.material = 0;
@@ -219,14 +229,6 @@ Scene make_emitters_scene(int emitters) {
         else ++it;
     for (Node& n : scene.nodes) n.light = -1;
     const float shrink = emitters > 16 ? std::sqrt(16.0f / static_cast<float>(emitters)) : 1.0f;
-    auto halton = [](int index, int base) {
-        float f = 1.0f, r = 0.0f;
-        for (int i = index; i > 0; i /= base) {
-            f /= static_cast<float>(base);
-            r += f * static_cast<float>(i % base);
-        }
-        return r;
-    };
     // Eight hues, one emissive material and one quad mesh each (a 0.2 m square facing down).
     const int first_material = static_cast<int>(scene.materials.size());
     for (int k = 0; k < 8; ++k) {
@@ -286,14 +288,6 @@ Scene make_many_lights_scene(int lights, bool bounded) {
             scene.nodes.push_back(b);
         }
     // Deterministic scatter: a 2D Halton sequence over the floor, heights and hues from it.
-    auto halton = [](int index, int base) {
-        float f = 1.0f, r = 0.0f;
-        for (int i = index; i > 0; i /= base) {
-            f /= static_cast<float>(base);
-            r += f * static_cast<float>(i % base);
-        }
-        return r;
-    };
     for (int i = 0; i < lights; ++i) {
         Light l;
         l.name = "light" + std::to_string(i);
