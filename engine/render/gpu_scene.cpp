@@ -394,7 +394,6 @@ void GpuScene::update_lights(int area_samples, EmitterSplitter split, bool shado
     const double budget_layers = std::floor(shadow_budget_mb * 1024.0 * 1024.0 / shadow_layer_bytes(shadow_resolution));
     const int layers = static_cast<int>(std::clamp(budget_layers, 1.0, static_cast<double>(std::max(max_layers, 1))));
     shadow_atlas_ = allocate_shadow_atlas(requests, shadow_resolution, layers);
-    shadow_views_ = static_cast<int>(shadow_atlas_.tiles.size());
     for (size_t i = 0; i < lights.size(); ++i) {
         LightInfo& info = light_infos_[i];
         info.first_view = shadow_atlas_.first_view[i];

@@ -157,7 +157,7 @@ public:
     int light_count() const { return light_count_; }
     int punctual_light_count() const { return punctual_count_; }
     const std::vector<LightInfo>& light_infos() const { return light_infos_; }
-    int shadow_view_count() const { return shadow_views_; }
+    int shadow_view_count() const { return static_cast<int>(shadow_atlas_.tiles.size()); }
     // Where each shadow view lies in the shadow maps' array, and what the budget left out.
     const ShadowAtlas& shadow_atlas() const { return shadow_atlas_; }
     // Texture for a scene image, created on first use (sRGB or linear view of the same pixels).
@@ -215,7 +215,7 @@ private:
     bool material_layers_ = false;
     gl::VertexArray vao_, sorted_vao_;
     std::vector<Draw> draws_;
-    int light_count_ = 0, punctual_count_ = 0, shadow_views_ = 0;
+    int light_count_ = 0, punctual_count_ = 0;
     std::tuple<int, bool, int, int, float, int, double, bool, glm::vec3> light_key_{-1, false, 0, 0, 0.0f, 0, 0.0, false, glm::vec3(0.0f)};
     ShadowAtlas shadow_atlas_;
     std::vector<LightInfo> light_infos_;
