@@ -104,9 +104,23 @@ private:
     std::vector<unsigned char> bin_;
 };
 
-// A fresh directory under the test binary's working directory.
+// This process's scratch root under the system temp directory, removed when the process exits
+// (a test that crashes leaves it behind for inspection).
+inline const std::filesystem::path& test_root(const std::string& prefix = "candela_test_") {
+    struct Root {
+        std::filesystem::path path;
+        ~Root() {
+            std::error_code ec;
+            std::filesystem::remove_all(path, ec);
+        }
+    };
+    static Root root{std::filesystem::temp_directory_path() / (prefix + std::to_string(::getpid()))};
+    return root.path;
+}
+
+// A fresh directory under this process's scratch root.
 inline std::filesystem::path test_dir(const std::string& name) {
-    const auto dir = std::filesystem::temp_directory_path() / ("candela_test_" + std::to_string(::getpid())) / name;
+    const auto dir = test_root() / name;
     std::filesystem::remove_all(dir);
     std::filesystem::create_directories(dir);
     return dir;

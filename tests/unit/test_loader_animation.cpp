@@ -15,6 +15,7 @@
 #include "core/log.hpp"
 #include "scene/animation.hpp"
 #include "scene/gltf_loader.hpp"
+#include "gltf_builder.hpp"
 
 #ifndef CANDELA_SOURCE_DIR
 #error "CANDELA_SOURCE_DIR must be defined by the build"
@@ -70,7 +71,7 @@ std::string load_error(const fs::path& path) {
 fs::path edited(const std::string& file, const std::string& as, const std::function<void(nlohmann::json&)>& edit) {
     nlohmann::json doc = nlohmann::json::parse(std::ifstream(kData / file));
     edit(doc);
-    const fs::path dir = fs::temp_directory_path() / ("candela_anim_test_" + std::to_string(::getpid()));
+    const fs::path dir = test::test_root() / "anim_edits";
     fs::create_directories(dir);
     const fs::path out = dir / as;
     std::ofstream(out) << doc.dump();
