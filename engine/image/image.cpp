@@ -181,6 +181,54 @@ BlockAgreement block_agreement(const ImageF& a, const ImageF& b, int k) {
     return r;
 }
 
+BlockBias block_bias(const ImageF& a, const ImageF& r1, const ImageF& r2, int k) {
+    for (const ImageF* r : {&r1, &r2})
+        if (a.width != r->width || a.height != r->height)
+            throw bad_input("images differ in size: " + std::to_string(a.width) + "x" + std::to_string(a.height) + " vs " +
+                            std::to_string(r->width) + "x" + std::to_string(r->height));
+    if (k < 1 || a.width < k || a.height < k) throw bad_input("--blocks " + std::to_string(k) + " must be in [1, image size]");
+    const auto block_mean = [k](const ImageF& img, int bx, int by) {
+        glm::dvec3 s(0.0);
+        for (int j = 0; j < k; ++j)
+            for (int i = 0; i < k; ++i) {
+                const float* p = img.at(bx * k + i, by * k + j);
+                for (int c = 0; c < 3; ++c) {
+                    const float v = p[std::min(c, img.channels - 1)];
+                    s[c] += std::isfinite(v) ? static_cast<double>(v) : 0.0;
+                }
+            }
+        return s / static_cast<double>(k * k);
+    };
+    double cross = 0, naive = 0, noise = 0;
+    const int bw = a.width / k, bh = a.height / k;
+    for (int by = 0; by < bh; ++by)
+        for (int bx = 0; bx < bw; ++bx) {
+            const glm::dvec3 ma = block_mean(a, bx, by), m1 = block_mean(r1, bx, by), m2 = block_mean(r2, bx, by);
+            const glm::dvec3 mu = 0.5 * (m1 + m2);
+            for (int c = 0; c < 3; ++c) {
+                // The display transform's slope in this channel at the raster's value: taken at
+                // the reference's, it would correlate with the reference's noise and bias the
+                // cross product (the display curve is steeper where the noise made it darker).
+                const double h = std::max(1e-4, 1e-3 * std::fabs(ma[c]));
+                glm::vec3 lo = glm::vec3(glm::max(ma, glm::dvec3(0.0))), hi = lo;
+                lo[c] = static_cast<float>(std::max(ma[c] - h, 0.0));
+                hi[c] = static_cast<float>(std::max(ma[c], 0.0) + h);
+                const double slope = (display_transform(hi, 0.0f)[c] - display_transform(lo, 0.0f)[c]) / static_cast<double>(hi[c] - lo[c]);
+                const double e1 = (ma[c] - m1[c]) * slope, e2 = (ma[c] - m2[c]) * slope, e = (ma[c] - mu[c]) * slope;
+                const double d = (m1[c] - m2[c]) * slope;
+                cross += e1 * e2;
+                naive += e * e;
+                noise += 0.25 * d * d;  // the variance of (r1 + r2) / 2: that of r1 - r2 over 4
+            }
+        }
+    const double n = std::max(1.0, static_cast<double>(bw) * bh * 3);
+    BlockBias r;
+    r.rms = std::sqrt(std::max(cross / n, 0.0));
+    r.naive_rms = std::sqrt(naive / n);
+    r.ref_noise_rms = std::sqrt(noise / n);
+    return r;
+}
+
 double rmse(const ImageF& a, const ImageF& b) { return compare(a, b, 0.0).rmse; }
 
 CompareResult compare(const ImageF& actual, const ImageF& expected, double tolerance) {

@@ -77,6 +77,21 @@ struct BlockAgreement {
 };
 BlockAgreement block_agreement(const ImageF& a, const ImageF& b, int k);
 
+// The raster's error against the expected value of a noisy reference, with the reference's
+// noise taken out: from two independent reference renders r1 and r2 (different seeds, equal
+// samples), over k x k blocks of linear radiance, E[(a - r1)(a - r2)] = (a - mu)^2 whatever the
+// noise, since the two errors are independent. Each block's difference is carried to display
+// values by the display transform's slope at the raster's block mean (first order, exposure
+// 0), so the figures read like block_agreement's. `rms`: the square root of the mean over blocks
+// and RGB of the cross product (0 if noise makes it negative); `naive_rms`: the same against
+// (r1 + r2) / 2 without the noise taken out; `ref_noise_rms`: the standard error of that mean.
+struct BlockBias {
+    double rms = 0;
+    double naive_rms = 0;
+    double ref_noise_rms = 0;
+};
+BlockBias block_bias(const ImageF& a, const ImageF& r1, const ImageF& r2, int k);
+
 // Per-pixel max channel difference as a heat map (black 0 -> blue -> green -> yellow -> red at
 // `scale`), display values.
 ImageF heatmap(const ImageF& actual, const ImageF& expected, double scale);

@@ -317,7 +317,9 @@ int bench_animation(const Args& args) {
 // reached by about one light at any N), generated:street:N (lamps without a range,
 // lights.cutoff) or generated:emitters:N (small emitters in the lights' places). For each N: the default frame's and the speed-of-light frame's median times,
 // and the block error (block_agreement, 4x4, display values) of the default frame's radiance
-// against `--raytrace path` at the same size and --spp samples.
+// against `--raytrace path` at the same size and --spp samples, then the same error with the
+// reference's noise taken out (block_bias: RMS over blocks, from two independent halves of the
+// reference) and the reference's own noise (RMS).
 int bench_lights(const Args& args) {
     std::vector<std::string> with_value = kSceneSetupOptions;
     with_value.insert(with_value.end(), {"--counts", "--scene", "--spp"});
@@ -350,8 +352,8 @@ int bench_lights(const Args& args) {
             context = std::move(ctx.context);
             std::printf("device: %s (%s); %dx%d, %d frames after %d warm-up, reference %d spp\n", context->device_string().c_str(),
                         to_string(context->backend()), s.options.width, s.options.height, s.options.frames, s.options.warmup, spp);
-            std::printf("%-30s %8s %12s %12s %14s %12s %10s\n", "scene", "lights", "default ms", "light ms", "block error", "luminance",
-                        "trace ms");
+            std::printf("%-30s %8s %12s %12s %14s %12s %12s %12s %10s\n", "scene", "lights", "default ms", "light ms", "block error",
+                        "bias rms", "ref noise", "luminance", "trace ms");
         }
         const ShaderLibrary shaders(s.shader_dir);
         finish_lighting(s, shaders);
@@ -365,17 +367,29 @@ int bench_lights(const Args& args) {
         light.warmup(s.options.warmup);
         for (int f = 0; f < s.options.frames; ++f) full.measure_frame(), light.measure_frame();
         const StillResult a = full.finish(), b = light.finish();
-        rt::Options o;
-        o.mode = rt::Mode::path;
-        o.spp = spp;
+        // The reference in two independent halves (seeds 1 and 2), so that its noise can be taken
+        // out of the error (block_bias); their mean is the --spp reference.
         GpuScene gpu(s.scene);
-        rt::RayTracer tracer(shaders, s.scene, gpu, o);
         const float aspect = static_cast<float>(s.options.width) / static_cast<float>(s.options.height);
-        const rt::Result r = tracer.render(s.scene.select_camera(s.options.camera, aspect), s.options.width, s.options.height);
-        const BlockAgreement e = block_agreement(a.radiance, r.image, 4);
-        std::printf("%-30s %8d %12.2f %12.2f %14.5f %12.4f %10.0f\n", (prefix + std::to_string(n)).c_str(), n, a.median_frame_ms(),
-                    b.median_frame_ms(), e.mean_abs, e.luminance_ratio, r.trace_ms);
-        if (count_nonfinite(a.radiance) != 0 || count_nonfinite(r.image) != 0) throw Error(ExitCode::internal, prefix + std::to_string(n) + ": non-finite pixels");
+        ImageF halves[2];
+        double trace_ms = 0;
+        for (int h = 0; h < 2; ++h) {
+            rt::Options o;
+            o.mode = rt::Mode::path;
+            o.spp = std::max(spp / 2, 1);
+            o.seed = static_cast<std::uint32_t>(h + 1);
+            rt::RayTracer tracer(shaders, s.scene, gpu, o);
+            rt::Result r = tracer.render(s.scene.select_camera(s.options.camera, aspect), s.options.width, s.options.height);
+            halves[h] = std::move(r.image);
+            trace_ms += r.trace_ms;
+        }
+        ImageF reference = halves[0];
+        for (size_t i = 0; i < reference.pixels.size(); ++i) reference.pixels[i] = 0.5f * (halves[0].pixels[i] + halves[1].pixels[i]);
+        const BlockAgreement e = block_agreement(a.radiance, reference, 4);
+        const BlockBias bias = block_bias(a.radiance, halves[0], halves[1], 4);
+        std::printf("%-30s %8d %12.2f %12.2f %14.5f %12.5f %12.5f %12.4f %10.0f\n", (prefix + std::to_string(n)).c_str(), n,
+                    a.median_frame_ms(), b.median_frame_ms(), e.mean_abs, bias.rms, bias.ref_noise_rms, e.luminance_ratio, trace_ms);
+        if (count_nonfinite(a.radiance) != 0 || count_nonfinite(reference) != 0) throw Error(ExitCode::internal, prefix + std::to_string(n) + ": non-finite pixels");
     }
     return 0;
 }

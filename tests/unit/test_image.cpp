@@ -69,6 +69,51 @@ TEST(ImageCompare, HeatmapIsBlackWhereEqualAndRedAtScale) {
     EXPECT_FLOAT_EQ(h.at(1, 0)[1], 0.0f);
 }
 
+// A known bias under reference noise of growing size: the noise-free error stays at the bias
+// (within its sampling error) while the naive one grows with the noise, and naive^2 is close
+// to rms^2 + ref_noise^2.
+TEST(ImageCompare, BlockBiasTakesTheReferenceNoiseOut) {
+    const int w = 320, h = 180;
+    const float mu = 0.3f, bias = 0.01f;
+    std::uint32_t state = 12345u;
+    auto gauss = [&state]() {  // Box-Muller on a xorshift
+        auto u = [&state]() {
+            state ^= state << 13, state ^= state >> 17, state ^= state << 5;
+            return (static_cast<double>(state) + 0.5) / 4294967296.0;
+        };
+        return static_cast<float>(std::sqrt(-2.0 * std::log(u())) * std::cos(6.283185307179586 * u()));
+    };
+    // Per 4x4 block each reference's mean has the noise sigma / 4; the cross product's mean over
+    // 3600 x 3 blocks has a standard error of about its square over sqrt(10800).
+    auto cross_se = [](double sigma, double slope) { return std::pow(sigma * slope / 4.0, 2) / std::sqrt(10800.0) + 1e-12; };
+    ImageF a(w, h, 3);
+    for (float& v : a.pixels) v = mu + bias;
+    const float at = mu + bias;  // the slope is taken at the raster's value
+    const double slope = (display_transform(glm::vec3(at + 1e-4f), 0.0f).x - display_transform(glm::vec3(at - 1e-4f), 0.0f).x) / 2e-4;
+    const double expected = bias * slope;
+    double previous_naive = 0;
+    for (const float sigma : {0.0f, 0.05f, 0.2f, 0.4f}) {
+        ImageF r1(w, h, 3), r2(w, h, 3);
+        for (float& v : r1.pixels) v = mu + sigma * gauss();
+        for (float& v : r2.pixels) v = mu + sigma * gauss();
+        const BlockBias b = block_bias(a, r1, r2, 4);
+        const double se2 = cross_se(sigma, slope);
+        EXPECT_NEAR(b.rms * b.rms, expected * expected, 4.0 * se2 + 1e-2 * expected * expected) << "sigma " << sigma;
+        EXPECT_NEAR(b.naive_rms * b.naive_rms, b.rms * b.rms + b.ref_noise_rms * b.ref_noise_rms, 8.0 * se2 + 1e-9) << "sigma " << sigma;
+        EXPECT_GE(b.naive_rms, previous_naive) << "sigma " << sigma;
+        previous_naive = b.naive_rms;
+    }
+    EXPECT_GT(previous_naive, 2.0 * expected);  // the naive error is mostly noise at the largest sigma
+    // A raster equal to the expected value: no error, however noisy the reference.
+    ImageF exact(w, h, 3), r1(w, h, 3), r2(w, h, 3);
+    for (float& v : exact.pixels) v = mu;
+    for (float& v : r1.pixels) v = mu + 0.2f * gauss();
+    for (float& v : r2.pixels) v = mu + 0.2f * gauss();
+    EXPECT_LT(std::pow(block_bias(exact, r1, r2, 4).rms, 2), 4.0 * cross_se(0.2, slope));
+    EXPECT_GT(block_bias(exact, r1, r2, 4).naive_rms, 2.0 * expected);
+    EXPECT_THROW(block_bias(a, r1, ImageF(w, h - 1, 3), 4), Error);
+}
+
 TEST(ImageIO, ExrRoundTripKeepsLinearFloats) {
     const auto dir = test::test_dir("imageio");
     ImageF img(3, 2, 4);
