@@ -192,6 +192,7 @@ nlohmann::json to_json(const Features& f) {
     j["punctual_lights"] = f.punctual_lights;
     j["area_light_pieces"] = f.area_light_pieces;
     if (!f.shadow_budget.empty()) j["shadow_budget"] = f.shadow_budget;
+    if (!f.light_reach.empty()) j["light_reach"] = f.light_reach;
     j["path"] = f.deferred ? "deferred" : "forward";
     j["path_reason"] = f.path_reason;
     j["emissive_area_lights"] = f.scene.emissive_area_lights.needed;

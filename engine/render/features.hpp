@@ -63,6 +63,9 @@ struct Features {
     // With shadows planned: how the shadow budget shared the maps (ShadowAtlas::text); set by the
     // renderer's plan, which sees the light buffer.
     std::string shadow_budget;
+    // With punctual lights: their reach and what it culls per tile at the view (LightReach::text);
+    // set by the renderer's plan, which knows the camera and the image size.
+    std::string light_reach;
     bool deferred = false;      // the render path
     std::string path_reason;
     SceneFeatures scene;

@@ -1,5 +1,7 @@
 #include "render/renderer.hpp"
 
+#include "render/light_reach.hpp"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -147,6 +149,15 @@ void Renderer::render(const Camera& view_camera, int width, int height, FrameOut
         fbos_.clear();
         pool_.clear();
     }
+    // The lights' reach at this view (info's line; the viewer shows it): a few microseconds a
+    // light, so every frame, as the camera moves.
+    features_.light_reach = features_.punctual_lights > 0
+                                ? light_reach(scene_, features_.lights.cutoff,
+                                              projection_matrix(view_camera, static_cast<float>(width_) / static_cast<float>(std::max(height_, 1))) *
+                                                  glm::inverse(view_camera.world),
+                                              width_, height_)
+                                      .text()
+                                : std::string();
     // The planned effects' sampling: multisampled targets, sub-frames with shifted projections.
     const FrameSampling sampling = frame_sampling(features_, settings_);
     report_ = {};

@@ -17,6 +17,7 @@
 #include "render/settings.hpp"
 #include "rt/view_light.hpp"
 #include "rt/view_lighting.hpp"
+#include "render/light_reach.hpp"
 
 namespace candela::cli {
 
@@ -189,6 +190,11 @@ int cmd_info(const Args& args) {
         gpu.update_lights(ls.area_samples, ls.split_emitters, ls.shadows, ls.cascades, ls.max_shadowed, ls.cutoff, ls.shadow_resolution,
                           ls.shadow_budget_mb, &viewer);
         std::printf("shadow budget: %s\n", gpu.shadow_atlas().text(ls.shadow_budget_mb).c_str());
+    }
+    // The point and spot lights' reach, and what it culls per tile at this view and size.
+    if (features.punctual_lights > 0) {
+        const glm::mat4 vp = projection_matrix(view_camera, aspect) * glm::inverse(view_camera.world);
+        std::printf("light reach: %s\n", light_reach(scene, features.lights.cutoff, vp, width, height).text().c_str());
     }
     std::printf("planned passes:\n");
     for (const PlannedPass& pass : plan_passes(features, settings))

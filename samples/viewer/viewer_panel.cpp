@@ -294,6 +294,8 @@ void Viewer::draw_ui(double frame_ms) {
             // Under shadows: how many lights the shadow budget shadowed, at what resolution, and
             // how many it left out.
             if (name == "shadows" && !f.shadow_budget.empty()) wrapped_disabled("shadow budget: " + f.shadow_budget);
+            // And the lights' reach: how many the tiles cull.
+            if (name == "shadows" && !f.light_reach.empty()) wrapped_disabled("light reach: " + f.light_reach);
             // An effect that converges over frames says how far it has got (GI's probes).
             if (const EffectProgress p = renderer_.effect_progress(name); p.active && !p.line.empty()) {
                 const ImVec4 c = p.converged ? ImVec4(0.45f, 0.85f, 0.45f, 1.0f) : ImVec4(0.95f, 0.75f, 0.35f, 1.0f);

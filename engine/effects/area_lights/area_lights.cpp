@@ -246,14 +246,14 @@ public:
         return s.get<AreaLightsOptions>().negligible > 0.0f ? "emitter light" : nullptr;
     }
     ViewEstimate estimate_view(const ViewEstimateInput& in) const override {
-        if (analyze_features(in.scene).emissive_primitives == 0) return {};  // nothing to measure
+        if (analyze_features(in.scene).emissive_primitives == 0) return {std::any(), "none: no emissive material"};  // nothing to measure
         try {
             const EmitterLight e = measure_emitter_light(in.shaders, in.scene, in.gpu, in.camera, in.aspect, 16, kViewLightPixels,
                                                          in.tracer_scene);
             return {e, e.text()};
         } catch (const Error& error) {
             if (error.code() == ExitCode::internal) throw;
-            return {};  // nothing to trace: the emitters stay lights
+            return {std::any(), std::string("not measured (") + error.what() + "): the emitters stay lights"};
         }
     }
     void estimate_json(const ViewEstimate& v, nlohmann::json& j) const override {
