@@ -119,7 +119,7 @@ ViewLight measure_view_light(const ShaderLibrary& shaders, const Scene& scene, G
     const std::vector<double> open = channel(tracer.render(camera, v.width, v.height).image, 0);
     double d = 0.0, b1 = 0.0, b2 = 0.0, b3 = 0.0, wsum = 0.0, esum = 0.0, sky = 0.0;
     std::vector<double> bounce(n), diffuse_direct(n), diffuse_bounce(n);
-    std::vector<double> surface_light, lit_direct;
+    std::vector<double> surface_light, lit_direct, surface_direct, surface_indirect;
     for (size_t k = 0; k < n; ++k) {
         const double w = std::clamp(passive[k], 0.0, 1.0);
         wsum += w;
@@ -138,6 +138,12 @@ ViewLight measure_view_light(const ShaderLibrary& shaders, const Scene& scene, G
         b3 += wd * std::max(0.0, depth4[k] - depth3[k]);
         if (w >= 0.5) {
             surface_light.push_back(direct[k] + bounce[k]);
+            // Only where the surface is mostly diffuse: what glass or a mirror shows beyond itself
+            // is a later vertex of the camera path, not light that the probes would carry.
+            if (wd >= 0.5) {
+                surface_direct.push_back(direct[k]);
+                surface_indirect.push_back(std::max(0.0, depth4[k] - direct[k]));
+            }
             if (direct[k] > 0.0) lit_direct.push_back(direct[k]);
         }
     }
@@ -187,6 +193,11 @@ ViewLight measure_view_light(const ShaderLibrary& shaders, const Scene& scene, G
         size_t unlit = 0;
         for (double l : surface_light) unlit += !(l > kUnlitLevel * level) || level <= 0.0;
         v.unlit_share = static_cast<double>(unlit) / static_cast<double>(surface_light.size());
+        size_t indirect_only = 0;
+        for (size_t i = 0; i < surface_direct.size(); ++i)
+            indirect_only += (level <= 0.0 || !(surface_direct[i] > kUnlitLevel * level)) &&
+                             display_transform(glm::vec3(static_cast<float>(surface_indirect[i])), 0.0f).x >= kVisibleIndirect;
+        v.indirect_only_share = surface_direct.empty() ? 0.0 : static_cast<double>(indirect_only) / static_cast<double>(surface_direct.size());
     }
     v.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     return v;

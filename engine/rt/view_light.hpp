@@ -56,6 +56,12 @@ struct ViewLight {
     // Of the surface pixels, the share whose light (D + B1) is below kUnlitLevel of the typical
     // directly lit level (the median of the lit pixels; without any, every pixel counts as unlit).
     double unlit_share = 0.0;
+    // Of the surface pixels that are mostly diffuse (glass and mirrors show what lies beyond them
+    // through later vertices), the share that direct light leaves below kUnlitLevel of the typical
+    // lit level and that their first three bounces make visible (at least kVisibleIndirect in
+    // display values, exposure 0): what goes black without indirect light,
+    // however small the indirect share of the whole image (a wall that only the lit floor lights).
+    double indirect_only_share = 0.0;
     double ms = 0.0;  // wall time (BVH, programs, the three renders)
     std::string text() const;
 };
@@ -63,6 +69,8 @@ struct ViewLight {
 // A pixel whose light is below this fraction of the typical directly lit pixel's looks black
 // beside it (about 38/255 in sRGB where the lit level is display white).
 constexpr double kUnlitLevel = 0.02;
+// A display value (exposure 0) that reads as lit beside black: about 13/255.
+constexpr double kVisibleIndirect = 0.05;
 // About this many pixels at the given aspect (`pixels`, by default), `spp` samples each.
 constexpr int kViewLightPixels = 1536;
 

@@ -7,7 +7,8 @@
 //   within bounds over the tracer's own block noise;
 // - indirect: the GI effect runs exactly when the measured share of indirect light on the
 //   diffuse surfaces in view ((path - direct) / path there) is at least gi.threshold, except
-//   within a margin around it;
+//   within a margin around it, or when the share of those surfaces that indirect light alone
+//   lights visibly is well beyond gi.indirect_only (it must run then; it may run from half of it);
 // - gating: forcing on the effects the planner skipped leaves the display image unchanged;
 // - msaa: 4 samples do not increase the error against the tracer's box-filtered pixels (a failing
 //   verdict is confirmed against kConfirmSpp samples: a sub-pixel highlight defeats 64);
@@ -577,14 +578,48 @@ public:
                 share.push_back(p > 0 ? (p - d) / p : 0.0);
             }
             const double s = mean_of(share), se = stderr_of(share);
+            // The share of those pixels that indirect light alone lights visibly (direct below
+            // kUnlitLevel of the median lit pixel's, path - direct at least kVisibleIndirect in
+            // display values), from the batches' means: what goes black without the probes.
+            double only = 0.0;
+            {
+                std::vector<double> dl, pl, lit;
+                for (int y = 0; y < kH; ++y)
+                    for (int x = 0; x < kW; ++x)
+                        if (mask.at(x, y)[0] > 0.5f) {
+                            double p = 0.0, d = 0.0;
+                            for (int k = 0; k < kBatches; ++k) {
+                                p += luminance(path.images[static_cast<size_t>(k)].at(x, y));
+                                d += luminance(direct.images[static_cast<size_t>(k)].at(x, y));
+                            }
+                            dl.push_back(d / kBatches), pl.push_back(p / kBatches);
+                            if (d > 0.0) lit.push_back(d / kBatches);
+                        }
+                double level = 0.0;
+                if (!lit.empty()) {
+                    std::nth_element(lit.begin(), lit.begin() + static_cast<std::ptrdiff_t>(lit.size() / 2), lit.end());
+                    level = lit[lit.size() / 2];
+                }
+                size_t n_only = 0;
+                for (size_t i = 0; i < dl.size(); ++i)
+                    n_only += (level <= 0.0 || !(dl[i] > kUnlitLevel * level)) &&
+                              display_transform(glm::vec3(static_cast<float>(std::max(pl[i] - dl[i], 0.0))), 0.0f).x >= kVisibleIndirect;
+                only = dl.empty() ? 0.0 : static_cast<double>(n_only) / static_cast<double>(dl.size());
+            }
             const EffectDecision& gi = raster.features.decision("gi");
-            const double threshold = o.settings.get<GiOptions>().threshold;
+            const double threshold = o.settings.get<GiOptions>().threshold, only_threshold = o.settings.get<GiOptions>().indirect_only;
             const IndirectEstimate* e = indirect_estimate(raster.features);
             const double estimate = e ? e->fraction : -1.0;
-            std::snprintf(buf, sizeof buf, "; indirect share %.3f +- %.3f, estimate %.3f, gi %s", s, se, estimate, gi.planned ? "on" : "off");
+            std::snprintf(buf, sizeof buf, "; indirect share %.3f +- %.3f, estimate %.3f, lit by it alone %.3f (estimate %.3f), gi %s", s, se,
+                          estimate, only, e ? e->indirect_only_share : -1.0, gi.planned ? "on" : "off");
             out.summary += buf;
             const double margin = kIndirectMargin + kT * se;
-            if (gi.enabled && gi.implemented && std::abs(s - threshold) > margin && gi.planned != (s >= threshold)) fail("indirect", buf + 2);
+            // Must run: the share well beyond gi.threshold, or the surface lit by indirect light
+            // alone at twice gi.indirect_only. Must not: the share well below and that surface
+            // under half of gi.indirect_only.
+            const bool must_run = s > threshold + margin || only >= 2.0 * only_threshold;
+            const bool must_not = s < threshold - margin && only < 0.5 * only_threshold;
+            if (gi.enabled && gi.implemented && ((must_run && !gi.planned) || (must_not && gi.planned))) fail("indirect", buf + 2);
         }
 
         // Gating: every skipped effect forced on at once (render.gating=off); if the image

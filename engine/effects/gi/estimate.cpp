@@ -11,9 +11,9 @@ std::string IndirectEstimate::text() const {
     char buf[400];
     std::snprintf(buf, sizeof buf,
                   "%.0f %% of the light on the image's surfaces (first bounce / direct %.2f +- %.2f, each later bounce x %.2f; "
-                  "%dx%d px x %d spp, %d surface px, %d with direct light%s; %.0f ms)",
+                  "%dx%d px x %d spp, %d surface px, %d with direct light%s, %.1f %% lit by indirect light alone; %.0f ms)",
                   fraction * 100.0, direct_mean > 0.0 ? one_bounce_mean / direct_mean : 0.0, fraction_se, per_bounce, width, height, spp,
-                  surface_pixels, lit_pixels, trusted ? "" : ": too few to trust", ms);
+                  surface_pixels, lit_pixels, trusted ? "" : ": too few to trust", indirect_only_share * 100.0, ms);
     return buf;
 }
 
@@ -49,6 +49,7 @@ IndirectEstimate estimate_indirect(const ShaderLibrary& shaders, const Scene& sc
     e.surface_pixels = v.surface_pixels;
     e.lit_pixels = v.lit_pixels;
     e.trusted = v.lit_pixels >= kMinLitPixels;
+    e.indirect_only_share = v.indirect_only_share;
     e.ms = v.ms;
     return e;
 }

@@ -31,6 +31,7 @@ struct IndirectEstimate {
     int width = 0, height = 0, spp = 0;
     int surface_pixels = 0, lit_pixels = 0;
     bool trusted = false;          // lit_pixels >= kMinLitPixels
+    double indirect_only_share = 0.0;  // ViewLight::indirect_only_share: surface lit visibly by indirect light alone
     double ms = 0.0;               // wall time of the estimate (BVH, programs, renders)
     std::string text() const;  // "40 % of the light on the image's surfaces (...)"
 };

@@ -368,6 +368,8 @@ public:
             .integer("bounces", &O::bounces, 0, 64, "updates that each add a bounce of light; 0: planned from the indirect estimate")
             .integer("iterations", &O::iterations, 1, 512, "probe updates after the bounces, which average noise (a still does them all before its frame)")
             .real("threshold", &O::threshold, 0.0f, 1.0f, "estimated indirect fraction of the image from which the probes run (0: always)")
+            .real("indirect_only", &O::indirect_only, 0.0f, 1.0f,
+                  "share of the surface in view lit visibly by indirect light alone from which the probes run whatever gi.threshold (1: never)")
             .integer("budget", &O::budget, 0, 1 << 26, "probe rays per frame (the viewer); 0: converge before the frame")
             .while_moving("4096")
             .boolean("restart", &O::restart, "start the probes over every frame (a scene that changes every frame; bench accuracy times the convergence so)")
@@ -396,7 +398,7 @@ public:
     }
     void estimate_json(const ViewEstimate& v, nlohmann::json& j) const override {
         if (const auto* e = std::any_cast<IndirectEstimate>(&v.value))
-            j["indirect_estimate"] = {{"fraction", e->fraction}, {"ms", e->ms}, {"width", e->width}, {"height", e->height}, {"spp", e->spp}};
+            j["indirect_estimate"] = {{"fraction", e->fraction}, {"indirect_only_share", e->indirect_only_share}, {"ms", e->ms}, {"width", e->width}, {"height", e->height}, {"spp", e->spp}};
     }
     // Planned by what it contributes: the estimate of the indirect fraction (the renderer traces
     // it at set-up, estimate.hpp) against gi.threshold. Always gated: a scene whose indirect
@@ -419,6 +421,15 @@ public:
         } else {
             needed = e->fraction >= o.threshold;
             why = "indirect light is " + e->text() + (needed ? ", at least" : ", below") + " gi.threshold " + pct;
+            // A region that only indirect light lights goes black without the probes, however
+            // small the image-wide fraction.
+            if (!needed && o.indirect_only < 1.0f && e->indirect_only_share >= o.indirect_only) {
+                needed = true;
+                char only[96];
+                std::snprintf(only, sizeof only, ", but %.1f %% of the surface is lit by it alone, at least gi.indirect_only %.1f %%",
+                              e->indirect_only_share * 100.0, o.indirect_only * 100.0);
+                why += only;
+            }
         }
         if (needed) why += "; " + std::to_string(gi_planned_bounces(o, e)) + " bounce(s), " + std::to_string(gi_planned_probes(o, e)) + " probes along the longest axis";
         return decide_effect(name(), s.on(name()), needed, why, true);

@@ -24,6 +24,11 @@ struct GiOptions {
     // keeps 3 of the 8 % of the tracer's mean that the random-scene tests hold it to for the
     // other approximations.
     float threshold = 0.05f;
+    // [0, 1] the probes run too when at least this share of the surface in view is lit visibly
+    // by indirect light alone (IndirectEstimate::indirect_only_share), whatever the image-wide
+    // fraction: such a region goes black without them. 1: never. 1 % is the share of 4x4 blocks
+    // beyond the random-scene tests' 99th-percentile rule.
+    float indirect_only = 0.01f;
     int budget = 0;           // [0, 2^26] rays per frame (the viewer); 0: converge before the frame
     bool restart = false;     // start over every frame (a scene that changes every frame; bench accuracy)
     float inset = 0.15f;      // [0.01, 0.5] outer probes' distance from the scene's bounds, in cells
