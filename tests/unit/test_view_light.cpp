@@ -235,13 +235,19 @@ TEST_P(ViewLightTest, TooFewLitPixelsRunTheProbes) {
     EXPECT_FALSE(gi_planned(near, 64, 64, fraction_only));
 }
 
+// An empty scene named `source` whose material 0 is white, albedo 0.8.
+Scene white_scene(const char* source) {
+    Scene scene;
+    scene.source = source;
+    scene.materials.push_back(lambert_material("white", glm::vec3(0.8f)));
+    return scene;
+}
+
 // A white 10 m floor and a 4 x 2 m wall facing the camera under a sun at 63 degrees, no sky: from
 // behind the wall (its front has no direct light, only what the lit floor sends it) or from in
 // front of it.
 Scene wall_on_a_sunlit_floor(bool sun_behind_the_wall) {
-    Scene scene;
-    scene.source = "test:wall_on_floor";
-    scene.materials.push_back(lambert_material("white", glm::vec3(0.8f)));
+    Scene scene = white_scene("test:wall_on_floor");
     Primitive geometry;
     geometry.material = 0;
     append_quad(geometry, {-5, 0, 5}, {10, 0, 0}, {0, 0, -10});  // floor, up
@@ -274,9 +280,7 @@ TEST_P(ViewLightTest, SurfacesLitOnlyIndirectlyRunTheProbes) {
 // the floor before the far wall, out of view; the camera looks at that wall, which no direct
 // light reaches.
 Scene closed_room_lit_out_of_view() {
-    Scene scene;
-    scene.source = "test:closed_room_spot";
-    scene.materials.push_back(lambert_material("white", glm::vec3(0.8f)));
+    Scene scene = white_scene("test:closed_room_spot");
     Primitive walls;
     walls.material = 0;
     append_quad(walls, {-2, 0, 2}, {4, 0, 0}, {0, 0, -4});   // floor, up
