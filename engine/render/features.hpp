@@ -64,7 +64,7 @@ struct Features {
     // renderer's plan, which sees the light buffer.
     std::string shadow_budget;
     // With punctual lights: their reach and what it culls per tile at the view (LightReach::text);
-    // set by the renderer's plan, which knows the camera and the image size.
+    // set by the renderer every frame, for its camera and image size.
     std::string light_reach;
     bool deferred = false;      // the render path
     std::string path_reason;

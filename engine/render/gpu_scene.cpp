@@ -315,6 +315,19 @@ float light_cutoff_distance(float peak_intensity, float fraction, int lights) {
     return std::sqrt(peak_intensity * static_cast<float>(std::max(lights, 1)) / (glm::pi<float>() * fraction * kDisplayQuantum));
 }
 
+std::vector<float> unranged_light_cutoffs(const Scene& scene, float fraction) {
+    const auto placed = scene.placed_lights();
+    const auto unranged = [](const Scene::PlacedLight& pl) { return pl.light->type != LightType::directional && !(pl.light->range > 0.0f); };
+    const int cut_lights = static_cast<int>(std::count_if(placed.begin(), placed.end(), unranged));
+    std::vector<float> out(placed.size(), 0.0f);
+    for (size_t i = 0; i < placed.size(); ++i)
+        if (unranged(placed[i])) {
+            const glm::vec3 c = placed[i].light->color * placed[i].light->intensity;  // to_gpu's colour
+            out[i] = light_cutoff_distance(std::max({c.r, c.g, c.b}), fraction, cut_lights);
+        }
+    return out;
+}
+
 void GpuScene::update_lights(int area_samples, EmitterSplitter split, bool shadows, int cascades, int max_shadowed, float cutoff,
                              int shadow_resolution, double shadow_budget_mb, const glm::vec3* viewer) {
     if (!split) area_samples = 0;
@@ -324,16 +337,12 @@ void GpuScene::update_lights(int area_samples, EmitterSplitter split, bool shado
     light_key_ = key;
     std::vector<LightData> lights;
     light_infos_.clear();
-    // The lights the cutoff shares its error among: point and spot lights without a range.
-    const auto unranged = [](const Scene::PlacedLight& pl) { return pl.light->type != LightType::directional && !(pl.light->range > 0.0f); };
     const auto placed = scene_.placed_lights();
-    const int cut_lights = static_cast<int>(std::count_if(placed.begin(), placed.end(), unranged));
-    for (const auto& pl : placed) {
+    const std::vector<float> cutoffs = unranged_light_cutoffs(scene_, cutoff);
+    for (size_t i = 0; i < placed.size(); ++i) {
+        const Scene::PlacedLight& pl = placed[i];
         lights.push_back(to_gpu(pl));
-        if (unranged(pl)) {
-            const glm::vec3 c = lights.back().color;
-            lights.back().cutoff = light_cutoff_distance(std::max({c.r, c.g, c.b}), cutoff, cut_lights);
-        }
+        lights.back().cutoff = cutoffs[i];
         LightInfo info;
         info.kind = pl.light->type == LightType::directional ? LightInfo::Kind::directional
                     : pl.light->type == LightType::point     ? LightInfo::Kind::point

@@ -70,6 +70,10 @@ inline constexpr float kDisplayQuantum = (1.0f / 255.0f) / 6.397f;
 // costs a point at most its share, and all of them together at most `fraction` of the quantum.
 // 0 for a fraction <= 0 or no intensity (no cutoff).
 float light_cutoff_distance(float peak_intensity, float fraction, int lights = 1);
+// The cutoff distance of each of scene.placed_lights() (in that order) at lights.cutoff
+// `fraction`: light_cutoff_distance for the point and spot lights without a range, sharing the
+// fraction among them; 0 for the others (a range, or a directional light) and for all at 0.
+std::vector<float> unranged_light_cutoffs(const Scene& scene, float fraction);
 
 class GpuScene;
 // Splits the scene's emissive draws into `samples` pieces each (an effect provides it).

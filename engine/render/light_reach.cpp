@@ -58,25 +58,19 @@ LightReach light_reach(const Scene& scene, float cutoff, const glm::mat4& view_p
         diff[static_cast<size_t>((by + 1) * (tx + 1) + bx + 1)] += 1;
     };
     const auto placed = scene.placed_lights();
-    const auto unranged = [](const Scene::PlacedLight& pl) { return pl.light->type != LightType::directional && !(pl.light->range > 0.0f); };
-    const int cut_lights = static_cast<int>(std::count_if(placed.begin(), placed.end(), unranged));
+    const std::vector<float> cutoffs = unranged_light_cutoffs(scene, cutoff);  // the light buffer's
     bool first_cut = true;
-    for (const Scene::PlacedLight& pl : placed) {
+    for (size_t i = 0; i < placed.size(); ++i) {
+        const Scene::PlacedLight& pl = placed[i];
         ++r.lights;
         float reach = 0.0f;  // 0: every tile
-        if (pl.light->type != LightType::directional) {
-            if (pl.light->range > 0.0f) {
-                reach = pl.light->range, ++r.ranged;
-            } else if (cutoff > 0.0f) {
-                const glm::vec3 c = pl.light->color * pl.light->intensity;
-                reach = light_cutoff_distance(std::max({c.r, c.g, c.b}), cutoff, cut_lights);
-                if (reach > 0.0f) {
-                    ++r.cut;
-                    r.cut_min = first_cut ? reach : std::min(r.cut_min, reach);
-                    r.cut_max = first_cut ? reach : std::max(r.cut_max, reach);
-                    first_cut = false;
-                }
-            }
+        if (pl.light->type != LightType::directional && pl.light->range > 0.0f) {
+            reach = pl.light->range, ++r.ranged;
+        } else if (cutoffs[i] > 0.0f) {
+            reach = cutoffs[i], ++r.cut;
+            r.cut_min = first_cut ? reach : std::min(r.cut_min, reach);
+            r.cut_max = first_cut ? reach : std::max(r.cut_max, reach);
+            first_cut = false;
         }
         if (!(reach > 0.0f)) {
             ++r.unbounded;

@@ -1,7 +1,5 @@
 #include "render/renderer.hpp"
 
-#include "render/light_reach.hpp"
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -9,6 +7,7 @@
 #include "core/error.hpp"
 #include "core/log.hpp"
 #include "render/effect_registry.hpp"
+#include "render/light_reach.hpp"
 #include "render/program_catalog.hpp"
 
 #include <cstring>
